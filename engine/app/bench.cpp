@@ -1,0 +1,102 @@
+// `remotetouch bench compositing`: per-pass GPU time of the compositing passes at 720p and
+// 1440p, with the bandwidth each achieves next to a plain copy measured in the same run.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "app/demo_inputs.h"
+#include "app/gpu_session.h"
+#include "app/options.h"
+#include "passes/composite.h"
+#include "passes/copy.h"
+#include "passes/hand_alpha.h"
+#include "passes/overlay.h"
+
+namespace rt::app {
+namespace {
+
+constexpr uint32_t kWarmUpFrames = 2;
+
+double gigabytes_per_second(const vk::PassTiming& timing) {
+  return timing.median_ms > 0 ? double(timing.bytes_moved) / (timing.median_ms * 1e-3) / 1e9 : 0.0;
+}
+
+nlohmann::json bench_compositing_at(GpuSession& session, uint32_t width, uint32_t height, uint32_t frames) {
+  vk::Context& context = session.context();
+  const DemoLayers layers = make_demo_layers(width, height);
+  vk::Image portrait(context, {"portrait", width, height, PixelFormat::RGBA32F});
+  vk::Image hand_color(context, {"hand color", width, height, PixelFormat::RGBA32F});
+  vk::Image hand_mask(context, {"hand mask", width, height, PixelFormat::R32F});
+  vk::Image background(context, {"background", width, height, PixelFormat::RGBA32F});
+  vk::Image hand_alpha(context, {"hand alpha", width, height, PixelFormat::R32F});
+  vk::Image fused(context, {"fused", width, height, PixelFormat::RGBA32F});
+  vk::Image display(context, {"display", width, height, PixelFormat::RGBA8});
+  vk::Image copied(context, {"copied portrait", width, height, PixelFormat::RGBA32F});
+  vk::upload(context, portrait, layers.portrait);
+  vk::upload(context, hand_color, layers.hand_color);
+  vk::upload(context, hand_mask, layers.hand_mask);
+  vk::upload(context, background, layers.background);
+
+  const passes::HandAlphaPass hand_alpha_pass(context);
+  const passes::OverlayPass overlay_pass(context);
+  const passes::CompositePass composite_pass(context);
+  const passes::CopyPass copy_pass(context);
+  vk::FrameGraph graph(context, "bench compositing " + std::to_string(width) + "x" + std::to_string(height));
+  hand_alpha_pass.add_to(graph, hand_mask, hand_alpha, [] { return 0.3f; });
+  overlay_pass.add_to(graph, hand_color, hand_alpha, portrait, fused);
+  composite_pass.add_to(graph, fused, background, display);
+  copy_pass.add_to(graph, portrait, copied);
+
+  for (uint32_t frame = 0; frame < kWarmUpFrames; ++frame) graph.run();  // JIT, first touch of memory
+  graph.reset_timings();
+  for (uint32_t frame = 0; frame < frames; ++frame) session.run_frame(graph, frame);
+
+  const std::vector<vk::PassTiming> timings = graph.timings();
+  double copy_rate = 0.0;
+  for (const auto& timing : timings)
+    if (timing.name == "copy") copy_rate = gigabytes_per_second(timing);
+
+  std::printf("\ncompositing at %ux%u on %s, median of %u frames\n", width, height, context.device_name().c_str(), frames);
+  std::printf("%-12s %10s %10s %10s %12s\n", "pass", "GPU ms", "MB moved", "GB/s", "of copy GB/s");
+  nlohmann::json result;
+  result["width"] = width;
+  result["height"] = height;
+  result["frames"] = frames;
+  for (const auto& timing : timings) {
+    const double rate = gigabytes_per_second(timing);
+    const double fraction = copy_rate > 0 ? rate / copy_rate : 0.0;
+    std::printf("%-12s %10.3f %10.2f %10.2f %11.0f%%\n", timing.name.c_str(), timing.median_ms,
+                double(timing.bytes_moved) / 1e6, rate, 100.0 * fraction);
+    result["passes"][timing.name] = {{"gpu_ms_median", timing.median_ms},
+                                     {"bytes_moved", timing.bytes_moved},
+                                     {"gb_per_s", rate},
+                                     {"fraction_of_copy", fraction}};
+  }
+  return result;
+}
+
+}  // namespace
+
+int run_bench(const std::string& what, const RunOptions& options) {
+  if (what != "compositing") throw std::invalid_argument("unknown benchmark '" + what + "' (known: compositing)");
+  GpuSession session(options);
+  std::vector<std::pair<uint32_t, uint32_t>> sizes = {{1280, 720}, {2560, 1440}};
+  if (options.width > 0) sizes = {{options.width, options.height}};
+
+  nlohmann::json report;
+  report["device"] = session.context().device_name();
+  report["timing"] = "GPU timestamps around each pass; bytes moved = sizes of the images read plus written";
+  for (const auto& [width, height] : sizes)
+    report["runs"].push_back(bench_compositing_at(session, width, height, options.frames));
+  std::filesystem::create_directories(options.out);
+  std::ofstream(options.out / "bench_compositing.json") << report.dump(2) << "\n";
+  std::cout << "\nwritten to " << (options.out / "bench_compositing.json").string() << "\n";
+  session.report_capture();
+  return 0;
+}
+
+}  // namespace rt::app

@@ -1,0 +1,84 @@
+#include "app/cli.h"
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "app/options.h"
+
+namespace rt::app {
+namespace {
+
+void add_common_options(CLI::App& command, RunOptions& options, const std::string& default_out) {
+  options.out = default_out;
+  command.add_option("--out", options.out, "Output directory")->capture_default_str();
+  command.add_option("--device", options.device,
+                     "Vulkan device: a part of its name (e.g. llvmpipe, NVIDIA); default prefers a GPU");
+  command.add_flag("--validation", options.validation, "Enable the Khronos validation layer; errors fail the run");
+}
+
+void add_frame_options(CLI::App& command, RunOptions& options, uint32_t default_frames) {
+  options.frames = default_frames;
+  command.add_option("--frames", options.frames, "Frames to render")->check(CLI::Range(1u, 1000000u))->capture_default_str();
+  command.add_flag("--profile", options.profile, "Print per-pass GPU times (median over the frames)");
+  command.add_option("--capture-frame", options.capture_frame,
+                     "Capture this frame (0-based) with RenderDoc, when RenderDoc is present")
+      ->check(CLI::NonNegativeNumber);
+}
+
+void check_capture_frame(const RunOptions& options) {
+  if (options.capture_frame >= int(options.frames))
+    throw CLI::ValidationError("--capture-frame", "frame " + std::to_string(options.capture_frame) +
+                                                      " is past the last frame (--frames " +
+                                                      std::to_string(options.frames) + " renders 0.." +
+                                                      std::to_string(options.frames - 1) + ")");
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv) {
+  CLI::App app{"RemoteTouch: two people clap hands through their screens (Vulkan engine)", "remotetouch"};
+  app.require_subcommand(1);
+
+  RunOptions demo;
+  CLI::App* demo_command = app.add_subcommand("demo", "Run the main job on its built-in default scene");
+  add_common_options(*demo_command, demo, "out/demo");
+  add_frame_options(*demo_command, demo, 30);
+  demo.width = 640;
+  demo.height = 360;
+  demo_command->add_option("--width", demo.width, "Frame width in pixels")->check(CLI::Range(1u, 16384u))->capture_default_str();
+  demo_command->add_option("--height", demo.height, "Frame height in pixels")->check(CLI::Range(1u, 16384u))->capture_default_str();
+  demo_command->add_flag("--dump-passes", demo.dump_passes, "Write every pass output of the last frame (EXR and PNG)");
+
+  RunOptions bench;
+  std::string bench_what;
+  CLI::App* bench_command = app.add_subcommand("bench", "Print per-pass GPU times and bandwidth against a copy pass");
+  bench_command->add_option("what", bench_what, "Which benchmark: compositing")
+      ->required()
+      ->check(CLI::IsMember({"compositing"}));
+  add_common_options(*bench_command, bench, "out/bench");
+  add_frame_options(*bench_command, bench, 20);
+  auto* width = bench_command->add_option("--width", bench.width, "Only this width (default: 1280x720 and 2560x1440)")
+                    ->check(CLI::Range(1u, 16384u));
+  auto* height = bench_command->add_option("--height", bench.height, "Only this height")->check(CLI::Range(1u, 16384u));
+  width->needs(height);
+  height->needs(width);
+
+  try {
+    app.parse(argc, argv);
+    if (demo_command->parsed()) check_capture_frame(demo);
+    if (bench_command->parsed()) check_capture_frame(bench);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+
+  try {
+    if (demo_command->parsed()) return run_demo(demo);
+    if (bench_command->parsed()) return run_bench(bench_what, bench);
+  } catch (const std::exception& error) {
+    std::cerr << "remotetouch: error: " << error.what() << "\n";
+    return 1;
+  }
+  return 1;
+}
+
+}  // namespace rt::app

@@ -1,0 +1,83 @@
+// `remotetouch demo`: until the two-site session exists, the compositing passes (paper Eq. 4
+// and 5, then the background) on generated layers, with the hand approaching and retracting.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "app/demo_inputs.h"
+#include "app/gpu_session.h"
+#include "app/options.h"
+#include "image/image_io.h"
+#include "passes/composite.h"
+#include "passes/hand_alpha.h"
+#include "passes/overlay.h"
+
+namespace rt::app {
+
+void dump_pass_outputs(vk::Context& context, const vk::FrameGraph& graph, const std::filesystem::path& folder) {
+  for (const auto& [pass, image] : graph.written_images()) {
+    const HostImage pixels = vk::download(context, *image);
+    const std::filesystem::path stem = folder / (pass + "." + image->name());
+    write_image(stem.string() + ".exr", pixels);
+    write_image(stem.string() + ".png", pixels, PngDepth::Sixteen);
+  }
+}
+
+int run_demo(const RunOptions& options) {
+  GpuSession session(options);
+  vk::Context& context = session.context();
+  const uint32_t width = options.width, height = options.height;
+
+  const DemoLayers layers = make_demo_layers(width, height);
+  vk::Image portrait(context, {"portrait", width, height, PixelFormat::RGBA32F});
+  vk::Image hand_color(context, {"hand color", width, height, PixelFormat::RGBA32F});
+  vk::Image hand_mask(context, {"hand mask", width, height, PixelFormat::R32F});
+  vk::Image background(context, {"background", width, height, PixelFormat::RGBA32F});
+  vk::Image hand_alpha(context, {"hand alpha", width, height, PixelFormat::R32F});
+  vk::Image fused(context, {"fused", width, height, PixelFormat::RGBA32F});
+  vk::Image display(context, {"display", width, height, PixelFormat::RGBA8});
+  vk::upload(context, portrait, layers.portrait);
+  vk::upload(context, hand_color, layers.hand_color);
+  vk::upload(context, hand_mask, layers.hand_mask);
+  vk::upload(context, background, layers.background);
+
+  const passes::HandAlphaPass hand_alpha_pass(context);
+  const passes::OverlayPass overlay_pass(context);
+  const passes::CompositePass composite_pass(context);
+  vk::FrameGraph graph(context, "demo frame");
+  float hand_distance_m = 0.0f;
+  hand_alpha_pass.add_to(graph, hand_mask, hand_alpha, [&] { return hand_distance_m; });
+  overlay_pass.add_to(graph, hand_color, hand_alpha, portrait, fused);
+  composite_pass.add_to(graph, fused, background, display);
+
+  std::filesystem::create_directories(options.out);
+  for (uint32_t frame = 0; frame < options.frames; ++frame) {
+    hand_distance_m = demo_hand_distance_m(frame, options.frames);
+    session.run_frame(graph, frame);
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04u.png", frame);
+    write_image(options.out / name, vk::download(context, display));
+  }
+  if (options.dump_passes) dump_pass_outputs(context, graph, options.out / "passes");
+
+  nlohmann::json metrics;
+  metrics["device"] = context.device_name();
+  metrics["frames"] = options.frames;
+  metrics["width"] = width;
+  metrics["height"] = height;
+  for (const auto& timing : graph.timings()) metrics["gpu_ms_median"][timing.name] = timing.median_ms;
+  std::ofstream(options.out / "metrics.json") << metrics.dump(2) << "\n";
+
+  std::cout << "demo: " << options.frames << " frames of " << width << "x" << height << " on " << context.device_name()
+            << " written to " << options.out.string() << "/frame_*.png\n";
+  if (options.profile) std::cout << vk::format_profile(graph.timings());
+  session.report_capture();
+  if (context.validation_enabled() && context.validation_errors() > 0) {
+    std::cerr << "demo: " << context.validation_errors() << " validation errors\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace rt::app

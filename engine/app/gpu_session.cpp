@@ -1,0 +1,39 @@
+#include "app/gpu_session.h"
+
+#include <cstdlib>
+#include <iostream>
+
+namespace rt::app {
+
+std::string default_pipeline_cache_path() {
+  if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache && *cache)
+    return std::string(cache) + "/remotetouch/pipelines.bin";
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/remotetouch/pipelines.bin";
+  return {};
+}
+
+GpuSession::GpuSession(const RunOptions& options)
+    : capture_frame_(options.capture_frame),
+      capture_(options.capture_frame >= 0, (options.out / "capture" / "remotetouch").string()) {
+  vk::ContextOptions context_options;
+  context_options.device_name = options.device;
+  context_options.validation = options.validation;
+  context_options.pipeline_cache_path = default_pipeline_cache_path();
+  context_ = std::make_unique<vk::Context>(vk::apply_environment(context_options));
+}
+
+void GpuSession::run_frame(vk::FrameGraph& graph, uint32_t frame_index) {
+  const bool capture = capture_.available() && capture_frame_ == int(frame_index);
+  if (capture) capture_.begin_frame(context_->instance());
+  graph.run();
+  if (capture) capture_path_ = capture_.end_frame(context_->instance());
+}
+
+void GpuSession::report_capture() const {
+  if (capture_frame_ < 0) return;
+  if (capture_path_) std::cout << "RenderDoc capture of frame " << capture_frame_ << ": " << *capture_path_ << "\n";
+  else if (!capture_.available()) std::cout << "no capture taken: " << capture_.why_unavailable() << "\n";
+  else std::cout << "no capture taken: frame " << capture_frame_ << " was never run\n";
+}
+
+}  // namespace rt::app

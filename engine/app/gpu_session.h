@@ -1,0 +1,34 @@
+#pragma once
+// The Vulkan context of one command, with RenderDoc attached first when a capture is asked for
+// (RenderDoc must hook the instance at its creation).
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "app/options.h"
+#include "vulkan/context.h"
+#include "vulkan/frame_graph.h"
+#include "vulkan/renderdoc_capture.h"
+
+namespace rt::app {
+
+class GpuSession {
+ public:
+  explicit GpuSession(const RunOptions& options);
+  vk::Context& context() { return *context_; }
+
+  // Runs one frame of `graph`, capturing it if it is the requested frame.
+  void run_frame(vk::FrameGraph& graph, uint32_t frame_index);
+  // Says whether the requested capture was taken, and where, or why not.
+  void report_capture() const;
+
+ private:
+  int capture_frame_;
+  vk::RenderDocCapture capture_;
+  std::unique_ptr<vk::Context> context_;
+  std::optional<std::string> capture_path_;
+};
+
+std::string default_pipeline_cache_path();
+
+}  // namespace rt::app

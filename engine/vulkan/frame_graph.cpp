@@ -1,0 +1,344 @@
+#include "vulkan/frame_graph.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "vulkan/check.h"
+#include "vulkan/vk_struct.h"
+
+namespace rt::vk {
+
+struct FrameGraph::Pass {
+  PassDecl decl;
+  uint64_t bytes_moved = 0;
+  std::vector<double> gpu_ms;
+  size_t barriers = 0;
+};
+
+namespace {
+
+const void* identity(const ResourceRef& resource) {
+  return std::visit([](auto* r) -> const void* { return r; }, resource);
+}
+
+size_t size_of(const ResourceRef& resource) {
+  if (auto* image = std::get_if<Image*>(&resource)) return (*image)->size_bytes();
+  return size_t(std::get<Buffer*>(resource)->size());
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const size_t middle = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + middle, values.end());
+  if (values.size() % 2 == 1) return values[middle];
+  const double upper = values[middle];
+  return (upper + *std::max_element(values.begin(), values.begin() + middle)) / 2.0;
+}
+
+Access compute_access(const ShaderBinding& binding) {
+  if (binding.type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER) return access::compute_sample;
+  if (binding.readable && binding.writable) return access::compute_read_write;
+  return binding.writable ? access::compute_write : access::compute_read;
+}
+
+}  // namespace
+
+std::string resource_name(const ResourceRef& resource) {
+  return std::visit([](auto* r) { return r->name(); }, resource);
+}
+
+FrameGraph::FrameGraph(Context& context, std::string name)
+    : context_(context), name_(std::move(name)), commands_(context, name_ + " commands") {}
+
+FrameGraph::~FrameGraph() = default;
+
+void FrameGraph::add_pass(PassDecl decl) {
+  for (const auto& pass : passes_)
+    if (pass->decl.name == decl.name) throw std::invalid_argument("frame graph '" + name_ + "' already has a pass '" + decl.name + "'");
+  if (!decl.record) throw std::invalid_argument("pass '" + decl.name + "' has nothing to record");
+  auto pass = std::make_unique<Pass>();
+  for (const ResourceUse& use : decl.uses) {
+    if (!identity(use.resource)) throw std::invalid_argument("pass '" + decl.name + "' uses a null resource");
+    if (writes(use.access.access)) pass->bytes_moved += size_of(use.resource);
+    if (reads(use.access.access)) pass->bytes_moved += size_of(use.resource);
+  }
+  pass->decl = std::move(decl);
+  passes_.push_back(std::move(pass));
+  compiled_ = false;
+}
+
+void FrameGraph::add_compute_pass(ComputePassDecl decl) {
+  auto fail = [&](const std::string& what) { return std::invalid_argument("pass '" + decl.name + "': " + what); };
+  if (!decl.kernel) throw fail("no kernel");
+  const ComputeKernel& kernel = *decl.kernel;
+  const ShaderReflection& shader = kernel.reflection();
+
+  std::vector<ResourceUse> uses;
+  std::vector<std::pair<const ShaderBinding*, ComputeBinding>> bound;
+  for (const ComputeBinding& binding : decl.bindings) {
+    const ShaderBinding* declared = shader.find_binding(binding.name);
+    if (!declared) {
+      std::string known;
+      for (const auto& b : shader.bindings) known += (known.empty() ? "" : ", ") + b.name;
+      throw fail("shader '" + kernel.name() + "' has no binding '" + binding.name + "' (it has: " + known + ")");
+    }
+    for (const auto& [other, unused] : bound)
+      if (other == declared) throw fail("binding '" + binding.name + "' is bound twice");
+    if (!identity(binding.resource)) throw fail("binding '" + binding.name + "' is given a null resource");
+    const bool is_image = std::holds_alternative<Image*>(binding.resource);
+    const bool wants_image = declared->type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE ||
+                             declared->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    if (is_image != wants_image)
+      throw fail("binding '" + binding.name + "' is " + (wants_image ? "an image" : "a buffer") +
+                 " in the shader, given " + (is_image ? "image" : "buffer") + " '" + resource_name(binding.resource) + "'");
+    if (declared->type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE && declared->image_format != VK_FORMAT_UNDEFINED) {
+      const Image& image = *std::get<Image*>(binding.resource);
+      if (image.format() != declared->image_format)
+        throw fail("binding '" + binding.name + "' is declared with format " + std::to_string(declared->image_format) +
+                   " in the shader, given image '" + image.name() + "' of format " + format_name(image.pixel_format()) +
+                   " (" + std::to_string(image.format()) + ")");
+    }
+    if (declared->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER && !binding.sampler)
+      throw fail("binding '" + binding.name + "' is a sampled image and needs a sampler");
+    bound.emplace_back(declared, binding);
+    uses.push_back({binding.resource, compute_access(*declared)});
+  }
+  for (const auto& declared : shader.bindings) {
+    bool found = false;
+    for (const auto& [other, unused] : bound) found |= other == &declared;
+    if (!found) throw fail("shader binding '" + declared.name + "' is not bound");
+  }
+  if (shader.push_constant_size > 0 && !decl.push_constants)
+    throw fail("shader '" + kernel.name() + "' takes " + std::to_string(shader.push_constant_size) +
+               " bytes of push constants and none are given");
+  const auto groups = kernel.group_count(decl.threads);
+  const auto& limits = context_.properties().limits;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (decl.threads[axis] == 0) throw fail("a thread count of 0 on axis " + std::to_string(axis));
+    if (groups[axis] > limits.maxComputeWorkGroupCount[axis])
+      throw fail(std::to_string(groups[axis]) + " workgroups on axis " + std::to_string(axis) + " exceed the device's " +
+                 std::to_string(limits.maxComputeWorkGroupCount[axis]));
+  }
+
+  const Context& context = context_;
+  auto record = [&context, &kernel, bound = std::move(bound), groups, name = decl.name,
+                 push = std::move(decl.push_constants)](VkCommandBuffer commands) {
+    vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.pipeline());
+    std::vector<VkDescriptorImageInfo> image_infos;
+    std::vector<VkDescriptorBufferInfo> buffer_infos;
+    image_infos.reserve(bound.size());
+    buffer_infos.reserve(bound.size());
+    std::vector<VkWriteDescriptorSet> writes;
+    for (const auto& [declared, binding] : bound) {
+      auto write = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+      write.dstBinding = declared->binding;
+      write.descriptorCount = 1;
+      write.descriptorType = declared->type;
+      if (auto* image = std::get_if<Image*>(&binding.resource)) {
+        image_infos.push_back({binding.sampler ? binding.sampler->get() : VK_NULL_HANDLE, (*image)->view(),
+                               compute_access(*declared).layout});
+        write.pImageInfo = &image_infos.back();
+      } else {
+        buffer_infos.push_back({std::get<Buffer*>(binding.resource)->buffer(), 0, VK_WHOLE_SIZE});
+        write.pBufferInfo = &buffer_infos.back();
+      }
+      writes.push_back(write);
+    }
+    if (!writes.empty())
+      context.push_descriptor_set(commands, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.layout(), 0, uint32_t(writes.size()),
+                                  writes.data());
+    if (const uint32_t size = kernel.reflection().push_constant_size; size > 0) {
+      const std::vector<std::byte> data = push();
+      if (data.size() != size)
+        throw std::logic_error("pass '" + name + "' pushed " + std::to_string(data.size()) + " bytes; shader '" +
+                               kernel.name() + "' declares " + std::to_string(size));
+      vkCmdPushConstants(commands, kernel.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, size, data.data());
+    }
+    vkCmdDispatch(commands, groups[0], groups[1], groups[2]);
+  };
+  add_pass({decl.name, std::move(uses), std::move(record)});
+}
+
+void FrameGraph::compile() {
+  if (compiled_) return;
+  const size_t count = passes_.size();
+  // A pass that reads a resource runs after every pass that writes it; passes that both write
+  // one resource (a clear, then an accumulation) keep the order in which they were added.
+  // Within a frame a resource is therefore produced, then consumed, never produced again.
+  std::vector<std::set<size_t>> after(count);  // after[j]: passes that must run before j
+  for (size_t j = 0; j < count; ++j)
+    for (const ResourceUse& use : passes_[j]->decl.uses)
+      for (size_t i = 0; i < count; ++i) {
+        if (i == j) continue;
+        for (const ResourceUse& other : passes_[i]->decl.uses) {
+          if (identity(other.resource) != identity(use.resource) || !writes(other.access.access)) continue;
+          if (!writes(use.access.access) || i < j) after[j].insert(i);
+        }
+      }
+
+  // Kahn's algorithm, taking the earliest-added ready pass each time.
+  order_.clear();
+  std::vector<bool> done(count, false);
+  for (size_t step = 0; step < count; ++step) {
+    size_t chosen = count;
+    for (size_t j = 0; j < count && chosen == count; ++j) {
+      if (done[j]) continue;
+      bool ready = true;
+      for (size_t i : after[j]) ready &= done[i];
+      if (ready) chosen = j;
+    }
+    if (chosen == count) {
+      std::string stuck;
+      for (size_t j = 0; j < count; ++j)
+        if (!done[j]) stuck += (stuck.empty() ? "" : ", ") + passes_[j]->decl.name;
+      throw std::invalid_argument("frame graph '" + name_ + "': passes " + stuck +
+                                  " read each other's outputs in a cycle; split a resource or reorder");
+    }
+    done[chosen] = true;
+    order_.push_back(chosen);
+  }
+
+  // Two timestamps per pass. Without timestamp support the graph still runs, untimed.
+  queries_ = Handle<VkQueryPool>();
+  timestamp_period_ns_ = 0.0;
+  const uint32_t valid_bits = [&] {
+    uint32_t family_count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(context_.physical_device(), &family_count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(family_count);
+    vkGetPhysicalDeviceQueueFamilyProperties(context_.physical_device(), &family_count, families.data());
+    return families[context_.queue_family()].timestampValidBits;
+  }();
+  if (count > 0 && valid_bits > 0) {
+    auto info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
+    info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    info.queryCount = uint32_t(2 * count);
+    VkQueryPool pool = VK_NULL_HANDLE;
+    RT_VK_CHECK(vkCreateQueryPool(context_.device(), &info, nullptr, &pool));
+    queries_ = Handle<VkQueryPool>(context_, pool);
+    context_.set_name(VK_OBJECT_TYPE_QUERY_POOL, uint64_t(pool), name_ + " pass timestamps");
+    timestamp_period_ns_ = context_.properties().limits.timestampPeriod;
+    timestamp_mask_ = valid_bits >= 64 ? ~0ull : ((1ull << valid_bits) - 1);
+  }
+  compiled_ = true;
+}
+
+std::vector<std::string> FrameGraph::execution_order() {
+  compile();
+  std::vector<std::string> names;
+  for (size_t index : order_) names.push_back(passes_[index]->decl.name);
+  return names;
+}
+
+void FrameGraph::run() {
+  compile();
+  VkCommandBuffer commands = commands_.get();
+  auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  RT_VK_CHECK(vkBeginCommandBuffer(commands, &begin));
+  if (queries_) vkCmdResetQueryPool(commands, queries_.get(), 0, uint32_t(2 * passes_.size()));
+  context_.begin_label(commands, name_);
+  for (size_t slot = 0; slot < order_.size(); ++slot) {
+    Pass& pass = *passes_[order_[slot]];
+    context_.begin_label(commands, pass.decl.name);
+    std::vector<VkImageMemoryBarrier2> image_barriers;
+    std::vector<VkBufferMemoryBarrier2> buffer_barriers;
+    for (const ResourceUse& use : pass.decl.uses) {
+      if (auto* image = std::get_if<Image*>(&use.resource)) {
+        if (auto plan = plan_access((*image)->state(), use.access, true)) image_barriers.push_back(image_barrier(**image, *plan));
+      } else {
+        Buffer& buffer = *std::get<Buffer*>(use.resource);
+        if (auto plan = plan_access(buffer.state(), use.access, false)) buffer_barriers.push_back(buffer_barrier(buffer, *plan));
+      }
+    }
+    pass.barriers = image_barriers.size() + buffer_barriers.size();
+    if (pass.barriers > 0) {
+      auto dependency = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
+      dependency.imageMemoryBarrierCount = uint32_t(image_barriers.size());
+      dependency.pImageMemoryBarriers = image_barriers.data();
+      dependency.bufferMemoryBarrierCount = uint32_t(buffer_barriers.size());
+      dependency.pBufferMemoryBarriers = buffer_barriers.data();
+      context_.pipeline_barrier(commands, dependency);
+    }
+    if (queries_) context_.write_timestamp(commands, queries_.get(), uint32_t(2 * slot));
+    pass.decl.record(commands);
+    if (queries_) context_.write_timestamp(commands, queries_.get(), uint32_t(2 * slot + 1));
+    context_.end_label(commands);
+  }
+  context_.end_label(commands);
+  RT_VK_CHECK(vkEndCommandBuffer(commands));
+  context_.wait(context_.submit(commands));
+  ++frames_run_;
+
+  if (!queries_) return;
+  std::vector<uint64_t> stamps(2 * passes_.size());
+  RT_VK_CHECK(vkGetQueryPoolResults(context_.device(), queries_.get(), 0, uint32_t(stamps.size()),
+                                    stamps.size() * sizeof(uint64_t), stamps.data(), sizeof(uint64_t),
+                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  for (size_t slot = 0; slot < order_.size(); ++slot) {
+    const uint64_t start = stamps[2 * slot] & timestamp_mask_;
+    const uint64_t end = stamps[2 * slot + 1] & timestamp_mask_;
+    const uint64_t ticks = (end - start) & timestamp_mask_;  // survives a counter wrap
+    Pass& pass = *passes_[order_[slot]];
+    if (pass.gpu_ms.size() == kMaxTimedFrames) pass.gpu_ms.erase(pass.gpu_ms.begin());
+    pass.gpu_ms.push_back(double(ticks) * timestamp_period_ns_ * 1e-6);
+  }
+}
+
+std::vector<PassTiming> FrameGraph::timings() const {
+  std::vector<PassTiming> result;
+  for (size_t index : order_) {
+    const Pass& pass = *passes_[index];
+    PassTiming timing;
+    timing.name = pass.decl.name;
+    timing.frames = pass.gpu_ms.size();
+    timing.median_ms = median(pass.gpu_ms);
+    timing.last_ms = pass.gpu_ms.empty() ? 0.0 : pass.gpu_ms.back();
+    timing.bytes_moved = pass.bytes_moved;
+    result.push_back(timing);
+  }
+  return result;
+}
+
+void FrameGraph::reset_timings() {
+  for (auto& pass : passes_) pass->gpu_ms.clear();
+}
+
+std::vector<size_t> FrameGraph::barriers_per_pass() const {
+  std::vector<size_t> result;
+  for (size_t index : order_) result.push_back(passes_[index]->barriers);
+  return result;
+}
+
+std::vector<std::pair<std::string, Image*>> FrameGraph::written_images() const {
+  std::vector<std::pair<std::string, Image*>> result;
+  for (size_t index : order_)
+    for (const ResourceUse& use : passes_[index]->decl.uses)
+      if (auto* image = std::get_if<Image*>(&use.resource); image && writes(use.access.access))
+        result.emplace_back(passes_[index]->decl.name, *image);
+  return result;
+}
+
+std::string format_profile(const std::vector<PassTiming>& timings) {
+  std::ostringstream out;
+  char line[160];
+  std::snprintf(line, sizeof line, "%-22s %10s %10s %8s %12s %10s\n", "pass", "median ms", "last ms", "frames", "MB moved",
+                "GB/s");
+  out << line;
+  double total = 0.0;
+  for (const PassTiming& timing : timings) {
+    const double gb_per_s = timing.median_ms > 0 ? double(timing.bytes_moved) / (timing.median_ms * 1e-3) / 1e9 : 0.0;
+    std::snprintf(line, sizeof line, "%-22s %10.3f %10.3f %8zu %12.2f %10.2f\n", timing.name.c_str(), timing.median_ms,
+                  timing.last_ms, timing.frames, double(timing.bytes_moved) / 1e6, gb_per_s);
+    out << line;
+    total += timing.median_ms;
+  }
+  std::snprintf(line, sizeof line, "%-22s %10.3f\n", "sum of medians", total);
+  out << line;
+  return out.str();
+}
+
+}  // namespace rt::vk

@@ -1,0 +1,54 @@
+// PNG (8 and 16 bits) and EXR through OpenCV: round trips within the format's precision.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <limits>
+#include <random>
+
+#include "image/image_io.h"
+#include "support/gpu_test.h"
+
+using namespace rt;
+
+namespace {
+
+std::filesystem::path scratch(const std::string& name) {
+  const auto folder = std::filesystem::temp_directory_path() / ("remotetouch-test-image-io-" + std::to_string(getpid()));
+  std::filesystem::create_directories(folder);
+  return folder / name;
+}
+
+}  // namespace
+
+TEST_CASE("EXR keeps float values exactly, one and four channels", "[image_io]") {
+  std::mt19937 rng(12);
+  for (PixelFormat format : {PixelFormat::R32F, PixelFormat::RGBA32F}) {
+    const HostImage image = test::random_image(rng, 7, 5, format, -3.0f, 40.0f);
+    write_image(scratch("values.exr"), image);
+    RT_REQUIRE_MATCHES(read_image(scratch("values.exr")), image, 0.0, 0.0);
+  }
+}
+
+TEST_CASE("PNG keeps values to 8 or 16 bits and clamps the rest", "[image_io]") {
+  std::mt19937 rng(13);
+  HostImage image = test::random_image(rng, 33, 17, PixelFormat::RGBA32F);
+  write_image(scratch("eight.png"), image, PngDepth::Eight);
+  RT_REQUIRE_MATCHES(read_image(scratch("eight.png")), image, 0.5 / 255 + 1e-6, 0.0);
+  write_image(scratch("sixteen.png"), image, PngDepth::Sixteen);
+  RT_REQUIRE_MATCHES(read_image(scratch("sixteen.png")), image, 0.5 / 65535 + 1e-7, 0.0);
+
+  image.texels[0] = std::numeric_limits<float>::quiet_NaN();
+  image.texels[1] = 7.0f;
+  image.texels[2] = -1.0f;
+  write_image(scratch("clamped.png"), image);
+  const HostImage read = read_image(scratch("clamped.png"));
+  CHECK(read.texels[0] == 0.0f);
+  CHECK(read.texels[1] == 1.0f);
+  CHECK(read.texels[2] == 0.0f);
+}
+
+TEST_CASE("bad paths and extensions say what is wrong", "[image_io]") {
+  const HostImage image(2, 2, PixelFormat::R32F);
+  CHECK_THROWS_WITH(write_image(scratch("picture.bmp2"), image), Catch::Contains(".png or .exr"));
+  CHECK_THROWS_WITH(read_image(scratch("does-not-exist.png")), Catch::Contains("does-not-exist.png"));
+}
