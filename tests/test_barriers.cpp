@@ -73,7 +73,7 @@ TEST_CASE("a reader in another stage after a read-only transition still waits", 
   REQUIRE(plan_access(state, access::transfer_read, true));  // transition to TRANSFER_SRC
   const auto plan = plan_access(state, access::host_read, false);
   REQUIRE(plan);
-  CHECK(plan->src_stages == VK_PIPELINE_STAGE_2_COPY_BIT);
+  CHECK(plan->src_stages == VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT);
 }
 
 TEST_CASE("reads and writes are classified by their access bits", "[barriers]") {
