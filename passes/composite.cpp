@@ -3,15 +3,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "passes/reference_math.h"
+
 #include "composite.comp.h"
 
 namespace rt::passes {
-namespace {
-
-float unit_or_zero(float x) { return std::isfinite(x) ? std::min(std::max(x, 0.0f), 1.0f) : 0.0f; }
-
-}  // namespace
-
 CompositePass::CompositePass(vk::Context& context) : kernel_(context, "composite", composite_comp_spirv) {}
 
 void CompositePass::add_to(vk::FrameGraph& graph, vk::Image& fused, vk::Image& background, vk::Image& display,

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "passes/reference_math.h"
+
 #include "hand_alpha.comp.h"
 
 namespace rt::passes {
@@ -45,9 +47,7 @@ HostImage hand_alpha_reference(const HostImage& hand_mask, float hand_distance_m
   const float ramp_alpha = hand_alpha_of_distance(hand_distance_m, ramp);
   for (uint32_t y = 0; y < hand_mask.height; ++y)
     for (uint32_t x = 0; x < hand_mask.width; ++x) {
-      const float coverage = hand_mask.at(x, y);
-      const float clean = std::isfinite(coverage) ? std::min(std::max(coverage, 0.0f), 1.0f) : 0.0f;
-      alpha.at(x, y) = ramp_alpha * clean;
+      alpha.at(x, y) = ramp_alpha * unit_or_zero(hand_mask.at(x, y));
     }
   return alpha;
 }

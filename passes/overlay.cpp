@@ -3,15 +3,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "passes/reference_math.h"
+
 #include "overlay.comp.h"
 
 namespace rt::passes {
-namespace {
-
-float unit_or_zero(float x) { return std::isfinite(x) ? std::min(std::max(x, 0.0f), 1.0f) : 0.0f; }
-
-}  // namespace
-
 OverlayPass::OverlayPass(vk::Context& context) : kernel_(context, "overlay", overlay_comp_spirv) {}
 
 void OverlayPass::add_to(vk::FrameGraph& graph, vk::Image& hand_color, vk::Image& hand_alpha, vk::Image& portrait,

@@ -48,6 +48,15 @@ TEST_CASE("bad sizes and mismatched uploads say what is wrong", "[resources][gpu
   CHECK_THROWS_WITH(vk::upload(context, image, short_image), Catch::Contains("holds 3 values"));
 }
 
+TEST_CASE("samplers are created and named", "[resources][gpu]") {
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  const vk::Sampler linear(context, "bilinear clamp");
+  const vk::Sampler nearest(context, "nearest clamp", VK_FILTER_NEAREST);
+  CHECK(linear.get() != VK_NULL_HANDLE);
+  CHECK(nearest.get() != linear.get());
+}
+
 TEST_CASE("handles move and release once", "[resources][gpu]") {
   test::NoValidationErrors no_errors;
   vk::Context& context = test::gpu();

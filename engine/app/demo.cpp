@@ -5,13 +5,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "app/demo_inputs.h"
+#include "app/compositing_chain.h"
 #include "app/gpu_session.h"
 #include "app/options.h"
 #include "image/image_io.h"
-#include "passes/composite.h"
-#include "passes/hand_alpha.h"
-#include "passes/overlay.h"
 
 namespace rt::app {
 
@@ -29,27 +26,10 @@ int run_demo(const RunOptions& options) {
   vk::Context& context = session.context();
   const uint32_t width = options.width, height = options.height;
 
-  const DemoLayers layers = make_demo_layers(width, height);
-  vk::Image portrait(context, {"portrait", width, height, PixelFormat::RGBA32F});
-  vk::Image hand_color(context, {"hand color", width, height, PixelFormat::RGBA32F});
-  vk::Image hand_mask(context, {"hand mask", width, height, PixelFormat::R32F});
-  vk::Image background(context, {"background", width, height, PixelFormat::RGBA32F});
-  vk::Image hand_alpha(context, {"hand alpha", width, height, PixelFormat::R32F});
-  vk::Image fused(context, {"fused", width, height, PixelFormat::RGBA32F});
-  vk::Image display(context, {"display", width, height, PixelFormat::RGBA8});
-  vk::upload(context, portrait, layers.portrait);
-  vk::upload(context, hand_color, layers.hand_color);
-  vk::upload(context, hand_mask, layers.hand_mask);
-  vk::upload(context, background, layers.background);
-
-  const passes::HandAlphaPass hand_alpha_pass(context);
-  const passes::OverlayPass overlay_pass(context);
-  const passes::CompositePass composite_pass(context);
+  CompositingChain chain(context, width, height);
   vk::FrameGraph graph(context, "demo frame");
   float hand_distance_m = 0.0f;
-  hand_alpha_pass.add_to(graph, hand_mask, hand_alpha, [&] { return hand_distance_m; });
-  overlay_pass.add_to(graph, hand_color, hand_alpha, portrait, fused);
-  composite_pass.add_to(graph, fused, background, display);
+  chain.add_to(graph, [&] { return hand_distance_m; });
 
   std::filesystem::create_directories(options.out);
   for (uint32_t frame = 0; frame < options.frames; ++frame) {
@@ -57,7 +37,7 @@ int run_demo(const RunOptions& options) {
     session.run_frame(graph, frame);
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04u.png", frame);
-    write_image(options.out / name, vk::download(context, display));
+    write_image(options.out / name, vk::download(context, chain.display));
   }
   if (options.dump_passes) dump_pass_outputs(context, graph, options.out / "passes");
 

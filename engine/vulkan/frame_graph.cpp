@@ -63,6 +63,9 @@ void FrameGraph::add_pass(PassDecl decl) {
   auto pass = std::make_unique<Pass>();
   for (const ResourceUse& use : decl.uses) {
     if (!identity(use.resource)) throw std::invalid_argument("pass '" + decl.name + "' uses a null resource");
+    if (resource_name(use.resource).empty())
+      throw std::invalid_argument("pass '" + decl.name + "' uses an unnamed resource; name it (captures and validation "
+                                  "messages show the name)");
     if (writes(use.access.access)) pass->bytes_moved += size_of(use.resource);
     if (reads(use.access.access)) pass->bytes_moved += size_of(use.resource);
   }

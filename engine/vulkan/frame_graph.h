@@ -2,7 +2,9 @@
 // The frame graph: passes declare what they read and write and record themselves; the graph
 // orders them, inserts every barrier (the only place in the engine that decides
 // synchronization), wraps each pass in a debug label named after it, and brackets it with
-// timestamp queries so that per-pass GPU times cost a pass nothing.
+// timestamp queries so that per-pass GPU times cost a pass nothing. Resources carry their
+// names from creation (the graph refuses unnamed ones); kernels and resources given to the
+// graph must outlive it.
 #include <vulkan/vulkan.h>
 
 #include <array>

@@ -14,15 +14,19 @@ RenderDocCapture::RenderDocCapture(bool load_if_absent, const std::string& file_
   // Already in the process when started by `renderdoccmd capture` or the RenderDoc UI.
   void* library = dlopen("librenderdoc.so", RTLD_NOW | RTLD_NOLOAD);
   const bool injected = library != nullptr;
+  // REMOTETOUCH_RENDERDOC_LIBRARY names another build of RenderDoc (e.g. one under /opt).
+  const char* override_path = std::getenv("REMOTETOUCH_RENDERDOC_LIBRARY");
+  const std::string library_path = override_path && *override_path ? override_path : "librenderdoc.so";
   if (!library && load_if_absent) {
-    library = dlopen("librenderdoc.so", RTLD_NOW);
+    library = dlopen(library_path.c_str(), RTLD_NOW);
     // The loader enables RenderDoc's implicit Vulkan layer only with this variable set, and it
     // must be set before the instance is created.
     if (library) setenv("ENABLE_VULKAN_RENDERDOC_CAPTURE", "1", 1);
   }
   if (!library) {
     const char* error = dlerror();
-    why_unavailable_ = std::string("RenderDoc is not loaded: run under `renderdoccmd capture` or install librenderdoc") +
+    why_unavailable_ = "RenderDoc is not loaded: run under `renderdoccmd capture`, or install librenderdoc (apt-get "
+                       "install librenderdoc) or point REMOTETOUCH_RENDERDOC_LIBRARY at librenderdoc.so" +
                        (error ? std::string(" (") + error + ")" : "");
     return;
   }

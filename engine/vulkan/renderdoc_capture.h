@@ -1,6 +1,7 @@
 #pragma once
 // Frame capture through RenderDoc's in-app API, headless. Works when the process runs under
-// `renderdoccmd capture` (RenderDoc already injected) or when librenderdoc.so can be loaded;
+// `renderdoccmd capture` (RenderDoc already injected) or when librenderdoc.so can be loaded
+// (REMOTETOUCH_RENDERDOC_LIBRARY=PATH names another copy);
 // otherwise it says why no capture can be taken. Must be constructed before the Context, since
 // RenderDoc hooks Vulkan when the instance is created.
 #include <vulkan/vulkan.h>

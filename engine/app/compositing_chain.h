@@ -1,0 +1,27 @@
+#pragma once
+// The receiver's compositing, as the demo and the benchmark run it on generated layers:
+// hand_alpha (Eq. 4) -> overlay (Eq. 5) -> composite over the background -> display.
+#include <functional>
+
+#include "app/demo_inputs.h"
+#include "passes/composite.h"
+#include "passes/hand_alpha.h"
+#include "passes/overlay.h"
+#include "vulkan/frame_graph.h"
+
+namespace rt::app {
+
+struct CompositingChain {
+  // Creates the images at this size and uploads the generated layers into them.
+  CompositingChain(vk::Context& context, uint32_t width, uint32_t height);
+  // Adds the three passes; hand_distance_m is read when each frame is recorded.
+  void add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m);
+
+  vk::Image portrait, hand_color, hand_mask, background;  // inputs
+  vk::Image hand_alpha, fused, display;                   // outputs of the passes
+  passes::HandAlphaPass hand_alpha_pass;
+  passes::OverlayPass overlay_pass;
+  passes::CompositePass composite_pass;
+};
+
+}  // namespace rt::app
