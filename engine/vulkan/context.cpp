@@ -255,6 +255,9 @@ void Context::create_device() {
   auto semaphore_info = vk_struct<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO, &type_info);
   RT_VK_CHECK(vkCreateSemaphore(device_, &semaphore_info, nullptr, &timeline_));
   set_name(VK_OBJECT_TYPE_SEMAPHORE, uint64_t(timeline_), "queue timeline");
+  set_name(VK_OBJECT_TYPE_DEVICE, uint64_t(device_), "remotetouch device");
+  set_name(VK_OBJECT_TYPE_QUEUE, uint64_t(queue_), "graphics+compute queue");
+  set_name(VK_OBJECT_TYPE_COMMAND_POOL, uint64_t(command_pool_), "command pool");
 }
 
 void Context::load_pipeline_cache() {
@@ -272,6 +275,7 @@ void Context::load_pipeline_cache() {
     info.pInitialData = nullptr;
     RT_VK_CHECK(vkCreatePipelineCache(device_, &info, nullptr, &pipeline_cache_));
   }
+  set_name(VK_OBJECT_TYPE_PIPELINE_CACHE, uint64_t(pipeline_cache_), "pipeline cache");
 }
 
 void Context::save_pipeline_cache() {
