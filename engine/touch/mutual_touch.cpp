@@ -1,0 +1,95 @@
+#include "touch/mutual_touch.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rt {
+namespace {
+
+// Hands whose capture time is recent enough; stale ones count as lost tracking.
+std::vector<HandSkeleton> fresh(std::span<const HandSkeleton> hands, uint64_t now_us, uint64_t max_age_us,
+                                uint64_t& newest_capture_us) {
+  std::vector<HandSkeleton> result;
+  for (const HandSkeleton& hand : hands) {
+    if (hand.timestamp_us + max_age_us < now_us) continue;
+    newest_capture_us = std::max(newest_capture_us, hand.timestamp_us);
+    result.push_back(hand);
+  }
+  return result;
+}
+
+}  // namespace
+
+void check_touch_parameters(const TouchParameters& p) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("touch parameters: " + what); };
+  if (!(p.joint_distance_m > 0.0) || !std::isfinite(p.joint_distance_m)) fail("joint_distance_m must be > 0");
+  if (!(p.start_area_m2 > 0.0) || !std::isfinite(p.start_area_m2)) fail("start_area_m2 must be > 0");
+  if (!(p.end_area_m2 >= 0.0) || p.end_area_m2 > p.start_area_m2) fail("end_area_m2 must be in [0, start_area_m2]");
+  if (p.end_after_ticks < 1) fail("end_after_ticks must be at least 1");
+  if (p.max_skeleton_age_us == 0) fail("max_skeleton_age_us must be > 0");
+}
+
+std::optional<Eigen::AlignedBox2d> contact_box(const HandSkeleton& hand, double joint_distance_m) {
+  Eigen::AlignedBox2d box;  // empty
+  bool any = false;
+  for (const Eigen::Vector3d& joint : hand.hand_joints()) {
+    if (!joint.allFinite() || std::abs(joint.z()) > joint_distance_m) continue;
+    box.extend(joint.head<2>());
+    any = true;
+  }
+  if (!any) return std::nullopt;
+  return box;
+}
+
+double overlap_area_m2(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
+                       double joint_distance_m) {
+  double best = 0.0;
+  for (const HandSkeleton& local : local_hands) {
+    const auto local_box = contact_box(local, joint_distance_m);
+    if (!local_box) continue;
+    for (const HandSkeleton& remote : remote_hands) {
+      const auto remote_box = contact_box(remote, joint_distance_m);
+      if (!remote_box || !local_box->intersects(*remote_box)) continue;
+      const Eigen::Vector2d size = local_box->intersection(*remote_box).sizes();
+      best = std::max(best, size.x() * size.y());
+    }
+  }
+  return best;
+}
+
+const char* touch_event_name(TouchEvent::Kind kind) { return kind == TouchEvent::Kind::Start ? "touch-start" : "touch-end"; }
+
+MutualTouchDetector::MutualTouchDetector(const TouchParameters& parameters) : parameters_(parameters) {
+  check_touch_parameters(parameters_);
+}
+
+std::optional<TouchEvent> MutualTouchDetector::update(uint64_t now_us, std::span<const HandSkeleton> local_hands,
+                                                      std::span<const HandSkeleton> remote_hands) {
+  TouchEvent event;
+  event.timestamp_us = now_us;
+  const auto local = fresh(local_hands, now_us, parameters_.max_skeleton_age_us, event.local_capture_us);
+  const auto remote = fresh(remote_hands, now_us, parameters_.max_skeleton_age_us, event.remote_capture_us);
+  event.overlap_area_m2 = overlap_area_m2(local, remote, parameters_.joint_distance_m);
+
+  if (!touching_) {
+    if (event.overlap_area_m2 > parameters_.start_area_m2) {
+      touching_ = true;
+      ticks_below_end_ = 0;
+      event.kind = TouchEvent::Kind::Start;
+      return event;
+    }
+    return std::nullopt;
+  }
+  ticks_below_end_ = event.overlap_area_m2 < parameters_.end_area_m2 ? ticks_below_end_ + 1 : 0;
+  if (ticks_below_end_ >= parameters_.end_after_ticks) {
+    touching_ = false;
+    ticks_below_end_ = 0;
+    event.kind = TouchEvent::Kind::End;
+    return event;
+  }
+  return std::nullopt;
+}
+
+}  // namespace rt

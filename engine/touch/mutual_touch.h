@@ -1,0 +1,68 @@
+#pragma once
+// Mutual touch detection (paper section 3.2): the joints of the local and of the remote hand
+// within 2 cm of the screen, projected onto the screen plane, give two bounding boxes; an
+// overlap above 50 cm^2 is a mutual touch. Hysteresis turns one clap into exactly one start
+// event and one end event.
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <optional>
+#include <span>
+
+#include "tracking/hand_skeleton.h"
+
+namespace rt {
+
+struct TouchParameters {
+  double joint_distance_m = 0.02;  // a joint this close to the screen (inclusive) is at the glass
+  double start_area_m2 = 50e-4;    // paper: an overlap above 50 cm^2 starts a touch
+  // Hysteresis: a touch ends once the overlap has stayed below end_area for end_after_ticks
+  // ticks (60 ms at 50 Hz), so tracker jitter around the threshold gives no second clap.
+  double end_area_m2 = 25e-4;
+  int end_after_ticks = 3;
+  // A skeleton older than this counts as lost tracking (the tracker runs at 50 Hz).
+  uint64_t max_skeleton_age_us = 100'000;
+};
+
+// Throws with the reason unless the thresholds make sense (positive, end <= start, ...).
+void check_touch_parameters(const TouchParameters& parameters);
+
+// Bounding box, on the screen plane (x, y in metres), of the finite joints within
+// joint_distance_m of the screen; empty when there are none.
+std::optional<Eigen::AlignedBox2d> contact_box(const HandSkeleton& hand, double joint_distance_m);
+
+// Largest overlap (m^2) between a local hand's contact box and a remote hand's; hands are in
+// the local site frame (map the remote ones with map_skeleton first).
+double overlap_area_m2(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
+                       double joint_distance_m);
+
+struct TouchEvent {
+  enum class Kind { Start, End };
+  Kind kind = Kind::Start;
+  uint64_t timestamp_us = 0;         // when the detector decided (monotonic clock)
+  uint64_t local_capture_us = 0;     // capture time of the newest local skeleton used (0 if none)
+  uint64_t remote_capture_us = 0;    // same for the remote side
+  double overlap_area_m2 = 0.0;      // at that tick
+};
+
+const char* touch_event_name(TouchEvent::Kind kind);
+
+class MutualTouchDetector {
+ public:
+  explicit MutualTouchDetector(const TouchParameters& parameters = {});
+
+  // One tick with the newest skeletons of both sides (remote already in the local frame, its
+  // timestamps already in the local clock: two machines' monotonic clocks are unrelated); an
+  // empty span means that side tracks no hand. Returns the event this tick causes, if any.
+  std::optional<TouchEvent> update(uint64_t now_us, std::span<const HandSkeleton> local_hands,
+                                   std::span<const HandSkeleton> remote_hands);
+  bool touching() const { return touching_; }
+  const TouchParameters& parameters() const { return parameters_; }
+
+ private:
+  TouchParameters parameters_;
+  bool touching_ = false;
+  int ticks_below_end_ = 0;
+};
+
+}  // namespace rt
