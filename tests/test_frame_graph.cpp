@@ -68,10 +68,10 @@ TEST_CASE("bindings are checked against the shader's reflection", "[frame_graph]
   vk::Image mask(context, {"mask", 13, 11, PixelFormat::R32F});
   vk::Buffer buffer(context, {"a buffer", 64});
   vk::FrameGraph graph(context, "test bindings");
-  auto add_with = [&](const vk::ComputeKernel& kernel, std::vector<vk::ComputeBinding> bindings) {
+  auto add_with = [&](const vk::ComputeKernel& kernel, std::vector<vk::Binding> bindings) {
     graph.add_compute_pass({.name = "checked", .kernel = &kernel, .bindings = std::move(bindings), .threads = {13, 11, 1}});
   };
-  auto add = [&](std::vector<vk::ComputeBinding> bindings) { add_with(copy, std::move(bindings)); };
+  auto add = [&](std::vector<vk::Binding> bindings) { add_with(copy, std::move(bindings)); };
   CHECK_THROWS_WITH(add({{"source", &images.a}, {"destinaton", &images.b}}),
                     Catch::Contains("no binding 'destinaton'") && Catch::Contains("destination"));
   CHECK_THROWS_WITH(add({{"source", &images.a}}), Catch::Contains("'destination' is not bound"));

@@ -8,7 +8,9 @@
 
 namespace rt {
 
-enum class PixelFormat { R32F, RGBA32F, RGBA8 };
+// R16U holds integers 0..65535 (depth in millimetres); D32F is a depth attachment (metres or
+// the projection's depth, as the pass says).
+enum class PixelFormat { R32F, RGBA32F, RGBA8, R16U, D32F };
 
 uint32_t channel_count(PixelFormat format);
 uint32_t bytes_per_texel(PixelFormat format);

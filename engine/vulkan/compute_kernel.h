@@ -8,36 +8,29 @@
 #include <cstdint>
 #include <span>
 #include <string>
-#include <variant>
 #include <vector>
 
-#include "vulkan/handle.h"
-#include "vulkan/shader_reflection.h"
+#include "vulkan/pipeline_parts.h"
 
 namespace rt::vk {
-
-struct Knob {
-  std::string name;  // the specialization constant's name in the shader
-  std::variant<float, int32_t, uint32_t, bool> value;
-};
 
 class ComputeKernel {
  public:
   ComputeKernel(Context& context, std::string name, std::span<const uint32_t> spirv, const std::vector<Knob>& knobs = {});
 
-  const std::string& name() const { return name_; }
+  const std::string& name() const { return interface_.name; }
   const ShaderReflection& reflection() const { return reflection_; }
+  const PipelineInterface& interface() const { return interface_; }
   VkPipeline pipeline() const { return pipeline_.get(); }
-  VkPipelineLayout layout() const { return layout_.get(); }
+  VkPipelineLayout layout() const { return layout_.layout.get(); }
 
   // Workgroups that cover `threads` invocations per axis (a thread count, never a group count).
   std::array<uint32_t, 3> group_count(std::array<uint32_t, 3> threads) const;
 
  private:
-  std::string name_;
   ShaderReflection reflection_;
-  Handle<VkDescriptorSetLayout> set_layout_;
-  Handle<VkPipelineLayout> layout_;
+  PipelineInterface interface_;
+  PipelineLayoutParts layout_;
   Handle<VkPipeline> pipeline_;
 };
 

@@ -42,12 +42,16 @@ bool has_instance_extension(const char* name) {
   return false;
 }
 
-// Needed on every device; synchronization2 is core from 1.3 and an extension before.
+// Needed on every device; synchronization2 and dynamic rendering are core from 1.3 and
+// extensions before.
 const std::vector<const char*> kDeviceExtensions = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
 
 std::vector<const char*> device_extensions(uint32_t api_version) {
   std::vector<const char*> extensions = kDeviceExtensions;
-  if (api_version < VK_API_VERSION_1_3) extensions.push_back(VK_KHR_SYNCHRONIZATION_2_EXTENSION_NAME);
+  if (api_version < VK_API_VERSION_1_3) {
+    extensions.push_back(VK_KHR_SYNCHRONIZATION_2_EXTENSION_NAME);
+    extensions.push_back(VK_KHR_DYNAMIC_RENDERING_EXTENSION_NAME);
+  }
   return extensions;
 }
 
@@ -81,13 +85,16 @@ DeviceFacts facts_of(VkPhysicalDevice device) {
     if (!found) facts.missing_extensions.push_back(wanted);
   }
   if (facts.api_version >= VK_API_VERSION_1_2 && facts.missing_extensions.empty()) {
+    auto dynamic_rendering = vk_struct<VkPhysicalDeviceDynamicRenderingFeatures>(
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES);
     auto sync2 = vk_struct<VkPhysicalDeviceSynchronization2Features>(
-        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES);
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES, &dynamic_rendering);
     auto features12 = vk_struct<VkPhysicalDeviceVulkan12Features>(
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &sync2);
     auto features = vk_struct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12);
     vkGetPhysicalDeviceFeatures2(device, &features);
     if (!sync2.synchronization2) facts.missing_features.push_back("synchronization2");
+    if (!dynamic_rendering.dynamicRendering) facts.missing_features.push_back("dynamicRendering");
     if (!features12.timelineSemaphore) facts.missing_features.push_back("timelineSemaphore");
     if (!features12.hostQueryReset) facts.missing_features.push_back("hostQueryReset");
   }
@@ -215,8 +222,11 @@ void Context::create_device() {
   queue_info.queueCount = 1;
   queue_info.pQueuePriorities = &priority;
 
-  auto sync2 =
-      vk_struct<VkPhysicalDeviceSynchronization2Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES);
+  auto dynamic_rendering =
+      vk_struct<VkPhysicalDeviceDynamicRenderingFeatures>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES);
+  dynamic_rendering.dynamicRendering = VK_TRUE;
+  auto sync2 = vk_struct<VkPhysicalDeviceSynchronization2Features>(
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES, &dynamic_rendering);
   sync2.synchronization2 = VK_TRUE;
   auto features12 = vk_struct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &sync2);
   features12.timelineSemaphore = VK_TRUE;
@@ -244,6 +254,8 @@ void Context::create_device() {
   pipeline_barrier2_ = reinterpret_cast<PFN_vkCmdPipelineBarrier2>(load("vkCmdPipelineBarrier2", "vkCmdPipelineBarrier2KHR"));
   write_timestamp2_ = reinterpret_cast<PFN_vkCmdWriteTimestamp2>(load("vkCmdWriteTimestamp2", "vkCmdWriteTimestamp2KHR"));
   queue_submit2_ = reinterpret_cast<PFN_vkQueueSubmit2>(load("vkQueueSubmit2", "vkQueueSubmit2KHR"));
+  begin_rendering_ = reinterpret_cast<PFN_vkCmdBeginRendering>(load("vkCmdBeginRendering", "vkCmdBeginRenderingKHR"));
+  end_rendering_ = reinterpret_cast<PFN_vkCmdEndRendering>(load("vkCmdEndRendering", "vkCmdEndRenderingKHR"));
 
   auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -434,6 +446,12 @@ void Context::pipeline_barrier(VkCommandBuffer commands, const VkDependencyInfo&
 void Context::write_timestamp(VkCommandBuffer commands, VkQueryPool pool, uint32_t query) const {
   write_timestamp2_(commands, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool, query);
 }
+
+void Context::begin_rendering(VkCommandBuffer commands, const VkRenderingInfo& info) const {
+  begin_rendering_(commands, &info);
+}
+
+void Context::end_rendering(VkCommandBuffer commands) const { end_rendering_(commands); }
 
 void Context::push_descriptor_set(VkCommandBuffer commands, VkPipelineBindPoint bind_point, VkPipelineLayout layout,
                                   uint32_t set, uint32_t count, const VkWriteDescriptorSet* writes) const {

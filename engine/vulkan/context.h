@@ -67,6 +67,8 @@ class Context {
   // synchronization2 through whichever entry points the device has (core 1.3 or KHR).
   void pipeline_barrier(VkCommandBuffer commands, const VkDependencyInfo& dependency) const;
   void write_timestamp(VkCommandBuffer commands, VkQueryPool pool, uint32_t query) const;
+  void begin_rendering(VkCommandBuffer commands, const VkRenderingInfo& info) const;
+  void end_rendering(VkCommandBuffer commands) const;
   void push_descriptor_set(VkCommandBuffer commands, VkPipelineBindPoint bind_point, VkPipelineLayout layout,
                            uint32_t set, uint32_t count, const VkWriteDescriptorSet* writes) const;
 
@@ -103,6 +105,8 @@ class Context {
   PFN_vkCmdPipelineBarrier2 pipeline_barrier2_ = nullptr;
   PFN_vkCmdWriteTimestamp2 write_timestamp2_ = nullptr;
   PFN_vkQueueSubmit2 queue_submit2_ = nullptr;
+  PFN_vkCmdBeginRendering begin_rendering_ = nullptr;
+  PFN_vkCmdEndRendering end_rendering_ = nullptr;
 
   std::mutex mutex_;  // guards the fields below: submissions and retirement may come from any thread
   uint64_t last_submitted_ = 0;

@@ -74,23 +74,38 @@ void FrameGraph::add_pass(PassDecl decl) {
   compiled_ = false;
 }
 
-void FrameGraph::add_compute_pass(ComputePassDecl decl) {
-  auto fail = [&](const std::string& what) { return std::invalid_argument("pass '" + decl.name + "': " + what); };
-  if (!decl.kernel) throw fail("no kernel");
-  const ComputeKernel& kernel = *decl.kernel;
-  const ShaderReflection& shader = kernel.reflection();
+namespace {
 
-  std::vector<ResourceUse> uses;
-  std::vector<std::pair<const ShaderBinding*, ComputeBinding>> bound;
-  for (const ComputeBinding& binding : decl.bindings) {
-    const ShaderBinding* declared = shader.find_binding(binding.name);
+Access binding_access(const ShaderBinding& binding, VkPipelineBindPoint bind_point) {
+  if (bind_point == VK_PIPELINE_BIND_POINT_COMPUTE) return compute_access(binding);
+  Access access = access::graphics_read;
+  if (binding.type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER) {
+    access.access = VK_ACCESS_2_SHADER_SAMPLED_READ_BIT;
+    access.layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  } else if (binding.writable) {
+    access.access = (binding.readable ? VK_ACCESS_2_SHADER_STORAGE_READ_BIT : VK_ACCESS_2_NONE) |
+                    VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  }
+  return access;
+}
+
+using BoundList = std::vector<std::pair<ShaderBinding, Binding>>;
+
+// Checks `given` against the pipeline's bindings (every one bound once, by name, with a
+// resource of the right kind and format) and returns them with the uses they imply.
+BoundList resolve_bindings(const std::string& pass, const PipelineInterface& pipeline,
+                           const std::vector<Binding>& given, std::vector<ResourceUse>& uses) {
+  auto fail = [&](const std::string& what) { return std::invalid_argument("pass '" + pass + "': " + what); };
+  BoundList bound;
+  for (const Binding& binding : given) {
+    const ShaderBinding* declared = pipeline.find_binding(binding.name);
     if (!declared) {
       std::string known;
-      for (const auto& b : shader.bindings) known += (known.empty() ? "" : ", ") + b.name;
-      throw fail("shader '" + kernel.name() + "' has no binding '" + binding.name + "' (it has: " + known + ")");
+      for (const auto& b : pipeline.bindings) known += (known.empty() ? "" : ", ") + b.name;
+      throw fail("shader '" + pipeline.name + "' has no binding '" + binding.name + "' (it has: " + known + ")");
     }
     for (const auto& [other, unused] : bound)
-      if (other == declared) throw fail("binding '" + binding.name + "' is bound twice");
+      if (other.binding == declared->binding) throw fail("binding '" + binding.name + "' is bound twice");
     if (!identity(binding.resource)) throw fail("binding '" + binding.name + "' is given a null resource");
     const bool is_image = std::holds_alternative<Image*>(binding.resource);
     const bool wants_image = declared->type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE ||
@@ -107,17 +122,69 @@ void FrameGraph::add_compute_pass(ComputePassDecl decl) {
     }
     if (declared->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER && !binding.sampler)
       throw fail("binding '" + binding.name + "' is a sampled image and needs a sampler");
-    bound.emplace_back(declared, binding);
-    uses.push_back({binding.resource, compute_access(*declared)});
+    bound.emplace_back(*declared, binding);
+    uses.push_back({binding.resource, binding_access(*declared, pipeline.bind_point)});
   }
-  for (const auto& declared : shader.bindings) {
+  for (const auto& declared : pipeline.bindings) {
     bool found = false;
-    for (const auto& [other, unused] : bound) found |= other == &declared;
+    for (const auto& [other, unused] : bound) found |= other.binding == declared.binding;
     if (!found) throw fail("shader binding '" + declared.name + "' is not bound");
   }
-  if (shader.push_constant_size > 0 && !decl.push_constants)
-    throw fail("shader '" + kernel.name() + "' takes " + std::to_string(shader.push_constant_size) +
-               " bytes of push constants and none are given");
+  return bound;
+}
+
+using PushFunction = std::function<std::vector<std::byte>()>;
+
+void check_push_given(const std::string& pass, const PipelineInterface& pipeline, const PushFunction& push) {
+  if (pipeline.push_constant_size > 0 && !push)
+    throw std::invalid_argument("pass '" + pass + "': shader '" + pipeline.name + "' takes " +
+                                std::to_string(pipeline.push_constant_size) + " bytes of push constants and none are given");
+}
+
+// Binds the pipeline, its resources (push descriptors) and its push constants.
+void bind_pipeline(const Context& context, VkCommandBuffer commands, const std::string& pass,
+                   const PipelineInterface& pipeline, const BoundList& bound, const PushFunction& push) {
+  vkCmdBindPipeline(commands, pipeline.bind_point, pipeline.pipeline);
+  std::vector<VkDescriptorImageInfo> image_infos;
+  std::vector<VkDescriptorBufferInfo> buffer_infos;
+  image_infos.reserve(bound.size());
+  buffer_infos.reserve(bound.size());
+  std::vector<VkWriteDescriptorSet> writes;
+  for (const auto& [declared, binding] : bound) {
+    auto write = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    write.dstBinding = declared.binding;
+    write.descriptorCount = 1;
+    write.descriptorType = declared.type;
+    if (auto* image = std::get_if<Image*>(&binding.resource)) {
+      image_infos.push_back({binding.sampler ? binding.sampler->get() : VK_NULL_HANDLE, (*image)->view(),
+                             binding_access(declared, pipeline.bind_point).layout});
+      write.pImageInfo = &image_infos.back();
+    } else {
+      buffer_infos.push_back({std::get<Buffer*>(binding.resource)->buffer(), 0, VK_WHOLE_SIZE});
+      write.pBufferInfo = &buffer_infos.back();
+    }
+    writes.push_back(write);
+  }
+  if (!writes.empty())
+    context.push_descriptor_set(commands, pipeline.bind_point, pipeline.layout, 0, uint32_t(writes.size()), writes.data());
+  if (const uint32_t size = pipeline.push_constant_size; size > 0) {
+    const std::vector<std::byte> data = push();
+    if (data.size() != size)
+      throw std::logic_error("pass '" + pass + "' pushed " + std::to_string(data.size()) + " bytes; shader '" +
+                             pipeline.name + "' declares " + std::to_string(size));
+    vkCmdPushConstants(commands, pipeline.layout, pipeline.push_constant_stages, 0, size, data.data());
+  }
+}
+
+}  // namespace
+
+void FrameGraph::add_compute_pass(ComputePassDecl decl) {
+  auto fail = [&](const std::string& what) { return std::invalid_argument("pass '" + decl.name + "': " + what); };
+  if (!decl.kernel) throw fail("no kernel");
+  const ComputeKernel& kernel = *decl.kernel;
+  std::vector<ResourceUse> uses;
+  BoundList bound = resolve_bindings(decl.name, kernel.interface(), decl.bindings, uses);
+  check_push_given(decl.name, kernel.interface(), decl.push_constants);
   const auto groups = kernel.group_count(decl.threads);
   const auto& limits = context_.properties().limits;
   for (int axis = 0; axis < 3; ++axis) {
@@ -126,42 +193,90 @@ void FrameGraph::add_compute_pass(ComputePassDecl decl) {
       throw fail(std::to_string(groups[axis]) + " workgroups on axis " + std::to_string(axis) + " exceed the device's " +
                  std::to_string(limits.maxComputeWorkGroupCount[axis]));
   }
-
   const Context& context = context_;
   auto record = [&context, &kernel, bound = std::move(bound), groups, name = decl.name,
                  push = std::move(decl.push_constants)](VkCommandBuffer commands) {
-    vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.pipeline());
-    std::vector<VkDescriptorImageInfo> image_infos;
-    std::vector<VkDescriptorBufferInfo> buffer_infos;
-    image_infos.reserve(bound.size());
-    buffer_infos.reserve(bound.size());
-    std::vector<VkWriteDescriptorSet> writes;
-    for (const auto& [declared, binding] : bound) {
-      auto write = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-      write.dstBinding = declared->binding;
-      write.descriptorCount = 1;
-      write.descriptorType = declared->type;
-      if (auto* image = std::get_if<Image*>(&binding.resource)) {
-        image_infos.push_back({binding.sampler ? binding.sampler->get() : VK_NULL_HANDLE, (*image)->view(),
-                               compute_access(*declared).layout});
-        write.pImageInfo = &image_infos.back();
-      } else {
-        buffer_infos.push_back({std::get<Buffer*>(binding.resource)->buffer(), 0, VK_WHOLE_SIZE});
-        write.pBufferInfo = &buffer_infos.back();
-      }
-      writes.push_back(write);
-    }
-    if (!writes.empty())
-      context.push_descriptor_set(commands, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.layout(), 0, uint32_t(writes.size()),
-                                  writes.data());
-    if (const uint32_t size = kernel.reflection().push_constant_size; size > 0) {
-      const std::vector<std::byte> data = push();
-      if (data.size() != size)
-        throw std::logic_error("pass '" + name + "' pushed " + std::to_string(data.size()) + " bytes; shader '" +
-                               kernel.name() + "' declares " + std::to_string(size));
-      vkCmdPushConstants(commands, kernel.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, size, data.data());
-    }
+    bind_pipeline(context, commands, name, kernel.interface(), bound, push);
     vkCmdDispatch(commands, groups[0], groups[1], groups[2]);
+  };
+  add_pass({decl.name, std::move(uses), std::move(record)});
+}
+
+void FrameGraph::add_graphics_pass(GraphicsPassDecl decl) {
+  auto fail = [&](const std::string& what) { return std::invalid_argument("pass '" + decl.name + "': " + what); };
+  if (!decl.kernel) throw fail("no kernel");
+  const GraphicsKernel& kernel = *decl.kernel;
+  if (!decl.vertex_count) throw fail("no vertex count");
+  std::vector<ResourceUse> uses;
+  BoundList bound = resolve_bindings(decl.name, kernel.interface(), decl.bindings, uses);
+  check_push_given(decl.name, kernel.interface(), decl.push_constants);
+
+  const GraphicsTargets& targets = kernel.targets();
+  if (decl.color.size() != targets.color.size())
+    throw fail("kernel '" + kernel.name() + "' draws " + std::to_string(targets.color.size()) + " colour targets, given " +
+               std::to_string(decl.color.size()));
+  if (targets.depth != (decl.depth != nullptr))
+    throw fail(targets.depth ? "the kernel needs a depth target" : "the kernel has no depth target");
+  const Image* first = decl.color.empty() ? decl.depth : decl.color.front().image;
+  if (!first) throw fail("nothing to draw into");
+  const VkExtent2D extent{first->width(), first->height()};
+  for (size_t i = 0; i < decl.color.size(); ++i) {
+    const Image* image = decl.color[i].image;
+    if (!image) throw fail("colour target " + std::to_string(i) + " is null");
+    if (image->pixel_format() != targets.color[i])
+      throw fail("colour target " + std::to_string(i) + " '" + image->name() + "' is " + format_name(image->pixel_format()) +
+                 ", the kernel draws " + format_name(targets.color[i]));
+    uses.push_back({decl.color[i].image, access::color_attachment_write});
+  }
+  if (decl.depth) {
+    if (decl.depth->pixel_format() != PixelFormat::D32F) throw fail("depth target '" + decl.depth->name() + "' is not d32f");
+    uses.push_back({decl.depth, access::depth_attachment_write});
+  }
+  for (const ResourceUse& use : uses)
+    if (auto* image = std::get_if<Image*>(&use.resource);
+        image && use.access.layout != VK_IMAGE_LAYOUT_GENERAL && ((*image)->width() != extent.width || (*image)->height() != extent.height))
+      throw fail("target '" + (*image)->name() + "' differs in size from the others");
+
+  const Context& context = context_;
+  auto record = [&context, &kernel, bound = std::move(bound), name = decl.name, push = std::move(decl.push_constants),
+                 color = decl.color, depth = decl.depth, extent, count = std::move(decl.vertex_count)](VkCommandBuffer commands) {
+    std::vector<VkRenderingAttachmentInfo> color_infos;
+    for (const ColorTarget& target : color) {
+      auto info = vk_struct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
+      info.imageView = target.image->view();
+      info.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      // Integer targets (r16ui) clear through the same bits as floats would not: set both views.
+      for (int c = 0; c < 4; ++c) {
+        info.clearValue.color.float32[c] = target.clear[c];
+      }
+      if (target.image->pixel_format() == PixelFormat::R16U)
+        for (int c = 0; c < 4; ++c) info.clearValue.color.uint32[c] = uint32_t(target.clear[c]);
+      color_infos.push_back(info);
+    }
+    auto depth_info = vk_struct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
+    if (depth) {
+      depth_info.imageView = depth->view();
+      depth_info.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+      depth_info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      depth_info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      depth_info.clearValue.depthStencil = {1.0f, 0};
+    }
+    auto rendering = vk_struct<VkRenderingInfo>(VK_STRUCTURE_TYPE_RENDERING_INFO);
+    rendering.renderArea = {{0, 0}, extent};
+    rendering.layerCount = 1;
+    rendering.colorAttachmentCount = uint32_t(color_infos.size());
+    rendering.pColorAttachments = color_infos.data();
+    rendering.pDepthAttachment = depth ? &depth_info : nullptr;
+    context.begin_rendering(commands, rendering);
+    const VkViewport viewport{0, 0, float(extent.width), float(extent.height), 0, 1};
+    const VkRect2D scissor{{0, 0}, extent};
+    vkCmdSetViewport(commands, 0, 1, &viewport);
+    vkCmdSetScissor(commands, 0, 1, &scissor);
+    bind_pipeline(context, commands, name, kernel.interface(), bound, push);
+    if (const uint32_t vertices = count(); vertices > 0) vkCmdDraw(commands, vertices, 1, 0, 0);
+    context.end_rendering(commands);
   };
   add_pass({decl.name, std::move(uses), std::move(record)});
 }

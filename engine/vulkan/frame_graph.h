@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "vulkan/compute_kernel.h"
+#include "vulkan/graphics_kernel.h"
 #include "vulkan/resources.h"
 
 namespace rt::vk {
@@ -36,8 +37,9 @@ struct PassDecl {
   std::function<void(VkCommandBuffer)> record;
 };
 
-struct ComputeBinding {
-  std::string name{};  // the binding's name in the shader
+// A resource bound to a shader binding, by the binding's name in the shader.
+struct Binding {
+  std::string name{};
   ResourceRef resource{};
   const Sampler* sampler = nullptr;  // for sampled images only
 };
@@ -47,9 +49,26 @@ struct ComputeBinding {
 struct ComputePassDecl {
   std::string name{};
   const ComputeKernel* kernel = nullptr;
-  std::vector<ComputeBinding> bindings{};
+  std::vector<Binding> bindings{};
   std::array<uint32_t, 3> threads{1, 1, 1};  // invocations per axis, e.g. {width, height, 1}
   // Called when each frame is recorded; its size must equal the shader's push-constant block.
+  std::function<std::vector<std::byte>()> push_constants{};
+};
+
+struct ColorTarget {
+  Image* image = nullptr;
+  std::array<float, 4> clear{0, 0, 0, 0};  // every draw pass clears its targets first
+};
+
+// A draw: the kernel's vertex shader pulls vertex_count() vertices from its storage buffers.
+// Colour targets in the order of the fragment shader's outputs; depth is D32F, cleared to 1.
+struct GraphicsPassDecl {
+  std::string name{};
+  const GraphicsKernel* kernel = nullptr;
+  std::vector<Binding> bindings{};
+  std::vector<ColorTarget> color{};
+  Image* depth = nullptr;
+  std::function<uint32_t()> vertex_count{};  // read when each frame is recorded
   std::function<std::vector<std::byte>()> push_constants{};
 };
 
@@ -81,7 +100,8 @@ class FrameGraph {
   FrameGraph& operator=(const FrameGraph&) = delete;
 
   void add_pass(PassDecl pass);
-  void add_compute_pass(ComputePassDecl pass);  // checks bindings, formats and sizes against the shader
+  void add_compute_pass(ComputePassDecl pass);    // checks bindings, formats and sizes against the shader
+  void add_graphics_pass(GraphicsPassDecl pass);  // the same checks, and the targets' formats and sizes
 
   // Pass names in execution order: every pass runs after the passes that write what it reads;
   // otherwise in the order added. Throws when the passes form a cycle.

@@ -39,8 +39,14 @@ VkFormat vulkan_format(PixelFormat format) {
     case PixelFormat::R32F: return VK_FORMAT_R32_SFLOAT;
     case PixelFormat::RGBA32F: return VK_FORMAT_R32G32B32A32_SFLOAT;
     case PixelFormat::RGBA8: return VK_FORMAT_R8G8B8A8_UNORM;
+    case PixelFormat::R16U: return VK_FORMAT_R16_UINT;
+    case PixelFormat::D32F: return VK_FORMAT_D32_SFLOAT;
   }
   throw std::logic_error("unknown pixel format");
+}
+
+VkImageAspectFlags aspect_of(PixelFormat format) {
+  return format == PixelFormat::D32F ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
 }
 
 Image::Image(Context& context, const ImageDesc& desc) : desc_(desc) {
@@ -59,8 +65,11 @@ Image::Image(Context& context, const ImageDesc& desc) : desc_(desc) {
   info.arrayLayers = 1;
   info.samples = VK_SAMPLE_COUNT_1_BIT;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-               VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  // Every image can be a pass's storage image or render target, sampled, and copied.
+  info.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+               (desc.format == PixelFormat::D32F
+                    ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT
+                    : VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   VkImage image = VK_NULL_HANDLE;
@@ -78,7 +87,7 @@ Image::Image(Context& context, const ImageDesc& desc) : desc_(desc) {
   view_info.image = image;
   view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
   view_info.format = info.format;
-  view_info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  view_info.subresourceRange = {aspect_of(desc.format), 0, 1, 0, 1};
   VkImageView view = VK_NULL_HANDLE;
   RT_VK_CHECK(vkCreateImageView(context.device(), &view_info, nullptr, &view));
   view_ = Handle<VkImageView>(context, view);
@@ -144,7 +153,7 @@ VkImageMemoryBarrier2 image_barrier(const Image& image, const BarrierPlan& plan)
   barrier.newLayout = plan.new_layout;
   barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = image.image();
-  barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  barrier.subresourceRange = {aspect_of(image.pixel_format()), 0, 1, 0, 1};
   return barrier;
 }
 
@@ -187,7 +196,7 @@ void upload(Context& context, Image& image, const HostImage& pixels) {
   context.run_now([&](VkCommandBuffer commands) {
     use_image(context, commands, image, access::transfer_write);
     VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageSubresource = {aspect_of(image.pixel_format()), 0, 0, 1};
     region.imageExtent = {image.width(), image.height(), 1};
     vkCmdCopyBufferToImage(commands, staging.buffer(), image.image(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
   });
@@ -198,7 +207,7 @@ HostImage download(Context& context, Image& image) {
   context.run_now([&](VkCommandBuffer commands) {
     use_image(context, commands, image, access::transfer_read);
     VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageSubresource = {aspect_of(image.pixel_format()), 0, 0, 1};
     region.imageExtent = {image.width(), image.height(), 1};
     vkCmdCopyImageToBuffer(commands, image.image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer(), 1, &region);
     // Device writes reach the host only through a barrier to the host stage.

@@ -15,6 +15,7 @@
 namespace rt::vk {
 
 VkFormat vulkan_format(PixelFormat format);
+VkImageAspectFlags aspect_of(PixelFormat format);
 
 struct ImageDesc {
   std::string name;

@@ -21,6 +21,7 @@ VkFormat format_of(SpvImageFormat format) {
     case SpvImageFormatRg32f: return VK_FORMAT_R32G32_SFLOAT;
     case SpvImageFormatR32ui: return VK_FORMAT_R32_UINT;
     case SpvImageFormatR32i: return VK_FORMAT_R32_SINT;
+    case SpvImageFormatR16ui: return VK_FORMAT_R16_UINT;
     case SpvImageFormatR16: return VK_FORMAT_R16_UNORM;
     case SpvImageFormatR8: return VK_FORMAT_R8_UNORM;
     default: return VK_FORMAT_UNDEFINED;
@@ -84,6 +85,7 @@ ShaderReflection reflect_shader(const std::string& shader_name, std::span<const 
       binding.set = spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationDescriptorSet);
       binding.binding = spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationBinding);
       binding.type = descriptor_type;
+      binding.stages = reflection.stage;
       const spvc_type type = spvc_compiler_get_type_handle(compiler, list[i].type_id);
       if (spvc_type_get_num_array_dimensions(type) != 0)
         throw fail("binding '" + binding.name + "' is an array; the engine binds single resources");

@@ -21,6 +21,7 @@ struct ShaderBinding {
   VkFormat image_format = VK_FORMAT_UNDEFINED;  // storage images: the format the shader declares
   bool readable = true;                         // false for `writeonly`
   bool writable = true;                         // false for `readonly` and for sampled images
+  VkShaderStageFlags stages = 0;                // the stages that declare it
 };
 
 enum class ScalarType { Float, Int, Uint, Bool };
