@@ -1,0 +1,182 @@
+#include "passes/person_raster.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "person_raster.frag.h"
+#include "person_raster.vert.h"
+
+namespace rt::passes {
+namespace {
+
+constexpr float kLight[3] = {0.2672612f, 0.5345225f, 0.8017837f};  // as in person_raster.frag
+
+// A vertex in clip space with the attributes the fragment shader interpolates.
+struct ClipVertex {
+  Eigen::Vector4d clip;
+  std::array<double, 13> attributes;  // site position 3, normal 3, albedo 3, stripe 4 (rgb, period)
+  double camera_z = 0;
+};
+
+ClipVertex lerp(const ClipVertex& a, const ClipVertex& b, double t) {
+  ClipVertex out;
+  out.clip = a.clip + t * (b.clip - a.clip);
+  for (size_t i = 0; i < a.attributes.size(); ++i) out.attributes[i] = a.attributes[i] + t * (b.attributes[i] - a.attributes[i]);
+  out.camera_z = a.camera_z + t * (b.camera_z - a.camera_z);
+  return out;
+}
+
+// Sutherland-Hodgman against one clip plane, given as distance(v) >= 0.
+template <typename Distance>
+std::vector<ClipVertex> clip_polygon(const std::vector<ClipVertex>& polygon, Distance distance) {
+  std::vector<ClipVertex> out;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const ClipVertex& a = polygon[i];
+    const ClipVertex& b = polygon[(i + 1) % polygon.size()];
+    const double da = distance(a), db = distance(b);
+    if (da >= 0) out.push_back(a);
+    if ((da >= 0) != (db >= 0)) out.push_back(lerp(a, b, da / (da - db)));
+  }
+  return out;
+}
+
+double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+}  // namespace
+
+RasterViewParams raster_view(const Camera& camera, double near_m, double far_m) {
+  if (!(near_m > 0) || !(far_m > near_m)) throw std::invalid_argument("raster view needs 0 < near < far");
+  const CameraIntrinsics& k = camera.intrinsics;
+  const double w = k.width, h = k.height;
+  Eigen::Matrix4d projection = Eigen::Matrix4d::Zero();
+  projection(0, 0) = 2 * k.fx / w;
+  projection(0, 2) = 2 * (k.cx + 0.5) / w - 1;
+  projection(1, 1) = 2 * k.fy / h;
+  projection(1, 2) = 2 * (k.cy + 0.5) / h - 1;
+  projection(2, 2) = far_m / (far_m - near_m);
+  projection(2, 3) = -far_m * near_m / (far_m - near_m);
+  projection(3, 2) = 1;
+  const Eigen::Matrix4d clip_from_site = projection * camera.camera_from_site.matrix();
+  RasterViewParams view{};
+  for (int column = 0; column < 4; ++column)
+    for (int row = 0; row < 4; ++row) view.clip_from_site[column * 4 + row] = float(clip_from_site(row, column));
+  for (int i = 0; i < 4; ++i) view.depth_row[i] = float(camera.camera_from_site.matrix()(2, i));
+  return view;
+}
+
+PersonRasterPass::PersonRasterPass(vk::Context& context)
+    : kernel_(context, "person_raster", person_raster_vert_spirv, person_raster_frag_spirv,
+              {{PixelFormat::RGBA8, PixelFormat::R32F, PixelFormat::R32F}, true}) {}
+
+void PersonRasterPass::add_to(vk::FrameGraph& graph, vk::Buffer& mesh, std::function<uint32_t()> vertex_count,
+                              std::function<RasterViewParams()> view, const RasterTargets& targets,
+                              const std::string& pass_name) const {
+  graph.add_graphics_pass({
+      .name = pass_name,
+      .kernel = &kernel_,
+      .bindings = {{"Mesh", &mesh}},
+      .color = {{targets.color, {0, 0, 0, 0}}, {targets.depth_m, {0, 0, 0, 0}}, {targets.part, {0, 0, 0, 0}}},
+      .depth = targets.depth_buffer,
+      .vertex_count = std::move(vertex_count),
+      .push_constants = vk::push_constants_from<RasterViewParams>(std::move(view)),
+  });
+}
+
+RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const RasterViewParams& view, uint32_t width,
+                                        uint32_t height) {
+  RasterReference out{HostImage(width, height, PixelFormat::RGBA8), HostImage(width, height, PixelFormat::R32F),
+                      HostImage(width, height, PixelFormat::R32F), HostImage(width, height, PixelFormat::R32F)};
+  Eigen::Matrix4d clip_from_site;
+  for (int column = 0; column < 4; ++column)
+    for (int row = 0; row < 4; ++row) clip_from_site(row, column) = view.clip_from_site[column * 4 + row];
+  std::vector<double> depth_buffer(size_t(width) * height, 1.0);
+
+  for (size_t first = 0; first + 2 < mesh.size(); first += 3) {
+    std::vector<ClipVertex> polygon;
+    bool finite = true;
+    for (size_t i = first; i < first + 3; ++i) {
+      const MeshVertex& v = mesh[i];
+      ClipVertex c;
+      const Eigen::Vector4d site(v.position_part[0], v.position_part[1], v.position_part[2], 1.0);
+      c.clip = clip_from_site * site;
+      c.camera_z = view.depth_row[0] * site.x() + view.depth_row[1] * site.y() + view.depth_row[2] * site.z() + view.depth_row[3];
+      const float attributes[13] = {v.position_part[0], v.position_part[1], v.position_part[2], v.normal_stripe[0],
+                                    v.normal_stripe[1], v.normal_stripe[2], v.color[0], v.color[1], v.color[2],
+                                    v.stripe_color[0], v.stripe_color[1], v.stripe_color[2], v.normal_stripe[3]};
+      for (int a = 0; a < 13; ++a) c.attributes[a] = attributes[a];
+      finite &= c.clip.allFinite();
+      polygon.push_back(c);
+    }
+    if (!finite) continue;
+    const float part = mesh[first].position_part[3];  // Vulkan's provoking vertex: the first
+    polygon = clip_polygon(polygon, [](const ClipVertex& v) { return v.clip.z(); });               // near: z >= 0
+    polygon = clip_polygon(polygon, [](const ClipVertex& v) { return v.clip.w() - v.clip.z(); });  // far: z <= w
+    if (polygon.size() < 3) continue;
+
+    std::vector<Eigen::Vector3d> screen;  // x, y in pixels, z in [0, 1]
+    for (const ClipVertex& v : polygon) {
+      const Eigen::Vector3d ndc = v.clip.head<3>() / v.clip.w();
+      screen.emplace_back((ndc.x() + 1) * 0.5 * width, (ndc.y() + 1) * 0.5 * height, ndc.z());
+    }
+    for (size_t k = 1; k + 1 < polygon.size(); ++k) {
+      const size_t ids[3] = {0, k, k + 1};
+      const Eigen::Vector2d a = screen[ids[0]].head<2>(), b = screen[ids[1]].head<2>(), c = screen[ids[2]].head<2>();
+      const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+      if (std::abs(area) < 1e-12) continue;  // degenerate: Vulkan draws nothing
+      const int x0 = std::max(0, int(std::floor(std::min({a.x(), b.x(), c.x()}))) - 1);
+      const int x1 = std::min(int(width) - 1, int(std::ceil(std::max({a.x(), b.x(), c.x()}))) + 1);
+      const int y0 = std::max(0, int(std::floor(std::min({a.y(), b.y(), c.y()}))) - 1);
+      const int y1 = std::min(int(height) - 1, int(std::ceil(std::max({a.y(), b.y(), c.y()}))) + 1);
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          const Eigen::Vector2d p(x + 0.5, y + 0.5);
+          if (distance_to_segment(p, a, b) <= 1.0 || distance_to_segment(p, b, c) <= 1.0 ||
+              distance_to_segment(p, c, a) <= 1.0)
+            out.near_edge.at(uint32_t(x), uint32_t(y)) = 1.0f;
+          const double w0 = ((b - p).x() * (c - p).y() - (b - p).y() * (c - p).x()) / area;
+          const double w1 = ((c - p).x() * (a - p).y() - (c - p).y() * (a - p).x()) / area;
+          const double w2 = 1.0 - w0 - w1;
+          if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+          const double z = w0 * screen[ids[0]].z() + w1 * screen[ids[1]].z() + w2 * screen[ids[2]].z();
+          double& stored = depth_buffer[size_t(y) * width + x];
+          if (!(z < stored)) continue;
+          stored = z;
+          // Perspective-correct weights.
+          const double p0 = w0 / polygon[ids[0]].clip.w(), p1 = w1 / polygon[ids[1]].clip.w(),
+                       p2 = w2 / polygon[ids[2]].clip.w();
+          const double sum = p0 + p1 + p2;
+          auto interpolate = [&](auto get) {
+            return (p0 * get(polygon[ids[0]]) + p1 * get(polygon[ids[1]]) + p2 * get(polygon[ids[2]])) / sum;
+          };
+          std::array<double, 13> at{};
+          for (int i = 0; i < 13; ++i) at[i] = interpolate([i](const ClipVertex& v) { return v.attributes[i]; });
+          Eigen::Vector3d normal(at[3], at[4], at[5]);
+          const Eigen::Vector3d light(kLight[0], kLight[1], kLight[2]);
+          const Eigen::Vector3d unit = normal.squaredNorm() > 1e-12 ? normal.normalized() : light;
+          const double shade = 0.35 + 0.65 * std::abs(unit.dot(light));
+          const double period = at[12];
+          const bool stripe = period > 0 && at[1] / period - std::floor(at[1] / period) >= 0.5;
+          for (int channel = 0; channel < 3; ++channel) {
+            const double albedo = stripe ? at[9 + channel] : at[6 + channel];
+            out.color.at(uint32_t(x), uint32_t(y), uint32_t(channel)) =
+                float(std::round(std::clamp(albedo * shade, 0.0, 1.0) * 255.0) / 255.0);
+          }
+          out.color.at(uint32_t(x), uint32_t(y), 3) = 1.0f;
+          out.depth_m.at(uint32_t(x), uint32_t(y)) = float(interpolate([](const ClipVertex& v) { return v.camera_z; }));
+          out.part.at(uint32_t(x), uint32_t(y)) = part;
+        }
+    }
+  }
+  return out;
+}
+
+}  // namespace rt::passes
