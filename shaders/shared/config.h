@@ -50,6 +50,10 @@ struct RasterViewParams {
   RT_VEC4 depth_row;  // z_camera = dot(depth_row.xyz, p) + depth_row.w
 };
 
+struct DepthSensorParams {
+  RT_UINT seed;  // per camera and frame: the simulated noise is reproducible
+};
+
 #ifdef __cplusplus
 }  // namespace rt::shader_abi
 #endif
