@@ -1,0 +1,108 @@
+#include "app/rgbd_renderer.h"
+
+#include <stdexcept>
+
+namespace rt::app {
+
+// The targets one person_raster draw fills.
+struct RgbdRenderer::View {
+  vk::Image color, depth_m, part, depth_buffer;
+  View(vk::Context& context, const std::string& name, const CameraIntrinsics& k)
+      : color(context, {name + " colour", k.width, k.height, PixelFormat::RGBA8}),
+        depth_m(context, {name + " depth m", k.width, k.height, PixelFormat::R32F}),
+        part(context, {name + " part", k.width, k.height, PixelFormat::R32F}),
+        depth_buffer(context, {name + " depth buffer", k.width, k.height, PixelFormat::D32F}) {}
+  passes::RasterTargets targets() { return {&color, &depth_m, &part, &depth_buffer}; }
+};
+
+struct RgbdRenderer::CameraImages {
+  View colour_view, depth_view;
+  vk::Image sensed_colour, depth_mm;
+  CameraImages(vk::Context& context, const RgbdCameraSpec& spec)
+      : colour_view(context, spec.name + " colour view", spec.colour.intrinsics),
+        depth_view(context, spec.name + " depth view", spec.depth.intrinsics),
+        sensed_colour(context, {spec.name + " sensed colour", spec.colour.intrinsics.width,
+                                spec.colour.intrinsics.height, PixelFormat::RGBA8}),
+        depth_mm(context, {spec.name + " depth mm", spec.depth.intrinsics.width, spec.depth.intrinsics.height,
+                           PixelFormat::R16U}) {}
+};
+
+namespace {
+
+// Near and far planes of the simulated cameras: nothing of a seated user is nearer than a
+// centimetre or farther than ten metres.
+constexpr double kNearM = 0.01, kFarM = 10.0;
+
+}  // namespace
+
+RgbdRenderer::RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view)
+    : context_(context), cameras_(std::move(cameras)), target_view_(std::move(target_view)), raster_(context) {
+  for (const auto& spec : cameras_) {
+    colour_sensors_.push_back(std::make_unique<passes::ColorSensorPass>(context, spec.colour_model));
+    depth_sensors_.push_back(std::make_unique<passes::DepthSensorPass>(context, spec.depth_model));
+    images_.push_back(std::make_unique<CameraImages>(context, spec));
+  }
+  if (target_view_) target_ = std::make_unique<View>(context, "target view", target_view_->intrinsics);
+}
+
+RgbdRenderer::~RgbdRenderer() = default;
+
+void RgbdRenderer::build_graph(size_t mesh_capacity) {
+  graph_.reset();
+  mesh_ = std::make_unique<vk::Buffer>(context_, vk::BufferDesc{"simulated mesh", mesh_capacity * sizeof(passes::MeshVertex)});
+  mesh_capacity_ = mesh_capacity;
+  graph_ = std::make_unique<vk::FrameGraph>(context_, "simulate frame");
+  auto count = [this] { return vertex_count_; };
+  for (size_t i = 0; i < cameras_.size(); ++i) {
+    const RgbdCameraSpec& spec = cameras_[i];
+    CameraImages& images = *images_[i];
+    const auto colour_view = passes::raster_view(spec.colour, kNearM, kFarM);
+    const auto depth_view = passes::raster_view(spec.depth, kNearM, kFarM);
+    raster_.add_to(*graph_, *mesh_, count, [colour_view] { return colour_view; }, images.colour_view.targets(),
+                   "raster colour " + spec.name);
+    colour_sensors_[i]->add_to(*graph_, images.colour_view.color, images.sensed_colour, "color_sensor " + spec.name);
+    raster_.add_to(*graph_, *mesh_, count, [depth_view] { return depth_view; }, images.depth_view.targets(),
+                   "raster depth " + spec.name);
+    // Each camera draws its own noise: mix the camera's index into the frame's seed.
+    depth_sensors_[i]->add_to(*graph_, images.depth_view.depth_m, images.depth_view.part, images.depth_mm,
+                              [this, i] { return seed_ * 2654435761u + uint32_t(i) * 40503u + 1u; },
+                              "depth_sensor " + spec.name);
+  }
+  if (target_) {
+    const auto view = passes::raster_view(*target_view_, kNearM, kFarM);
+    raster_.add_to(*graph_, *mesh_, count, [view] { return view; }, target_->targets(), "raster target view");
+  }
+}
+
+void RgbdRenderer::render(std::span<const passes::MeshVertex> mesh, uint32_t seed) {
+  if (mesh.size() % 3 != 0) throw std::invalid_argument("simulated mesh: vertex count is not a multiple of 3");
+  if (mesh.size() > mesh_capacity_ || !graph_) build_graph(std::max<size_t>({mesh.size(), 3, mesh_capacity_ * 2}));
+  if (!mesh.empty()) vk::upload(context_, *mesh_, std::as_bytes(mesh));
+  vertex_count_ = uint32_t(mesh.size());
+  seed_ = seed;
+  graph_->run();
+}
+
+HostImage RgbdRenderer::colour(size_t camera) const { return vk::download(context_, images_.at(camera)->sensed_colour); }
+HostImage RgbdRenderer::depth_mm(size_t camera) const { return vk::download(context_, images_.at(camera)->depth_mm); }
+HostImage RgbdRenderer::foreground(size_t camera) const { return vk::download(context_, images_.at(camera)->colour_view.part); }
+HostImage RgbdRenderer::depth_view_truth(size_t camera) const {
+  return vk::download(context_, images_.at(camera)->depth_view.depth_m);
+}
+
+bool RgbdRenderer::has_target_view() const { return target_ != nullptr; }
+
+HostImage RgbdRenderer::target_colour() const {
+  if (!target_) throw std::logic_error("this renderer has no target view");
+  return vk::download(context_, target_->color);
+}
+HostImage RgbdRenderer::target_depth_m() const {
+  if (!target_) throw std::logic_error("this renderer has no target view");
+  return vk::download(context_, target_->depth_m);
+}
+HostImage RgbdRenderer::target_part() const {
+  if (!target_) throw std::logic_error("this renderer has no target view");
+  return vk::download(context_, target_->part);
+}
+
+}  // namespace rt::app

@@ -1,0 +1,69 @@
+#pragma once
+// Renders simulated RGBD cameras, and optionally a target view for ground truth, from a mesh of
+// the scene, in one frame graph: per camera the colour view (person_raster, color_sensor) and
+// the depth view (person_raster, depth_sensor), each at its own resolution and intrinsics.
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "geometry/camera.h"
+#include "passes/color_sensor.h"
+#include "passes/depth_sensor.h"
+#include "passes/person_raster.h"
+#include "vulkan/frame_graph.h"
+
+namespace rt::app {
+
+struct RgbdCameraSpec {
+  std::string name;
+  Camera colour;  // intrinsics and pose of the colour image
+  Camera depth;   // of the depth image
+  passes::DepthSensorModel depth_model;
+  passes::ColorSensorModel colour_model;
+};
+
+class RgbdRenderer {
+ public:
+  RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view = {});
+  ~RgbdRenderer();
+
+  // Uploads the mesh and renders every view; `seed` drives the sensor noise of this frame.
+  void render(std::span<const passes::MeshVertex> mesh, uint32_t seed);
+
+  size_t camera_count() const { return cameras_.size(); }
+  const RgbdCameraSpec& camera(size_t index) const { return cameras_[index]; }
+  HostImage colour(size_t camera) const;      // rgba8, as sensed
+  HostImage depth_mm(size_t camera) const;    // r16ui millimetres, 0 = invalid
+  HostImage foreground(size_t camera) const;  // r32f RT_PART_* in the colour view (0 = background)
+  HostImage depth_view_truth(size_t camera) const;  // r32f metres in the depth view before the sensor
+
+  bool has_target_view() const;
+  HostImage target_colour() const;  // rgba8: alpha 1 on the person, 0 elsewhere
+  HostImage target_depth_m() const; // r32f camera z from the eye, 0 where nothing is
+  HostImage target_part() const;    // r32f RT_PART_* (the hand mask is part == RT_PART_HAND)
+
+  vk::FrameGraph& graph() { return *graph_; }
+
+ private:
+  struct View;
+  struct CameraImages;
+  void build_graph(size_t mesh_capacity);
+
+  vk::Context& context_;
+  std::vector<RgbdCameraSpec> cameras_;
+  std::optional<Camera> target_view_;
+  passes::PersonRasterPass raster_;
+  std::vector<std::unique_ptr<passes::ColorSensorPass>> colour_sensors_;
+  std::vector<std::unique_ptr<passes::DepthSensorPass>> depth_sensors_;
+  std::vector<std::unique_ptr<CameraImages>> images_;
+  std::unique_ptr<View> target_;
+  std::unique_ptr<vk::Buffer> mesh_;
+  size_t mesh_capacity_ = 0;
+  uint32_t vertex_count_ = 0;
+  uint32_t seed_ = 0;
+  std::unique_ptr<vk::FrameGraph> graph_;
+};
+
+}  // namespace rt::app

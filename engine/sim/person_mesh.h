@@ -1,0 +1,33 @@
+#pragma once
+// Triangle meshes of a simulated user, for the person_raster pass: a head, neck, torso and arms
+// (part BODY; striped shirt, skin-coloured head and forearms) and the hands (part HAND), each
+// bone a capsule whose axis runs exactly through the tracked joints, so that the rendered hand
+// and the tracker's skeleton agree.
+#include <vector>
+
+#include "shared/config.h"
+#include "sim/person_pose.h"
+
+namespace rt::sim {
+
+using shader_abi::MeshVertex;
+
+struct MeshDetail {
+  int segments = 16;  // around a capsule or sphere
+  int rings = 8;      // from a capsule's pole to its equator
+};
+
+// Appends a capsule from a to b with an elliptic cross-section (radius_u along `u_hint`'s part
+// orthogonal to the axis, radius_v across); `part`, colours and stripes as MeshVertex says.
+void append_capsule(std::vector<MeshVertex>& mesh, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius_u,
+                    double radius_v, const Eigen::Vector3d& u_hint, float part, const Eigen::Vector3f& color,
+                    const Eigen::Vector3f& stripe_color, float stripe_period_m, const MeshDetail& detail = {});
+
+// Appends the hand: a capsule per bone (metacarpals and phalanges) and a flat palm.
+void append_hand(std::vector<MeshVertex>& mesh, const HandSkeleton& hand, double hand_scale,
+                 const Eigen::Vector3f& skin_rgb, const MeshDetail& detail = {});
+
+// The whole user; throws if the pose holds a non-finite point.
+std::vector<MeshVertex> person_mesh(const PersonPose& pose, const UserAppearance& user, const MeshDetail& detail = {});
+
+}  // namespace rt::sim
