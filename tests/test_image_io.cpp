@@ -47,6 +47,16 @@ TEST_CASE("PNG keeps values to 8 or 16 bits and clamps the rest", "[image_io]") 
   CHECK(read.texels[2] == 0.0f);
 }
 
+TEST_CASE("16-bit depth in millimetres round-trips exactly", "[image_io]") {
+  HostImage depth(33, 17, PixelFormat::R16U);
+  for (size_t i = 0; i < depth.texels.size(); ++i) depth.texels[i] = float((i * 977) % 65536);
+  write_image(scratch("depth.png"), depth);
+  RT_REQUIRE_MATCHES(read_depth_png(scratch("depth.png")), depth, 0.0, 0.0);
+  write_image(scratch("colour.png"), HostImage(3, 3, PixelFormat::RGBA8, 0.5f));
+  CHECK_THROWS_WITH(read_depth_png(scratch("colour.png")), Catch::Contains("not a one-channel 16-bit PNG"));
+  CHECK_THROWS_WITH(write_image(scratch("depth.exr"), depth), Catch::Contains(".png"));
+}
+
 TEST_CASE("bad paths and extensions say what is wrong", "[image_io]") {
   const HostImage image(2, 2, PixelFormat::R32F);
   CHECK_THROWS_WITH(write_image(scratch("picture.bmp2"), image), Catch::Contains(".png or .exr"));

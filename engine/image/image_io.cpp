@@ -32,7 +32,12 @@ void write_image(const std::filesystem::path& path, const HostImage& image, PngD
 
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   bool written = false;
-  if (extension == ".exr") {
+  if (image.format == PixelFormat::R16U) {
+    if (extension != ".png") throw std::invalid_argument("cannot write '" + path.string() + "': 16-bit depth goes to .png");
+    cv::Mat millimetres;
+    bgra.convertTo(millimetres, CV_16U);  // the values themselves: they are integers already
+    written = cv::imwrite(path.string(), millimetres);
+  } else if (extension == ".exr") {
     enable_openexr();
     written = cv::imwrite(path.string(), bgra);
   } else if (extension == ".png") {
@@ -65,6 +70,17 @@ HostImage read_image(const std::filesystem::path& path) {
   HostImage image(uint32_t(rgba.cols), uint32_t(rgba.rows), grey ? PixelFormat::R32F : PixelFormat::RGBA32F);
   for (int y = 0; y < rgba.rows; ++y)
     std::memcpy(&image.at(0, uint32_t(y)), rgba.ptr<float>(y), size_t(rgba.cols) * image.channels() * sizeof(float));
+  return image;
+}
+
+HostImage read_depth_png(const std::filesystem::path& path) {
+  const cv::Mat loaded = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  if (loaded.empty()) throw std::runtime_error("cannot read depth image '" + path.string() + "' (missing or not an image)");
+  if (loaded.type() != CV_16UC1)
+    throw std::runtime_error("depth image '" + path.string() + "' is not a one-channel 16-bit PNG");
+  HostImage image(uint32_t(loaded.cols), uint32_t(loaded.rows), PixelFormat::R16U);
+  for (int y = 0; y < loaded.rows; ++y)
+    for (int x = 0; x < loaded.cols; ++x) image.at(uint32_t(x), uint32_t(y)) = float(loaded.at<uint16_t>(y, x));
   return image;
 }
 

@@ -17,4 +17,8 @@ void write_image(const std::filesystem::path& path, const HostImage& image, PngD
 // Reads a PNG (8 or 16 bits, scaled to [0, 1]) or an EXR, as R32F (one channel) or RGBA32F.
 HostImage read_image(const std::filesystem::path& path);
 
+// R16U images (depth in millimetres) are written by write_image as 16-bit PNG of the values
+// themselves, unscaled; this reads one back exactly. Errors name the file and what is wrong.
+HostImage read_depth_png(const std::filesystem::path& path);
+
 }  // namespace rt
