@@ -61,7 +61,16 @@ HostImage read_image(const std::filesystem::path& path) {
   else if (loaded.depth() == CV_16U) scale = 1.0 / 65535.0;
   else if (loaded.depth() != CV_32F) throw std::runtime_error("image '" + path.string() + "' has an unsupported depth");
   cv::Mat values;
-  loaded.convertTo(values, CV_32F, scale);
+  loaded.convertTo(values, CV_32F);
+  // Divide each value, not multiply by the reciprocal (as OpenCV's scaling does): k / 255.0f
+  // is what the engine's 8-bit unpacking gives, so a PNG read back equals what was written.
+  if (scale != 1.0) {
+    const float divisor = float(1.0 / scale);
+    for (int row = 0; row < values.rows; ++row) {
+      float* value = values.ptr<float>(row);
+      for (int i = 0; i < values.cols * values.channels(); ++i) value[i] /= divisor;
+    }
+  }
   const bool grey = values.channels() == 1;
   cv::Mat rgba;
   if (grey) rgba = values;

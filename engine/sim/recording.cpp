@@ -1,0 +1,131 @@
+#include "sim/recording.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "config/json_fields.h"
+#include "image/image_io.h"
+
+namespace rt::sim {
+namespace {
+
+std::string numbered(const char* stem, uint64_t frame, const char* extension) {
+  char name[64];
+  std::snprintf(name, sizeof name, "%s_%06llu.%s", stem, static_cast<unsigned long long>(frame), extension);
+  return name;
+}
+
+std::vector<std::string> camera_names_of(const nlohmann::json& calibration, const std::string& where) {
+  std::vector<std::string> names;
+  for (const auto& camera : config::require_array(calibration, "cameras", where, 1))
+    names.push_back(config::require_string(camera, "name", where + " camera"));
+  return names;
+}
+
+// 8-bit mask: 255 where the test holds.
+HostImage mask_where(const HostImage& part, bool (*keep)(float)) {
+  HostImage mask(part.width, part.height, PixelFormat::R32F);
+  for (size_t i = 0; i < part.texels.size(); ++i) mask.texels[i] = keep(part.texels[i]) ? 1.0f : 0.0f;
+  return mask;
+}
+
+}  // namespace
+
+std::filesystem::path colour_path(const std::filesystem::path& dir, size_t camera, uint64_t frame) {
+  return dir / ("cam" + std::to_string(camera)) / numbered("color", frame, "png");
+}
+
+std::filesystem::path depth_path(const std::filesystem::path& dir, size_t camera, uint64_t frame) {
+  return dir / ("cam" + std::to_string(camera)) / numbered("depth", frame, "png");
+}
+
+RecordingWriter::RecordingWriter(const std::filesystem::path& dir, nlohmann::json calibration) : dir_(dir) {
+  camera_names_ = camera_names_of(calibration, "recording calibration");
+  calibration["format"] = kRecordingFormat;
+  std::filesystem::create_directories(dir_);
+  config::write_json_file(dir_ / "calibration.json", calibration);
+  frames_.open(dir_ / "frames.jsonl");
+  if (!frames_) throw std::runtime_error("cannot write '" + (dir_ / "frames.jsonl").string() + "'");
+}
+
+void RecordingWriter::write_frame(const RgbdFrame& frame) {
+  if (frame.cameras.size() != camera_names_.size())
+    throw std::invalid_argument("recording frame " + std::to_string(frame.index) + " has " +
+                                std::to_string(frame.cameras.size()) + " cameras, the calibration " +
+                                std::to_string(camera_names_.size()));
+  nlohmann::json line = {{"frame", frame.index}, {"timestamp_us", frame.timestamp_us}, {"cameras", nlohmann::json::array()}};
+  for (size_t k = 0; k < frame.cameras.size(); ++k) {
+    const RgbdImage& image = frame.cameras[k];
+    if (image.camera != camera_names_[k])
+      throw std::invalid_argument("recording: camera " + std::to_string(k) + " is '" + camera_names_[k] +
+                                  "' in the calibration, the frame says '" + image.camera + "'");
+    write_image(colour_path(dir_, k, frame.index), image.colour);
+    write_image(depth_path(dir_, k, frame.index), image.depth_mm);
+    line["cameras"].push_back({{"name", image.camera}, {"timestamp_us", image.timestamp_us}});
+  }
+  frames_ << line.dump() << "\n";
+  frames_.flush();
+}
+
+void RecordingWriter::write_ground_truth(uint64_t frame, const HostImage& target_rgba, const HostImage& target_depth_m,
+                                         const HostImage& target_part, const std::vector<HostImage>& camera_parts) {
+  const std::filesystem::path gt = dir_ / "gt";
+  write_image(gt / numbered("target_color", frame, "png"), target_rgba);
+  HostImage millimetres(target_depth_m.width, target_depth_m.height, PixelFormat::R16U);
+  for (size_t i = 0; i < millimetres.texels.size(); ++i)
+    millimetres.texels[i] = std::clamp(std::floor(target_depth_m.texels[i] * 1000.0f + 0.5f), 0.0f, 65535.0f);
+  write_image(gt / numbered("target_depth", frame, "png"), millimetres);
+  write_image(gt / numbered("target_hand_mask", frame, "png"),
+              mask_where(target_part, [](float part) { return part == 2.0f; }));
+  for (size_t k = 0; k < camera_parts.size(); ++k)
+    write_image(gt / ("cam" + std::to_string(k)) / numbered("foreground", frame, "png"),
+                mask_where(camera_parts[k], [](float part) { return part != 0.0f; }));
+}
+
+ReplayRgbdSource::ReplayRgbdSource(const std::filesystem::path& dir) : dir_(dir) {
+  calibration_ = config::read_json_file(dir_ / "calibration.json");
+  const std::string where = "'" + (dir_ / "calibration.json").string() + "'";
+  if (config::require_string(calibration_, "format", where) != kRecordingFormat)
+    throw config::JsonError(where + ": format is '" + calibration_["format"].get<std::string>() + "', expected '" +
+                            kRecordingFormat + "'");
+  camera_names_ = camera_names_of(calibration_, where);
+  std::ifstream lines(dir_ / "frames.jsonl");
+  if (!lines) throw std::runtime_error("cannot read '" + (dir_ / "frames.jsonl").string() + "'");
+  std::string line;
+  for (size_t number = 1; std::getline(lines, line); ++number) {
+    if (line.empty()) continue;
+    const std::string at = "'" + (dir_ / "frames.jsonl").string() + "' line " + std::to_string(number);
+    try {
+      nlohmann::json frame = nlohmann::json::parse(line);
+      config::require_number(frame, "frame", at);
+      config::require_number(frame, "timestamp_us", at);
+      if (config::require_array(frame, "cameras", at).size() != camera_names_.size())
+        throw config::JsonError(at + ": field 'cameras' must list every camera of the calibration");
+      frames_.push_back(std::move(frame));
+    } catch (const nlohmann::json::parse_error& error) {
+      throw config::JsonError(at + " is not valid JSON: " + error.what());
+    }
+  }
+}
+
+std::optional<RgbdFrame> ReplayRgbdSource::next_frame() {
+  if (next_ >= frames_.size()) return std::nullopt;
+  const nlohmann::json& line = frames_[next_++];
+  RgbdFrame frame;
+  frame.index = line["frame"].get<uint64_t>();
+  frame.timestamp_us = line["timestamp_us"].get<uint64_t>();
+  for (size_t k = 0; k < camera_names_.size(); ++k) {
+    RgbdImage image;
+    image.camera = camera_names_[k];
+    image.timestamp_us = line["cameras"][k].value("timestamp_us", frame.timestamp_us);
+    const HostImage colour = read_image(colour_path(dir_, k, frame.index));
+    // PNG colour comes back as float RGBA: keep the engine's 8-bit format.
+    image.colour = HostImage(colour.width, colour.height, PixelFormat::RGBA8);
+    image.colour.texels = colour.texels;
+    image.depth_mm = read_depth_png(depth_path(dir_, k, frame.index));
+    frame.cameras.push_back(std::move(image));
+  }
+  return frame;
+}
+
+}  // namespace rt::sim

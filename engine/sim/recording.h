@@ -1,0 +1,55 @@
+#pragma once
+// The recording format (README "Recorded sequences"): a folder with
+//   calibration.json            the site description (cameras, tracker, screen) plus "format"
+//   frames.jsonl                one line per frame: index, nominal time, each camera's time
+//   cam<K>/color_<NNNNNN>.png   8-bit RGBA, K = the camera's index in calibration.json
+//   cam<K>/depth_<NNNNNN>.png   16-bit millimetres, 0 = invalid
+//   tracker.jsonl               one Leap v6 tracker frame per line
+//   gt/...                      ground truth (see RecordingWriter::write_ground_truth)
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "sim/rgbd_source.h"
+
+namespace rt::sim {
+
+inline constexpr const char* kRecordingFormat = "remotetouch-recording/1";
+
+std::filesystem::path colour_path(const std::filesystem::path& dir, size_t camera, uint64_t frame);
+std::filesystem::path depth_path(const std::filesystem::path& dir, size_t camera, uint64_t frame);
+
+class RecordingWriter {
+ public:
+  // `calibration` is the site description's JSON; the format tag is added to it.
+  RecordingWriter(const std::filesystem::path& dir, nlohmann::json calibration);
+  void write_frame(const RgbdFrame& frame);
+  // Ground truth of a frame: the target view's RGBA, depth (16-bit mm) and hand mask, and
+  // each camera's foreground mask (8-bit, 255 = the user).
+  void write_ground_truth(uint64_t frame, const HostImage& target_rgba, const HostImage& target_depth_m,
+                          const HostImage& target_part, const std::vector<HostImage>& camera_parts);
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+  std::vector<std::string> camera_names_;
+  std::ofstream frames_;
+};
+
+// Replays a recording, reproducing exactly the images and times that were written.
+class ReplayRgbdSource : public RgbdSource {
+ public:
+  explicit ReplayRgbdSource(const std::filesystem::path& dir);
+  std::optional<RgbdFrame> next_frame() override;
+  const nlohmann::json& calibration() const { return calibration_; }
+  size_t frame_count() const { return frames_.size(); }
+
+ private:
+  std::filesystem::path dir_;
+  nlohmann::json calibration_;
+  std::vector<std::string> camera_names_;
+  std::vector<nlohmann::json> frames_;
+  size_t next_ = 0;
+};
+
+}  // namespace rt::sim
