@@ -1,0 +1,70 @@
+#pragma once
+// `remotetouch calibrate intrinsics | extrinsics | tracker | synthesize`: the site calibration
+// (paper section 4, "Device Calibration"). Runs on the CPU.
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace rt::app {
+
+struct IntrinsicsCommandOptions {
+  std::vector<std::string> images;
+  std::string board;
+  double square_m = 0;
+  std::filesystem::path out;
+  bool fix_aspect_ratio = false;
+  bool rational_model = false;
+};
+
+struct ExtrinsicsCommandOptions {
+  std::filesystem::path input;
+  std::filesystem::path out;
+  double max_distance_residual_mm = 0;
+  double max_link_rms_px = 0;
+  double max_alignment_residual_mm = 0;
+};
+
+struct TrackerCommandOptions {
+  std::filesystem::path input;
+  std::filesystem::path out;
+  double inlier_threshold_mm = 0;
+};
+
+struct SynthesizeCommandOptions {
+  std::filesystem::path out;
+  double corner_noise_px = 0;
+  double distance_noise_mm = 0;
+  double tip_noise_mm = 0;
+  size_t tip_outliers = 0;
+  uint32_t seed = 0;
+};
+
+int run_calibrate_intrinsics(const IntrinsicsCommandOptions& options);
+int run_calibrate_extrinsics(const ExtrinsicsCommandOptions& options);
+int run_calibrate_tracker(const TrackerCommandOptions& options);
+int run_calibrate_synthesize(const SynthesizeCommandOptions& options);
+
+// Registers `calibrate` and its subcommands on the application; run() runs the one parsed.
+class CalibrateCommand {
+ public:
+  explicit CalibrateCommand(CLI::App& app);
+  bool parsed() const { return command_->parsed(); }
+  int run() const;
+
+ private:
+  CLI::App* command_ = nullptr;
+  CLI::App* intrinsics_ = nullptr;
+  CLI::App* extrinsics_ = nullptr;
+  CLI::App* tracker_ = nullptr;
+  CLI::App* synthesize_ = nullptr;
+  IntrinsicsCommandOptions intrinsics_options_;
+  ExtrinsicsCommandOptions extrinsics_options_;
+  TrackerCommandOptions tracker_options_;
+  SynthesizeCommandOptions synthesize_options_;
+  std::string unused_device_;
+};
+
+}  // namespace rt::app

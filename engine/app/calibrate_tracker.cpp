@@ -1,0 +1,39 @@
+// `remotetouch calibrate tracker`: the hand tracker's pose in the site frame, written into the
+// site calibration file.
+#include <cmath>
+#include <cstdio>
+
+#include "app/calibrate.h"
+#include "app/calibrate_site_file.h"
+#include "calibration/tracker_calibration.h"
+
+namespace rt::app {
+
+int run_calibrate_tracker(const TrackerCommandOptions& options) {
+  const auto touches = calibration::read_tracker_touches(options.input);
+  const calibration::TrackerCalibration result = calibration::calibrate_tracker(touches, options.inlier_threshold_mm);
+
+  std::printf("%zu touches; a touch farther than %.1f mm from its screen point is rejected\n", touches.size(),
+              options.inlier_threshold_mm);
+  std::printf("%-16s %12s\n", "touch", "residual");
+  for (size_t i = 0; i < touches.size(); ++i)
+    std::printf("%-16s %9.2f mm%s\n", touches[i].label.c_str(), result.residuals_mm[i],
+                result.inlier[i] ? "" : "  rejected");
+  const size_t rejected = touches.size() - result.inlier_count();
+  std::printf("rejected %zu of %zu touches\n", rejected, touches.size());
+  std::printf("residual RMS %.2f mm over the %zu touches kept\n", result.inlier_rms_mm, result.inlier_count());
+  const Eigen::Vector3d origin = result.site_from_tracker.translation();
+  const Eigen::AngleAxisd turn(result.site_from_tracker.linear());
+  std::printf("tracker origin in site (m): (%+.4f, %+.4f, %+.4f); turned %.2f degrees about (%+.3f, %+.3f, %+.3f)\n",
+              origin.x(), origin.y(), origin.z(), turn.angle() * 180.0 / 3.14159265358979323846, turn.axis().x(),
+              turn.axis().y(), turn.axis().z());
+
+  SiteCalibration site = load_site_calibration_to_update(options.out);
+  site.tracker = TrackerPose{result.site_from_tracker, result.inlier_rms_mm};
+  write_site_calibration(options.out, site);
+  std::printf("wrote %s (tracker pose%s)\n", options.out.c_str(),
+              site.cameras.empty() ? "" : "; kept the cameras already there");
+  return 0;
+}
+
+}  // namespace rt::app

@@ -1,0 +1,206 @@
+#include "calibration/synthetic_site.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "calibration/calibration_error.h"
+#include "config/json_fields.h"
+
+namespace rt::calibration {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// The stand holds the cameras just outside the screen's bezel, a little in front of its plane.
+constexpr double kCameraStandOffsetM = 0.12;
+// Where the cameras look: the seated user, 0.7 m in front of the screen centre.
+const Eigen::Vector3d kUserPosition(0.0, 0.0, 0.7);
+// A camera must see the whole board at least this far inside the image, and no more obliquely
+// than this, for the corner finder to find it.
+constexpr double kImageMarginPx = 20.0;
+constexpr double kMaxViewAngleRad = 70.0 * kPi / 180.0;
+constexpr size_t kMinViewsPerCamera = 4;
+
+struct CameraSpot {
+  const char* name;
+  double x, y;  // in units of half the screen size, beyond the edge
+};
+constexpr CameraSpot kCameraSpots[] = {{"top-left", -1, 1},    {"top-centre", 0, 1},    {"top-right", 1, 1},
+                                       {"bottom-left", -1, -1}, {"bottom-centre", 0, -1}, {"bottom-right", 1, -1}};
+
+CameraIntrinsics kinect_like_intrinsics(size_t index) {
+  // 1280x720 colour, about 92 degrees across, mild barrel distortion; each unit a little off.
+  CameraIntrinsics k;
+  k.width = 1280;
+  k.height = 720;
+  k.fx = 612.0 + 3.0 * double(index);
+  k.fy = k.fx + 0.4;
+  k.cx = 638.0 + 1.5 * double(index);
+  k.cy = 362.0 - 1.0 * double(index);
+  k.distortion.k1 = 0.07 + 0.004 * double(index);
+  k.distortion.k2 = -0.09;
+  k.distortion.p1 = 0.0004;
+  k.distortion.p2 = -0.0003;
+  k.distortion.k3 = 0.03;
+  return k;
+}
+
+Eigen::Isometry3d site_from_board_pose(std::mt19937& rng, const Chessboard& board) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  // Held up facing the screen: board x along site -x and y along site -y, as the cameras
+  // (image x to the user's left) see it unrotated; then tilted a little every way.
+  Eigen::Matrix3d facing_screen;
+  facing_screen << -1, 0, 0, 0, -1, 0, 0, 0, 1;
+  const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(0.35 * unit(rng), Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(0.45 * unit(rng), Eigen::Vector3d::UnitY()) *
+                                Eigen::AngleAxisd(0.3 * unit(rng), Eigen::Vector3d::UnitZ()))
+                                   .toRotationMatrix();
+  const Eigen::Vector3d centre(0.35 * unit(rng), 0.22 * unit(rng), 0.52 + 0.12 * unit(rng));
+  const Eigen::Vector3d board_centre((board.cols - 1) * board.square_m / 2, (board.rows - 1) * board.square_m / 2, 0);
+  Eigen::Isometry3d site_from_board = Eigen::Isometry3d::Identity();
+  site_from_board.linear() = tilt * facing_screen;
+  site_from_board.translation() = centre - site_from_board.linear() * board_centre;
+  return site_from_board;
+}
+
+// The corners as `camera` would find them, or nothing when it does not see the whole board.
+std::optional<std::vector<cv::Point2f>> observe(const Camera& camera, const Eigen::Isometry3d& site_from_board,
+                                                const Chessboard& board, double noise_px, std::mt19937& rng) {
+  const Eigen::Vector3d normal = site_from_board.linear().col(2);  // points away from the printed face
+  const Eigen::Vector3d to_camera = (camera.position_in_site() - site_from_board.translation()).normalized();
+  if (!(-normal.dot(to_camera) > std::cos(kMaxViewAngleRad))) return std::nullopt;
+  std::normal_distribution<double> noise(0.0, noise_px);
+  std::vector<cv::Point2f> corners;
+  for (const cv::Point3f& corner : board.object_points()) {
+    const Eigen::Vector3d site_point = site_from_board * Eigen::Vector3d(corner.x, corner.y, corner.z);
+    // Far outside the field of view the distortion polynomial folds back into the image.
+    const Eigen::Vector3d in_camera = camera.camera_from_site * site_point;
+    if (!(in_camera.z() > 0.1) || std::abs(in_camera.x() / in_camera.z()) > 1.2 ||
+        std::abs(in_camera.y() / in_camera.z()) > 0.8)
+      return std::nullopt;
+    const auto pixel = camera.project(site_point);
+    if (!pixel || pixel->x() < kImageMarginPx || pixel->y() < kImageMarginPx ||
+        pixel->x() > camera.intrinsics.width - kImageMarginPx || pixel->y() > camera.intrinsics.height - kImageMarginPx)
+      return std::nullopt;
+    corners.emplace_back(float(pixel->x() + noise(rng)), float(pixel->y() + noise(rng)));
+  }
+  return corners;
+}
+
+void add_board_views(SyntheticSite& site, const SyntheticSiteOptions& options, std::mt19937& rng) {
+  ExtrinsicsInput& input = site.extrinsics_input;
+  std::vector<size_t> views_per_camera(site.truth.cameras.size(), 0);
+  for (size_t attempt = 0; input.snapshots.size() < options.board_poses && attempt < 200 * options.board_poses;
+       ++attempt) {
+    const Eigen::Isometry3d site_from_board = site_from_board_pose(rng, input.board);
+    BoardSnapshot snapshot;
+    snapshot.name = "view-" + std::to_string(input.snapshots.size());
+    for (size_t c = 0; c < site.truth.cameras.size(); ++c)
+      if (auto corners = observe(site.truth.cameras[c], site_from_board, input.board, options.corner_noise_px, rng)) {
+        snapshot.observations.push_back({site.truth.cameras[c].name, std::move(*corners)});
+        ++views_per_camera[c];
+      }
+    if (snapshot.observations.size() >= 2) input.snapshots.push_back(std::move(snapshot));
+  }
+  for (size_t c = 0; c < views_per_camera.size(); ++c)
+    if (views_per_camera[c] < std::min(kMinViewsPerCamera, options.board_poses))
+      throw CalibrationError("synthetic site: camera '" + site.truth.cameras[c].name + "' saw the board only " +
+                             std::to_string(views_per_camera[c]) + " times; ask for more board poses");
+}
+
+void add_touches(SyntheticSite& site, const SyntheticSiteOptions& options, std::mt19937& rng) {
+  // A grid over the part of the screen in the tracker's reach, 5 across and 4 up.
+  constexpr int kColumns = 5, kRows = 4;
+  std::normal_distribution<double> noise(0.0, options.tip_noise_mm);
+  const Eigen::Isometry3d tracker_from_site = site.truth.tracker->site_from_tracker.inverse();
+  for (int r = 0; r < kRows; ++r)
+    for (int c = 0; c < kColumns; ++c) {
+      TrackerTouch touch;
+      char label[32];
+      std::snprintf(label, sizeof label, "row%d-col%d", r, c);
+      touch.label = label;
+      touch.site_m = {-0.5 + 1.0 * c / (kColumns - 1), 0.3 - 0.6 * r / (kRows - 1), 0.0};
+      touch.tip_mm = (tracker_from_site * touch.site_m) * 1000.0 + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      site.touches.push_back(touch);
+    }
+  site.touch_is_outlier.assign(site.touches.size(), false);
+  std::vector<size_t> order(site.touches.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::shuffle(order.begin(), order.end(), rng);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), slip_mm(30.0, 60.0);
+  for (size_t i = 0; i < std::min(options.tip_outliers, order.size()); ++i) {
+    const Eigen::Vector3d direction = Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
+    site.touches[order[i]].tip_mm += direction * slip_mm(rng);
+    site.touch_is_outlier[order[i]] = true;
+  }
+}
+
+}  // namespace
+
+Eigen::Isometry3d camera_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d forward = (target - position).normalized();
+  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitY()).normalized();
+  const Eigen::Vector3d down = forward.cross(right);
+  Eigen::Isometry3d camera_from_site = Eigen::Isometry3d::Identity();
+  camera_from_site.linear().row(0) = right;
+  camera_from_site.linear().row(1) = down;
+  camera_from_site.linear().row(2) = forward;
+  camera_from_site.translation() = -(camera_from_site.linear() * position);
+  return camera_from_site;
+}
+
+SyntheticSite make_synthetic_site(const SyntheticSiteOptions& options) {
+  std::mt19937 rng(options.seed);
+  SyntheticSite site;
+  ExtrinsicsInput& input = site.extrinsics_input;
+  input.board = parse_chessboard("9x6", 0.05);
+  input.screen = site.truth.screen;
+  std::normal_distribution<double> distance_noise(0.0, options.distance_noise_mm * 1e-3);
+  for (const CameraSpot& spot : kCameraSpots) {
+    Camera camera;
+    camera.name = spot.name;
+    camera.intrinsics = kinect_like_intrinsics(site.truth.cameras.size());
+    const Eigen::Vector3d position(spot.x * (input.screen.width_m / 2 + 0.06), spot.y * (input.screen.height_m / 2 + 0.06),
+                                   kCameraStandOffsetM);
+    camera.camera_from_site = camera_looking_at(position, kUserPosition);
+    CameraSetup setup;
+    setup.name = camera.name;
+    setup.intrinsics = camera.intrinsics;
+    for (ScreenCorner corner : kScreenCorners)
+      setup.corner_distances_m[size_t(corner)] =
+          (position - corner_position(input.screen, corner)).norm() + distance_noise(rng);
+    input.cameras.push_back(setup);
+    site.truth.cameras.push_back(camera);
+  }
+  input.reference_camera = "top-centre";
+  add_board_views(site, options, rng);
+
+  // On the desk beside the hand, half a metre in front of the screen, turned a little.
+  TrackerPose tracker;
+  tracker.site_from_tracker.linear() = (Eigen::AngleAxisd(10.0 * kPi / 180.0, Eigen::Vector3d::UnitY()) *
+                                        Eigen::AngleAxisd(4.0 * kPi / 180.0, Eigen::Vector3d::UnitX()))
+                                           .toRotationMatrix();
+  tracker.site_from_tracker.translation() = Eigen::Vector3d(0.30, -0.42, 0.50);
+  site.truth.tracker = tracker;
+  add_touches(site, options, rng);
+  return site;
+}
+
+void write_synthetic_site(const SyntheticSite& site, const std::filesystem::path& folder) {
+  nlohmann::json input = extrinsics_input_to_json(site.extrinsics_input);
+  for (nlohmann::json& camera : input["cameras"]) {
+    const std::string file = "intrinsics/" + camera["name"].get<std::string>() + ".json";
+    config::write_json_file(folder / file, camera["intrinsics"]);
+    camera["intrinsics"] = file;
+  }
+  config::write_json_file(folder / "extrinsics_input.json", input);
+  config::write_json_file(folder / "tracker_touches.json", tracker_touches_to_json(site.touches));
+  write_site_calibration(folder / "truth_site_calibration.json", site.truth);
+  nlohmann::json outliers = nlohmann::json::array();
+  for (size_t i = 0; i < site.touches.size(); ++i)
+    if (site.touch_is_outlier[i]) outliers.push_back(site.touches[i].label);
+  config::write_json_file(folder / "truth_touch_outliers.json", {{"outliers", outliers}});
+}
+
+}  // namespace rt::calibration

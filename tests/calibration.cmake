@@ -1,0 +1,132 @@
+# `remotetouch calibrate ...` as a user meets it. Included by tests/CMakeLists.txt.
+#
+# The file doubles as a checker, run as `cmake -DKIND=... -DJSON=... -P calibration.cmake`:
+# it reads a JSON file the command wrote and fails unless the fields the rest of the system
+# reads are there (CMake's string(JSON) is the only JSON reader a ctest line has).
+if(CMAKE_SCRIPT_MODE_FILE)
+  file(READ "${JSON}" document)
+  function(require_number path_text)
+    string(REPLACE "." ";" path "${path_text}")
+    string(JSON value ERROR_VARIABLE error GET "${document}" ${path})
+    if(error OR NOT value MATCHES "^-?[0-9]+(\\.[0-9]+)?([eE][-+]?[0-9]+)?$")
+      message(FATAL_ERROR "${JSON}: '${path_text}' is not a number (${value}${error})")
+    endif()
+  endfunction()
+  function(require_length path_text expected)
+    string(REPLACE "." ";" path "${path_text}")
+    string(JSON length ERROR_VARIABLE error LENGTH "${document}" ${path})
+    if(error OR NOT length EQUAL expected)
+      message(FATAL_ERROR "${JSON}: '${path_text}' has ${length} entries, expected ${expected} ${error}")
+    endif()
+  endfunction()
+  if(KIND STREQUAL "intrinsics")
+    foreach(field width height fx fy cx cy rms_error_px distortion.k1 distortion.k2 distortion.p1 distortion.p2
+                  distortion.k3 per_image.0.rms_error_px std_dev_px.fx)
+      require_number(${field})
+    endforeach()
+    require_length(per_image 13)
+    string(JSON missing GET "${document}" board_not_found 0)
+    if(NOT missing MATCHES "/left\\.jpg$")
+      message(FATAL_ERROR "${JSON}: board_not_found should name left.jpg, names '${missing}'")
+    endif()
+    string(JSON rms GET "${document}" rms_error_px)
+    if(NOT rms LESS 0.3)
+      message(FATAL_ERROR "${JSON}: RMS reprojection error ${rms} px, expected below 0.3 px")
+    endif()
+  elseif(KIND STREQUAL "site")
+    require_number(screen.width_m)
+    require_length(cameras 6)
+    foreach(camera RANGE 5)
+      require_number(cameras.${camera}.fx)
+      require_length(cameras.${camera}.camera_from_site 4)
+      require_number(cameras.${camera}.camera_from_site.2.3)
+    endforeach()
+    require_number(tracker.site_from_tracker.0.3)
+    require_number(tracker.rms_residual_mm)
+  else()
+    message(FATAL_ERROR "unknown KIND '${KIND}'")
+  endif()
+  return()
+endif()
+
+set(calibration_out ${CMAKE_BINARY_DIR}/test-out/calibration)
+set(opencv_data /usr/share/doc/opencv-doc/examples/data)
+set(checker ${CMAKE_CURRENT_LIST_FILE})
+
+add_test(NAME calibrate_help COMMAND ${rt} calibrate --help)
+set_tests_properties(calibrate_help PROPERTIES PASS_REGULAR_EXPRESSION "intrinsics.*extrinsics.*tracker.*synthesize")
+foreach(step intrinsics extrinsics tracker synthesize)
+  add_test(NAME calibrate_${step}_help COMMAND ${rt} calibrate ${step} --help)
+  set_tests_properties(calibrate_${step}_help PROPERTIES PASS_REGULAR_EXPRESSION "--out.*--device TEXT *Not used")
+endforeach()
+add_test(NAME calibrate_without_step COMMAND ${rt} calibrate)
+set_tests_properties(calibrate_without_step PROPERTIES WILL_FAIL TRUE)
+
+# The real photographs: the board is found in the 13 leftNN.jpg, not in left.jpg (a scene).
+add_test(NAME calibrate_intrinsics_opencv_doc
+         COMMAND ${rt} calibrate intrinsics --images "${opencv_data}/left*.jpg" --board 9x6 --square 0.025
+                 --device unused --out ${calibration_out}/left_intrinsics.json)
+set_tests_properties(calibrate_intrinsics_opencv_doc PROPERTIES
+  FIXTURES_SETUP calibration_left_intrinsics
+  PASS_REGULAR_EXPRESSION "found in 13 of 14 images.*board not found in:.*left\\.jpg.*left14\\.jpg.*RMS reprojection error 0\\.[0-2][0-9]* px over 13 images.*wrote")
+add_test(NAME calibrate_intrinsics_json
+         COMMAND ${CMAKE_COMMAND} -DKIND=intrinsics -DJSON=${calibration_out}/left_intrinsics.json -P ${checker})
+set_tests_properties(calibrate_intrinsics_json PROPERTIES FIXTURES_REQUIRED calibration_left_intrinsics)
+
+add_test(NAME calibrate_intrinsics_bad_board
+         COMMAND ${rt} calibrate intrinsics --images "${opencv_data}/left*.jpg" --board 9by6 --square 0.025
+                 --out ${calibration_out}/unused.json)
+set_tests_properties(calibrate_intrinsics_bad_board PROPERTIES
+  PASS_REGULAR_EXPRESSION "remotetouch: error: board '9by6': expected COLSxROWS")
+add_test(NAME calibrate_intrinsics_wrong_board
+         COMMAND ${rt} calibrate intrinsics --images "${opencv_data}/left0[1-4].jpg" --board 10x7 --square 0.025
+                 --out ${calibration_out}/unused.json)
+set_tests_properties(calibrate_intrinsics_wrong_board PROPERTIES
+  PASS_REGULAR_EXPRESSION "remotetouch: error: the board \\(10x7 inner corners, 25 mm squares\\) was found in 0 of 4 images.*left01\\.jpg")
+add_test(NAME calibrate_intrinsics_square_in_mm
+         COMMAND ${rt} calibrate intrinsics --images "${opencv_data}/left*.jpg" --board 9x6 --square 25)
+set_tests_properties(calibrate_intrinsics_square_in_mm PROPERTIES PASS_REGULAR_EXPRESSION "in metres \\(25 mm is 0.025\\)")
+add_test(NAME calibrate_intrinsics_no_images
+         COMMAND ${rt} calibrate intrinsics --images "${calibration_out}/none*.jpg" --board 9x6 --square 0.025)
+set_tests_properties(calibrate_intrinsics_no_images PROPERTIES PASS_REGULAR_EXPRESSION "none\\*\\.jpg': the pattern matches no file")
+add_test(NAME calibrate_intrinsics_too_few
+         COMMAND ${rt} calibrate intrinsics --images ${opencv_data}/left01.jpg ${opencv_data}/left02.jpg
+                 --board 9x6 --square 0.025)
+set_tests_properties(calibrate_intrinsics_too_few PROPERTIES PASS_REGULAR_EXPRESSION "found in 2 of 2 images, at least 3 are needed")
+
+# A simulated site, calibrated step by step into one site calibration file.
+add_test(NAME calibrate_synthesize COMMAND ${rt} calibrate synthesize --out ${calibration_out}/synthetic)
+set_tests_properties(calibrate_synthesize PROPERTIES FIXTURES_SETUP calibration_synthetic
+  PASS_REGULAR_EXPRESSION "6 cameras, 24 chessboard views, 20 touches \\(3 slipped\\)")
+add_test(NAME calibrate_site_clean COMMAND ${CMAKE_COMMAND} -E rm -f ${calibration_out}/site.json)
+set_tests_properties(calibrate_site_clean PROPERTIES FIXTURES_SETUP calibration_site_clean)
+add_test(NAME calibrate_extrinsics_synthetic
+         COMMAND ${rt} calibrate extrinsics --input ${calibration_out}/synthetic/extrinsics_input.json
+                 --out ${calibration_out}/site.json)
+set_tests_properties(calibrate_extrinsics_synthetic PROPERTIES
+  FIXTURES_REQUIRED "calibration_synthetic;calibration_site_clean" FIXTURES_SETUP calibration_site_cameras
+  PASS_REGULAR_EXPRESSION "bottom-right +top-centre.*alignment RMS [0-4]\\.[0-9]+ mm.*wrote .*site\\.json \\(6 cameras\\)")
+add_test(NAME calibrate_tracker_synthetic
+         COMMAND ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
+                 --out ${calibration_out}/site.json)
+set_tests_properties(calibrate_tracker_synthetic PROPERTIES
+  FIXTURES_REQUIRED "calibration_synthetic;calibration_site_cameras" FIXTURES_SETUP calibration_site_full
+  PASS_REGULAR_EXPRESSION "row0-col0 +[0-9.]+ mm  rejected.*rejected 3 of 20 touches.*residual RMS [2-3]\\.[0-9]+ mm over the 17 touches kept.*kept the cameras already there")
+add_test(NAME calibrate_site_json COMMAND ${CMAKE_COMMAND} -DKIND=site -DJSON=${calibration_out}/site.json -P ${checker})
+set_tests_properties(calibrate_site_json PROPERTIES FIXTURES_REQUIRED calibration_site_full)
+
+add_test(NAME calibrate_tracker_missing_input
+         COMMAND ${rt} calibrate tracker --input ${calibration_out}/no-such-touches.json)
+set_tests_properties(calibrate_tracker_missing_input PROPERTIES PASS_REGULAR_EXPRESSION "--input: File does not exist")
+# An existing --out that is not a site calibration (here: a camera JSON) is not overwritten.
+add_test(NAME calibrate_tracker_foreign_out
+         COMMAND ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
+                 --out ${calibration_out}/left_intrinsics.json)
+set_tests_properties(calibrate_tracker_foreign_out PROPERTIES
+  FIXTURES_REQUIRED "calibration_synthetic;calibration_left_intrinsics"
+  PASS_REGULAR_EXPRESSION "left_intrinsics\\.json' exists but is not a site calibration to update")
+add_test(NAME calibrate_extrinsics_wrong_input
+         COMMAND ${rt} calibrate extrinsics --input ${calibration_out}/synthetic/tracker_touches.json
+                 --out ${calibration_out}/unused.json)
+set_tests_properties(calibrate_extrinsics_wrong_input PROPERTIES FIXTURES_REQUIRED calibration_synthetic
+  PASS_REGULAR_EXPRESSION "extrinsics input '.*tracker_touches\\.json': missing field 'board'")
