@@ -1,0 +1,102 @@
+#include "sim/default_site.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace rt::sim {
+
+namespace {
+
+// Azure Kinect: colour 16:9 mode about 90 x 59 degrees; depth WFOV 2x2 binned, 512x512, 120 degrees.
+constexpr double kColourHorizontalFovDeg = 90.0;
+constexpr uint32_t kDepthSize = 512;
+constexpr double kDepthFovDeg = 120.0;
+constexpr double kDepthMinM = 0.25, kDepthMaxM = 2.88;
+
+// The stand holds the cameras just outside the panel's bezel, slightly in front of the glass.
+constexpr double kCameraMarginM = 0.04;
+constexpr double kCameraInFrontM = 0.03;
+// Aim between face and chest so that both stay in view when the user leans in.
+constexpr double kAimBelowHeadM = 0.1;
+
+constexpr double kTrackerDistanceFromScreenM = 0.5;
+// Beside and below the right hand as it reaches for the touch region.
+const Eigen::Vector2d kTrackerXY(0.2, -0.3);
+// The tracker's axis points at the touch region, a little above the glass, where hands are.
+constexpr double kTrackerAimHeightM = 0.07;
+
+}  // namespace
+
+Eigen::Isometry3d camera_from_site_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d forward = (target - position).normalized();
+  // OpenCV axes: x right, y down. Right = forward x up keeps the image upright.
+  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitY()).normalized();
+  const Eigen::Vector3d down = forward.cross(right);
+  Eigen::Matrix3d site_from_camera;
+  site_from_camera << right, down, forward;
+  Eigen::Isometry3d site_from_camera_pose = Eigen::Isometry3d::Identity();
+  site_from_camera_pose.linear() = site_from_camera;
+  site_from_camera_pose.translation() = position;
+  return site_from_camera_pose.inverse();
+}
+
+CameraIntrinsics intrinsics_for_horizontal_fov(uint32_t width, uint32_t height, double horizontal_fov_deg) {
+  CameraIntrinsics k;
+  k.width = width;
+  k.height = height;
+  k.fx = k.fy = 0.5 * width / std::tan(0.5 * horizontal_fov_deg * std::numbers::pi / 180.0);
+  // Pixel centres at integer coordinates (OpenCV), so the centre of the image is (size - 1) / 2.
+  k.cx = 0.5 * (width - 1.0);
+  k.cy = 0.5 * (height - 1.0);
+  return k;
+}
+
+SiteDescription make_default_site(const DefaultSiteOptions& options) {
+  SiteDescription site;
+  site.name = options.name;
+  const double half_w = site.screen.width_m / 2 + kCameraMarginM;
+  const double half_h = site.screen.height_m / 2 + kCameraMarginM;
+  const Eigen::Vector3d aim = site.seat.head_centre_m - Eigen::Vector3d(0, kAimBelowHeadM, 0);
+
+  struct Mount {
+    const char* name;
+    double x, y;
+  };
+  // x is the site's +x, the seated user's right.
+  const Mount mounts[] = {{"top-left", -half_w, half_h},     {"top-centre", 0.0, half_h},
+                          {"top-right", half_w, half_h},     {"bottom-left", -half_w, -half_h},
+                          {"bottom-centre", 0.0, -half_h},   {"bottom-right", half_w, -half_h}};
+  for (const Mount& mount : mounts) {
+    RgbdCamera camera;
+    camera.name = mount.name;
+    camera.camera_from_site = camera_from_site_looking_at({mount.x, mount.y, kCameraInFrontM}, aim);
+    camera.colour = intrinsics_for_horizontal_fov(options.colour_width, options.colour_height, kColourHorizontalFovDeg);
+    camera.depth = intrinsics_for_horizontal_fov(kDepthSize, kDepthSize, kDepthFovDeg);
+    camera.depth_min_m = kDepthMinM;
+    camera.depth_max_m = kDepthMaxM;
+    site.cameras.push_back(camera);
+  }
+
+  const Eigen::Vector3d tracker_position(kTrackerXY.x(), kTrackerXY.y(), kTrackerDistanceFromScreenM);
+  const Eigen::Vector3d tracker_aim(site.touch_region.centre_m.x(), site.touch_region.centre_m.y(), kTrackerAimHeightM);
+  const Eigen::Vector3d up = (tracker_aim - tracker_position).normalized();
+  const Eigen::Vector3d right = (Eigen::Vector3d::UnitX() - up * up.x()).normalized();
+  const Eigen::Vector3d towards_user = right.cross(up);
+  Eigen::Isometry3d site_from_tracker = Eigen::Isometry3d::Identity();
+  site_from_tracker.linear() << right, up, towards_user;
+  site_from_tracker.translation() = tracker_position;
+  site.tracker.tracker_from_site = site_from_tracker.inverse();
+
+  site.motor_position_m = {-site.screen.width_m / 2, site.screen.height_m / 2, 0.0};
+  return site;
+}
+
+const std::vector<ShippedSite>& shipped_sites() {
+  static const std::vector<ShippedSite> sites{
+      {"default.json", {"default", 1280, 720}},
+      {"paper.json", {"paper", 2560, 1440}},
+  };
+  return sites;
+}
+
+}  // namespace rt::sim

@@ -1,0 +1,38 @@
+#pragma once
+// The site description the project ships (assets/sites/*.json) comes from this code, so that a
+// change of layout is made here and the files are regenerated, never edited by hand:
+// the hidden test `test_sim_site "[.regenerate]"` (or `cmake --build <dir> --target
+// regenerate_sim_sites`) rewrites them, and the test "shipped site files match the generator"
+// fails while they differ.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/site_description.h"
+
+namespace rt::sim {
+
+struct DefaultSiteOptions {
+  std::string name = "default";
+  // 16:9 colour; the paper records 2560x1440, 1280x720 keeps the simulator fast.
+  uint32_t colour_width = 1280;
+  uint32_t colour_height = 720;
+};
+
+// A 65-inch screen, the user seated 0.7 m away, six cameras just outside the screen's corners and
+// the centres of its top and bottom edges aimed at the user's chest and face, the tracker 0.5 m
+// from the screen below the right hand facing up at the touch region, the motor on the top-left corner.
+SiteDescription make_default_site(const DefaultSiteOptions& options = {});
+
+// Pose of a camera at `position` looking at `target`, image "up" towards +y of the site.
+Eigen::Isometry3d camera_from_site_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target);
+// Pinhole intrinsics with square pixels and the principal point at the image centre.
+CameraIntrinsics intrinsics_for_horizontal_fov(uint32_t width, uint32_t height, double horizontal_fov_deg);
+
+struct ShippedSite {
+  std::string file_name;  // under assets/sites/
+  DefaultSiteOptions options;
+};
+const std::vector<ShippedSite>& shipped_sites();
+
+}  // namespace rt::sim

@@ -1,0 +1,105 @@
+#include "sim/scene.h"
+
+#include <stdexcept>
+
+#include "config/json_fields.h"
+#include "sim/json_values.h"
+
+namespace rt::sim {
+
+using config::JsonError;
+
+namespace {
+
+SiteSetup site_setup_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir,
+                               const std::string& where) {
+  reject_unknown_fields(json, {"site", "user", "motion"}, where);
+  SiteSetup setup;
+  const std::string site_name = config::require_string(json, "site", where);
+  setup.site_file = (base_dir / site_name).lexically_normal();
+  if (!std::filesystem::is_regular_file(setup.site_file))
+    throw JsonError(where + ": field 'site': site file '" + setup.site_file.string() + "' does not exist");
+  try {
+    setup.site = load_site(setup.site_file);
+  } catch (const JsonError& error) {
+    throw JsonError(where + ": field 'site': " + error.what());
+  }
+  setup.user = appearance_from_json(require_object(json, "user", where), where + " user");
+  const std::string motion_where = where + " motion";
+  setup.motion = motion_from_json(require_object(json, "motion", where), motion_where);
+  if (!setup.site.screen.contains(setup.motion.touch_target_m))
+    throw JsonError(motion_where + ": field 'touch_target_m' lies outside the screen");
+  try {
+    [[maybe_unused]] const MotionTrack reachable(setup.motion, setup.site.seat, setup.user);
+  } catch (const std::invalid_argument& error) {
+    throw JsonError(motion_where + ": field 'touch_target_m': " + error.what());
+  }
+  return setup;
+}
+
+}  // namespace
+
+MotionTrack make_motion_track(const Scene& scene, Site site) {
+  const SiteSetup& setup = scene.at(site);
+  return MotionTrack(setup.motion, setup.site.seat, setup.user);
+}
+
+UserAppearance appearance_from_json(const nlohmann::json& json, const std::string& where) {
+  reject_unknown_fields(json, {"skin_rgb", "shirt_rgb", "shirt_stripe_rgb", "stripe_width_m", "hand_scale"}, where);
+  UserAppearance user;
+  user.skin_rgb = require_rgb(json, "skin_rgb", where);
+  user.shirt_rgb = require_rgb(json, "shirt_rgb", where);
+  user.shirt_stripe_rgb = require_rgb(json, "shirt_stripe_rgb", where);
+  user.stripe_width_m = require_in_range(json, "stripe_width_m", where, 0.002, 0.5);
+  // Beyond this the procedural body's proportions stop being human.
+  user.hand_scale = require_in_range(json, "hand_scale", where, 0.7, 1.3);
+  return user;
+}
+
+nlohmann::json appearance_to_json(const UserAppearance& user) {
+  return {{"skin_rgb", to_json(user.skin_rgb)},
+          {"shirt_rgb", to_json(user.shirt_rgb)},
+          {"shirt_stripe_rgb", to_json(user.shirt_stripe_rgb)},
+          {"stripe_width_m", user.stripe_width_m},
+          {"hand_scale", user.hand_scale}};
+}
+
+Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir, const std::string& where) {
+  reject_unknown_fields(json, {"name", "description", "frames", "fps", "resolution_scale", "seed", "sites", "effects"},
+                        where);
+  Scene scene;
+  scene.name = config::require_string(json, "name", where);
+  if (json.contains("description")) config::require_string(json, "description", where);
+  scene.frame_count = uint32_t(require_integer(json, "frames", where, 1, 1'000'000));
+  scene.fps = require_in_range(json, "fps", where, 1.0, 240.0);
+  scene.resolution_scale = require_in_range(json, "resolution_scale", where, 0.01, 4.0);
+  scene.seed = require_unsigned(json, "seed", where);
+
+  const nlohmann::json& sites = require_object(json, "sites", where);
+  reject_unknown_fields(sites, {"A", "B"}, where + " sites");
+  for (Site site : {Site::A, Site::B}) {
+    const std::string name = site_name(site);
+    scene.sites[site == Site::A ? 0 : 1] =
+        site_setup_from_json(require_object(sites, name, where + " sites"), base_dir, where + " site " + name);
+  }
+
+  std::vector<std::string> camera_names;
+  for (const SiteSetup& setup : scene.sites)
+    for (const RgbdCamera& camera : setup.site.cameras) camera_names.push_back(camera.name);
+  if (json.contains("effects")) scene.effects = effects_from_json(json["effects"], where + " effects", camera_names);
+  return scene;
+}
+
+Scene load_scene(const std::filesystem::path& path) {
+  const std::string where = "scene '" + path.string() + "'";
+  try {
+    // read_json_file reports parse errors; a number too large for a double comes as another
+    // nlohmann exception, caught here with the rest.
+    const nlohmann::json json = config::read_json_file(path);
+    return scene_from_json(json, path.parent_path(), where);
+  } catch (const nlohmann::json::exception& error) {
+    throw JsonError(where + ": " + error.what());
+  }
+}
+
+}  // namespace rt::sim

@@ -1,0 +1,58 @@
+#pragma once
+// A simulated session: both sites (each a site description, a user and the user's motion), the
+// effects, and how many frames to make. Read from assets/scenes/*.json; site files are named
+// relative to the scene file.
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "geometry/site_frames.h"
+#include "sim/effects.h"
+#include "sim/motion.h"
+#include "sim/person_pose.h"
+#include "sim/site_description.h"
+
+namespace rt::sim {
+
+struct SiteSetup {
+  std::filesystem::path site_file;  // as resolved against the scene file's folder
+  SiteDescription site;
+  UserAppearance user;
+  MotionSpec motion;
+};
+
+struct Scene {
+  std::string name;
+  uint32_t frame_count = 1;
+  double fps = 30.0;              // RGBD frames; the tracker runs at its own 50 Hz
+  double resolution_scale = 1.0;  // of the site's colour and depth resolutions
+  uint64_t seed = 0;              // every random effect draws from streams derived from it
+  std::array<SiteSetup, 2> sites;  // indexed by rt::Site: A, B
+  Effects effects;                 // applied at both sites
+
+  const SiteSetup& at(Site site) const { return sites[site == Site::A ? 0 : 1]; }
+  double duration_s() const { return frame_count / fps; }
+};
+
+// JSON:
+// {"name": "clap", "frames": 150, "fps": 30, "resolution_scale": 0.5, "seed": 7,
+//  "sites": {"A": {"site": "../sites/default.json",
+//                  "user": {"skin_rgb": [r,g,b], "shirt_rgb": [..], "shirt_stripe_rgb": [..],
+//                           "stripe_width_m": 0.03, "hand_scale": 1.0},
+//                  "motion": {"name": "clap", "touch_target_m": [0.08, 0.05], ...}},
+//            "B": {...}},
+//  "effects": {"tracker_jitter": {"sigma_mm": 1.5}, ...}}     (optional; empty = no effects)
+// Errors start with `where` and name the field; a missing or bad site file is named.
+Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir, const std::string& where);
+Scene load_scene(const std::filesystem::path& path);
+
+// The motion of `site`'s user, ready to sample: pose_at(frame / scene.fps) for the cameras.
+MotionTrack make_motion_track(const Scene& scene, Site site);
+
+UserAppearance appearance_from_json(const nlohmann::json& json, const std::string& where);
+nlohmann::json appearance_to_json(const UserAppearance& user);
+
+}  // namespace rt::sim

@@ -1,0 +1,273 @@
+// Scenes: the shipped ones load and do what their names say (clap touches one spot of the shared
+// glass from both sides, miss does not); bad scene files are refused, naming the field and file.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include "config/json_fields.h"
+#include "geometry/site_frames.h"
+#include "sim/motion.h"
+#include "sim/scene.h"
+
+using namespace rt;
+using namespace rt::sim;
+using Catch::Matchers::Contains;
+
+namespace {
+
+const std::filesystem::path kScenes = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes";
+const char* const kShippedScenes[] = {"clap", "miss", "wave", "approach", "noisy-clap"};
+
+struct Touch {
+  Eigen::Vector3d palm_global = Eigen::Vector3d::Zero();
+  double start_s = -1, end_s = -1;  // while the palm is within 1 cm of the glass
+};
+
+// Where and when the right palm of `site`'s user rests on the glass, in the global frame.
+Touch find_touch(const Scene& scene, Site site) {
+  const SiteSetup& setup = scene.at(site);
+  const MotionTrack track(setup.motion, setup.site.seat, setup.user);
+  Touch touch;
+  for (uint32_t frame = 0; frame < scene.frame_count; ++frame) {
+    const double t = frame / scene.fps;
+    const Eigen::Vector3d palm = track.pose_at(t).right_hand.palm;
+    if (palm.z() >= 0.01) continue;
+    if (touch.start_s < 0) touch.start_s = t;
+    touch.end_s = t;
+    touch.palm_global = global_from_site(site) * palm;
+  }
+  return touch;
+}
+
+nlohmann::json clap_json() { return config::read_json_file(kScenes / "clap.json"); }
+
+void require_error(const nlohmann::json& json, const std::string& part1, const std::string& part2 = "") {
+  try {
+    scene_from_json(json, kScenes, "scene 'test.json'");
+    FAIL("accepted a bad scene");
+  } catch (const config::JsonError& error) {
+    CHECK_THAT(error.what(), Contains("scene 'test.json'") && Contains(part1) && Contains(part2));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("the shipped scenes load; two different users; motions fit in the frames", "[sim][scene]") {
+  for (const char* name : kShippedScenes) {
+    INFO(name);
+    const Scene scene = load_scene(kScenes / (std::string(name) + ".json"));
+    CHECK(scene.name == name);
+    CHECK(scene.fps == 30.0);
+    CHECK(scene.frame_count >= 60);
+    CHECK(scene.resolution_scale > 0.0);
+    const SiteSetup& a = scene.at(Site::A);
+    const SiteSetup& b = scene.at(Site::B);
+    CHECK(a.site.cameras.size() == 6);
+    CHECK(a.site_file.filename() == "default.json");
+    CHECK(a.user.hand_scale != b.user.hand_scale);
+    CHECK((a.user.skin_rgb - b.user.skin_rgb).norm() > 0.2);
+    for (Site site : {Site::A, Site::B}) {
+      const SiteSetup& setup = scene.at(site);
+      CHECK(make_motion_track(scene, site).duration_s() <= scene.duration_s());  // no motion cut short
+      // A touch lands where the site's tracker is known to see it.
+      const Eigen::Vector2d offset = setup.motion.touch_target_m - setup.site.touch_region.centre_m;
+      if (setup.motion.kind != MotionKind::Idle && setup.motion.kind != MotionKind::Wave)
+        CHECK((offset.cwiseAbs().array() <= setup.site.touch_region.half_size_m.array()).all());
+    }
+  }
+}
+
+TEST_CASE("clap: both palms meet on one spot of the shared glass, at the same time", "[sim][scene]") {
+  const Scene scene = load_scene(kScenes / "clap.json");
+  const Touch a = find_touch(scene, Site::A), b = find_touch(scene, Site::B);
+  REQUIRE(a.start_s >= 0);
+  REQUIRE(b.start_s >= 0);
+  CHECK((a.palm_global - b.palm_global).head<2>().norm() < 0.02);
+  CHECK(std::min(a.end_s, b.end_s) - std::max(a.start_s, b.start_s) > 0.5);  // both on the glass for 0.5 s
+  // The palms face each other through the glass.
+  CHECK(a.palm_global.z() > 0);
+  CHECK(b.palm_global.z() < 0);
+}
+
+TEST_CASE("the cameras keep the head in view while the user leans in to touch", "[sim][scene]") {
+  const Scene scene = load_scene(kScenes / "clap.json");
+  for (Site site : {Site::A, Site::B}) {
+    const MotionTrack track = make_motion_track(scene, site);
+    for (uint32_t frame = 0; frame < scene.frame_count; frame += 3) {
+      const PersonPose pose = track.pose_at(frame / scene.fps);
+      for (const RgbdCamera& camera : scene.at(site).site.cameras) {
+        INFO("site " << site_name(site) << " frame " << frame << " camera " << camera.name);
+        CHECK(camera.why_unseen(pose.head_centre) == "");
+      }
+    }
+  }
+}
+
+TEST_CASE("miss: both touch the glass at the same time, far apart", "[sim][scene]") {
+  const Scene scene = load_scene(kScenes / "miss.json");
+  const Touch a = find_touch(scene, Site::A), b = find_touch(scene, Site::B);
+  REQUIRE(a.start_s >= 0);
+  REQUIRE(b.start_s >= 0);
+  CHECK((a.palm_global - b.palm_global).head<2>().norm() > 0.3);
+  CHECK(std::min(a.end_s, b.end_s) - std::max(a.start_s, b.start_s) > 0.5);
+}
+
+TEST_CASE("effects are off unless listed; noisy-clap lists them all with their parameters", "[sim][scene]") {
+  for (const char* name : {"clap", "miss", "wave", "approach"})
+    CHECK_FALSE(load_scene(kScenes / (std::string(name) + ".json")).effects.any());
+  const Effects effects = load_scene(kScenes / "noisy-clap.json").effects;
+  REQUIRE(effects.depth_noise);
+  CHECK(effects.depth_noise->sigma_at_1m_m == 0.003);
+  REQUIRE(effects.flying_pixels);
+  CHECK(effects.flying_pixels->edge_threshold_m == 0.05);
+  REQUIRE(effects.near_cutoff);
+  CHECK(effects.near_cutoff->min_range_m == 0.25);
+  REQUIRE(effects.skin_depth_bias);
+  CHECK(effects.skin_depth_bias->bias_m == 0.01);
+  REQUIRE(effects.color_gain);
+  CHECK(effects.color_gain->for_camera("top-left").gain == 1.15);
+  CHECK(effects.color_gain->for_camera("top-left").white_balance == Eigen::Vector3d(1.05, 1.0, 0.92));
+  CHECK(effects.color_gain->for_camera("bottom-left").gain == 1.0);  // not listed: unchanged
+  REQUIRE(effects.misregistration);
+  CHECK(effects.misregistration->pixels_y == -1.0);
+  REQUIRE(effects.camera_timing_jitter);
+  CHECK(effects.camera_timing_jitter->sigma_ms == 3.0);
+  REQUIRE(effects.tracker.jitter);
+  CHECK(effects.tracker.jitter->sigma_mm == 1.5);
+  REQUIRE(effects.tracker.latency);
+  CHECK(effects.tracker.latency->ms == 30.0);
+  REQUIRE(effects.tracker.dropouts);
+  CHECK(effects.tracker.dropouts->mean_length_frames == 4.0);
+  // Written back, the effects read the same.
+  const Effects again = effects_from_json(effects_to_json(effects), "again", {"top-left", "top-centre", "bottom-right"});
+  CHECK(effects_to_json(again) == effects_to_json(effects));
+}
+
+TEST_CASE("bad scenes name the field", "[sim][scene]") {
+  SECTION("missing frame count") {
+    nlohmann::json json = clap_json();
+    json.erase("frames");
+    require_error(json, "missing field 'frames'");
+  }
+  SECTION("fps of the wrong type") {
+    nlohmann::json json = clap_json();
+    json["fps"] = "thirty";
+    require_error(json, "'fps' must be a number");
+  }
+  SECTION("fractional frame count") {
+    nlohmann::json json = clap_json();
+    json["frames"] = 12.5;
+    require_error(json, "'frames' must be an integer");
+  }
+  SECTION("negative seed") {
+    nlohmann::json json = clap_json();
+    json["seed"] = -3;
+    require_error(json, "'seed' must not be negative");
+  }
+  SECTION("unknown effect") {
+    nlohmann::json json = clap_json();
+    json["effects"]["motion_blur"] = {{"pixels", 3}};
+    require_error(json, "unknown effect 'motion_blur'", "tracker_dropouts");
+  }
+  SECTION("effect parameter missing") {
+    nlohmann::json json = clap_json();
+    json["effects"]["tracker_jitter"] = nlohmann::json::object();
+    require_error(json, "'tracker_jitter'", "missing field 'sigma_mm'");
+  }
+  SECTION("effect parameter misspelt") {
+    nlohmann::json json = clap_json();
+    json["effects"]["tracker_latency"] = {{"ms", 20}, {"jitter_ms", 2}};
+    require_error(json, "'tracker_latency'", "unknown field 'jitter_ms'");
+  }
+  SECTION("effect parameter out of range") {
+    nlohmann::json json = clap_json();
+    json["effects"]["flying_pixels"] = {{"edge_threshold_m", 0.05}, {"probability", 1.5}};
+    require_error(json, "'flying_pixels'", "'probability' must be in [0, 1], is 1.5");
+  }
+  SECTION("depth noise growth that is not quadratic") {
+    nlohmann::json json = clap_json();
+    json["effects"]["depth_noise"] = {{"sigma_at_1m_m", 0.002}, {"growth", "linear"}};
+    require_error(json, "'depth_noise'", "'growth'");
+  }
+  SECTION("dropouts that no burst length can give") {
+    nlohmann::json json = clap_json();
+    json["effects"]["tracker_dropouts"] = {{"probability", 0.9}, {"mean_length_frames", 2}};
+    require_error(json, "'tracker_dropouts'", "'mean_length_frames' longer");
+  }
+  SECTION("colour gain for a camera the sites do not have") {
+    nlohmann::json json = clap_json();
+    json["effects"]["color_gain"] = {{"cameras", {{"middle-left", {{"gain", 1.0}, {"white_balance", {1, 1, 1}}}}}}};
+    require_error(json, "unknown camera 'middle-left'", "top-left");
+  }
+  SECTION("unknown motion") {
+    nlohmann::json json = clap_json();
+    json["sites"]["B"]["motion"]["name"] = "high_five";
+    require_error(json, "site B motion", "unknown motion 'high_five'");
+  }
+  SECTION("touch target off the screen") {
+    nlohmann::json json = clap_json();
+    json["sites"]["A"]["motion"]["touch_target_m"] = {0.9, 0.0};
+    require_error(json, "site A motion", "'touch_target_m' lies outside the screen");
+  }
+  SECTION("touch target out of reach") {
+    nlohmann::json json = clap_json();
+    json["sites"]["A"]["motion"]["touch_target_m"] = {-0.65, 0.35};
+    require_error(json, "site A motion", "out of reach");
+  }
+  SECTION("site file that does not exist") {
+    nlohmann::json json = clap_json();
+    json["sites"]["A"]["site"] = "../sites/nowhere.json";
+    require_error(json, "site A: field 'site'", "nowhere.json' does not exist");
+  }
+  SECTION("site file that is broken") {
+    const std::filesystem::path dir = REMOTETOUCH_TEST_OUTPUT_DIR;
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "broken-site.json") << R"({"name": "broken"})";
+    nlohmann::json json = clap_json();
+    json["sites"]["B"]["site"] = (dir / "broken-site.json").string();
+    require_error(json, "site B: field 'site'", "broken-site.json': missing field 'screen'");
+  }
+  SECTION("missing site") {
+    nlohmann::json json = clap_json();
+    json["sites"].erase("B");
+    require_error(json, "sites: missing field 'B'");
+  }
+  SECTION("a third site") {
+    nlohmann::json json = clap_json();
+    json["sites"]["C"] = json["sites"]["A"];
+    require_error(json, "unknown field 'C'");
+  }
+  SECTION("user colour out of range") {
+    nlohmann::json json = clap_json();
+    json["sites"]["A"]["user"]["skin_rgb"] = {1.2, 0.5, 0.5};
+    require_error(json, "site A user", "'skin_rgb'");
+  }
+  SECTION("user hand scale missing") {
+    nlohmann::json json = clap_json();
+    json["sites"]["B"]["user"].erase("hand_scale");
+    require_error(json, "site B user", "missing field 'hand_scale'");
+  }
+  SECTION("misspelt top-level field") {
+    nlohmann::json json = clap_json();
+    json["effect"] = nlohmann::json::object();
+    require_error(json, "unknown field 'effect'");
+  }
+}
+
+TEST_CASE("a scene file that is missing or not JSON is named", "[sim][scene]") {
+  const std::filesystem::path dir = REMOTETOUCH_TEST_OUTPUT_DIR;
+  std::filesystem::create_directories(dir);
+  CHECK_THROWS_WITH(load_scene(dir / "no-such-scene.json"), Contains("no-such-scene.json"));
+  std::ofstream(dir / "half-scene.json") << R"({"name": "half", "frames": )";
+  CHECK_THROWS_WITH(load_scene(dir / "half-scene.json"), Contains("half-scene.json") && Contains("not valid JSON"));
+  // Site paths resolve against the scene file's folder, wherever the scene is read from.
+  nlohmann::json json = clap_json();
+  for (const char* site : {"A", "B"})
+    json["sites"][site]["site"] = std::filesystem::relative(kScenes / "../sites/default.json", dir).string();
+  config::write_json_file(dir / "moved-clap.json", json);
+  CHECK(load_scene(dir / "moved-clap.json").at(Site::B).site.cameras.size() == 6);
+  json["frames"] = 0;
+  config::write_json_file(dir / "zero-frames.json", json);
+  CHECK_THROWS_WITH(load_scene(dir / "zero-frames.json"), Contains("zero-frames.json") && Contains("'frames'"));
+}
