@@ -3,7 +3,9 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "app/calibrate.h"
 #include "app/options.h"
+#include "app/simulate.h"
 
 namespace rt::app {
 namespace {
@@ -52,9 +54,11 @@ int run_cli(int argc, char** argv) {
   RunOptions bench;
   std::string bench_what;
   CLI::App* bench_command = app.add_subcommand("bench", "Print per-pass GPU times and bandwidth against a copy pass");
-  bench_command->add_option("what", bench_what, "Which benchmark: compositing")
+  bench_command->add_option("what", bench_what,
+                            "Which benchmark: compositing (GPU ms per pass), touch (touch-start to motor command; "
+                            "--frames claps), simulate (one frame of all six cameras at full resolution)")
       ->required()
-      ->check(CLI::IsMember({"compositing"}));
+      ->check(CLI::IsMember({"compositing", "touch", "simulate"}));
   add_common_options(*bench_command, bench, "out/bench");
   add_frame_options(*bench_command, bench, 20);
   auto* width = bench_command->add_option("--width", bench.width, "Only this width (default: 1280x720 and 2560x1440)")
@@ -63,10 +67,34 @@ int run_cli(int argc, char** argv) {
   width->needs(height);
   height->needs(width);
 
+  CalibrateCommand calibrate(app);
+
+  RunOptions simulate;
+  SimulateOptions simulate_options;
+  std::string simulate_site = "A";
+  CLI::App* simulate_command =
+      app.add_subcommand("simulate", "Record one site of a synthetic scene: RGBD cameras, tracker, ground truth");
+  simulate_command->add_option("--scene", simulate_options.scene, "Scene name under assets/scenes/, or a scene file")
+      ->capture_default_str();
+  simulate_command->add_option("--site", simulate_site, "Which site to record")->check(CLI::IsMember({"A", "B"}))
+      ->capture_default_str();
+  add_common_options(*simulate_command, simulate, "out/simulate");
+  add_frame_options(*simulate_command, simulate, 1);
+  simulate_command->get_option("--frames")->description("Frames to record (default: the scene's own count)");
+  simulate_command->add_option("--gt-width", simulate_options.gt_width, "Ground-truth target view width")
+      ->check(CLI::Range(1u, 16384u))->capture_default_str();
+  simulate_command->add_option("--gt-height", simulate_options.gt_height, "Ground-truth target view height")
+      ->check(CLI::Range(1u, 16384u))->capture_default_str();
+
   try {
     app.parse(argc, argv);
     if (demo_command->parsed()) check_capture_frame(demo);
     if (bench_command->parsed()) check_capture_frame(bench);
+    if (simulate_command->parsed()) {
+      simulate_options.frames_given = simulate_command->count("--frames") > 0;
+      simulate_options.site = simulate_site == "B" ? Site::B : Site::A;
+      if (simulate_options.frames_given) check_capture_frame(simulate);
+    }
   } catch (const CLI::ParseError& error) {
     return app.exit(error);
   }
@@ -74,6 +102,8 @@ int run_cli(int argc, char** argv) {
   try {
     if (demo_command->parsed()) return run_demo(demo);
     if (bench_command->parsed()) return run_bench(bench_what, bench);
+    if (simulate_command->parsed()) return run_simulate(simulate, simulate_options);
+    if (calibrate.parsed()) return calibrate.run();
   } catch (const std::exception& error) {
     std::cerr << "remotetouch: error: " << error.what() << "\n";
     return 1;

@@ -23,10 +23,18 @@ GpuSession::GpuSession(const RunOptions& options)
 }
 
 void GpuSession::run_frame(vk::FrameGraph& graph, uint32_t frame_index) {
-  const bool capture = capture_.available() && capture_frame_ == int(frame_index);
-  if (capture) capture_.begin_frame(context_->instance());
+  const bool capture = capture_frame_ == int(frame_index);
+  if (capture) begin_capture();
   graph.run();
-  if (capture) capture_path_ = capture_.end_frame(context_->instance());
+  if (capture) end_capture();
+}
+
+void GpuSession::begin_capture() {
+  if (capture_.available()) capture_.begin_frame(context_->instance());
+}
+
+void GpuSession::end_capture() {
+  if (capture_.available()) capture_path_ = capture_.end_frame(context_->instance());
 }
 
 void GpuSession::report_capture() const {

@@ -19,6 +19,9 @@ class GpuSession {
 
   // Runs one frame of `graph`, capturing it if it is the requested frame.
   void run_frame(vk::FrameGraph& graph, uint32_t frame_index);
+  // For work that is not one graph run: bracket it (no-ops without RenderDoc).
+  void begin_capture();
+  void end_capture();
   // Says whether the requested capture was taken, and where, or why not.
   void report_capture() const;
 

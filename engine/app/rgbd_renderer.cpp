@@ -38,7 +38,10 @@ constexpr double kNearM = 0.01, kFarM = 10.0;
 RgbdRenderer::RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view)
     : context_(context), cameras_(std::move(cameras)), target_view_(std::move(target_view)), raster_(context) {
   for (const auto& spec : cameras_) {
-    colour_sensors_.push_back(std::make_unique<passes::ColorSensorPass>(context, spec.colour_model));
+    // A colour effect that is off costs nothing: without one there is no colour_sensor pass.
+    const passes::ColorSensorModel& model = spec.colour_model;
+    const bool identity = model.gain == 1.0f && model.balance_r == 1.0f && model.balance_g == 1.0f && model.balance_b == 1.0f;
+    colour_sensors_.push_back(identity ? nullptr : std::make_unique<passes::ColorSensorPass>(context, model));
     depth_sensors_.push_back(std::make_unique<passes::DepthSensorPass>(context, spec.depth_model));
     images_.push_back(std::make_unique<CameraImages>(context, spec));
   }
@@ -60,7 +63,8 @@ void RgbdRenderer::build_graph(size_t mesh_capacity) {
     const auto depth_view = passes::raster_view(spec.depth, kNearM, kFarM);
     raster_.add_to(*graph_, *mesh_, count, [colour_view] { return colour_view; }, images.colour_view.targets(),
                    "raster colour " + spec.name);
-    colour_sensors_[i]->add_to(*graph_, images.colour_view.color, images.sensed_colour, "color_sensor " + spec.name);
+    if (colour_sensors_[i])
+      colour_sensors_[i]->add_to(*graph_, images.colour_view.color, images.sensed_colour, "color_sensor " + spec.name);
     raster_.add_to(*graph_, *mesh_, count, [depth_view] { return depth_view; }, images.depth_view.targets(),
                    "raster depth " + spec.name);
     // Each camera draws its own noise: mix the camera's index into the frame's seed.
@@ -83,7 +87,10 @@ void RgbdRenderer::render(std::span<const passes::MeshVertex> mesh, uint32_t see
   graph_->run();
 }
 
-HostImage RgbdRenderer::colour(size_t camera) const { return vk::download(context_, images_.at(camera)->sensed_colour); }
+HostImage RgbdRenderer::colour(size_t camera) const {
+  CameraImages& images = *images_.at(camera);
+  return vk::download(context_, colour_sensors_[camera] ? images.sensed_colour : images.colour_view.color);
+}
 HostImage RgbdRenderer::depth_mm(size_t camera) const { return vk::download(context_, images_.at(camera)->depth_mm); }
 HostImage RgbdRenderer::foreground(size_t camera) const { return vk::download(context_, images_.at(camera)->colour_view.part); }
 HostImage RgbdRenderer::depth_view_truth(size_t camera) const {

@@ -1,0 +1,26 @@
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "app/options.h"
+#include "geometry/site_frames.h"
+#include "vulkan/frame_graph.h"
+
+namespace rt::app {
+
+class SiteSimulator;
+
+struct SimulateOptions {
+  std::string scene = "clap";  // a name under assets/scenes/, or a path to a scene file
+  Site site = Site::A;
+  bool frames_given = false;   // --frames overrides the scene's frame count
+  uint32_t gt_width = 640, gt_height = 360;  // the ground-truth target view
+};
+
+// A scene name (assets/scenes/NAME.json, or REMOTETOUCH_ASSETS/scenes/NAME.json) or a path.
+std::filesystem::path resolve_scene(const std::string& scene);
+int run_simulate(const RunOptions& options, const SimulateOptions& simulate);
+std::vector<vk::PassTiming> renderer_timings(SiteSimulator& simulator);
+
+}  // namespace rt::app

@@ -1,0 +1,108 @@
+#include "app/site_simulator.h"
+
+#include <cmath>
+
+#include "geometry/target_view.h"
+#include "sim/person_mesh.h"
+
+namespace rt::app {
+namespace {
+
+std::optional<Camera> ground_truth_view(const sim::Scene& scene, Site site, uint32_t width, uint32_t height) {
+  if (width == 0 || height == 0) return std::nullopt;
+  // The remote viewer's eye: the other site's seated head, mapped into this site's frame.
+  const Site remote = other_site(site);
+  const Eigen::Vector3d eye = map_point(remote, site, scene.at(remote).site.seat.head_centre_m);
+  return target_view_camera(eye, scene.at(site).site.screen, width, height);
+}
+
+}  // namespace
+
+CameraIntrinsics scaled_intrinsics(const CameraIntrinsics& k, double scale) {
+  if (!(scale > 0) || !std::isfinite(scale)) throw std::invalid_argument("resolution scale must be > 0");
+  CameraIntrinsics out = k;
+  out.width = std::max<uint32_t>(1, uint32_t(std::lround(k.width * scale)));
+  out.height = std::max<uint32_t>(1, uint32_t(std::lround(k.height * scale)));
+  const double sx = double(out.width) / k.width, sy = double(out.height) / k.height;
+  out.fx = k.fx * sx;
+  out.fy = k.fy * sy;
+  // Pixel centres: OpenCV's pixel (0, 0) covers [-0.5, 0.5], so scale about the image corner.
+  out.cx = (k.cx + 0.5) * sx - 0.5;
+  out.cy = (k.cy + 0.5) * sy - 0.5;
+  return out;
+}
+
+RgbdCameraSpec camera_spec(const sim::RgbdCamera& camera, const sim::Effects& effects, double resolution_scale) {
+  RgbdCameraSpec spec;
+  spec.name = camera.name;
+  spec.colour = camera.colour_camera();
+  spec.depth = camera.depth_camera();
+  spec.colour.intrinsics = scaled_intrinsics(camera.colour, resolution_scale);
+  spec.depth.intrinsics = scaled_intrinsics(camera.depth, resolution_scale);
+  passes::DepthSensorModel& depth = spec.depth_model;
+  depth.range_min_m = float(camera.depth_min_m);
+  depth.range_max_m = float(camera.depth_max_m);
+  if (effects.near_cutoff) depth.range_min_m = std::max(depth.range_min_m, float(effects.near_cutoff->min_range_m));
+  if (effects.depth_noise) depth.noise_sigma_at_1m_m = float(effects.depth_noise->sigma_at_1m_m);
+  if (effects.skin_depth_bias) depth.skin_bias_m = float(effects.skin_depth_bias->bias_m);
+  if (effects.flying_pixels) {
+    depth.flying_edge_m = float(effects.flying_pixels->edge_threshold_m);
+    depth.flying_probability = float(effects.flying_pixels->probability);
+  }
+  if (effects.misregistration) {
+    // Given in colour pixels; the depth image is shifted by as many of its own pixels.
+    const double ratio = spec.depth.intrinsics.fx / spec.colour.intrinsics.fx;
+    depth.shift_x = int(std::lround(effects.misregistration->pixels_x * ratio));
+    depth.shift_y = int(std::lround(effects.misregistration->pixels_y * ratio));
+  }
+  if (effects.color_gain) {
+    const sim::CameraColour colour = effects.color_gain->for_camera(camera.name);
+    spec.colour_model = {float(colour.gain), float(colour.white_balance.x()), float(colour.white_balance.y()),
+                         float(colour.white_balance.z())};
+  }
+  return spec;
+}
+
+SiteSimulator::SiteSimulator(vk::Context& context, const sim::Scene& scene, Site site, uint32_t target_width,
+                             uint32_t target_height)
+    : scene_(scene),
+      site_(site),
+      motion_(scene.at(site).motion, scene.at(site).site.seat, scene.at(site).user),
+      renderer_(context,
+                [&] {
+                  std::vector<RgbdCameraSpec> specs;
+                  for (const auto& camera : scene.at(site).site.cameras)
+                    specs.push_back(camera_spec(camera, scene.effects, scene.resolution_scale));
+                  return specs;
+                }(),
+                ground_truth_view(scene, site, target_width, target_height)),
+      timing_random_(scene.seed * 2 + (site == Site::A ? 0 : 1)) {}
+
+std::optional<sim::RgbdFrame> SiteSimulator::next_frame() {
+  if (next_ >= scene_.frame_count) return std::nullopt;
+  const uint64_t index = next_++;
+  const double t_s = double(index) / scene_.fps;
+  pose_ = motion_.pose_at(t_s);
+  const auto mesh = sim::person_mesh(pose_, scene_.at(site_).user);
+  renderer_.render(mesh, uint32_t(scene_.seed * 1000003u + index * 2u + (site_ == Site::A ? 0u : 1u)));
+
+  sim::RgbdFrame frame;
+  frame.index = index;
+  frame.timestamp_us = uint64_t(std::llround(t_s * 1e6));
+  for (size_t k = 0; k < renderer_.camera_count(); ++k) {
+    sim::RgbdImage image;
+    image.camera = renderer_.camera(k).name;
+    image.timestamp_us = frame.timestamp_us;
+    if (scene_.effects.camera_timing_jitter) {  // only drawn when asked for: off costs nothing
+      std::normal_distribution<double> jitter_ms(0.0, scene_.effects.camera_timing_jitter->sigma_ms);
+      image.timestamp_us = uint64_t(std::max<int64_t>(0, int64_t(frame.timestamp_us) +
+                                                             std::llround(jitter_ms(timing_random_) * 1000.0)));
+    }
+    image.colour = renderer_.colour(k);
+    image.depth_mm = renderer_.depth_mm(k);
+    frame.cameras.push_back(std::move(image));
+  }
+  return frame;
+}
+
+}  // namespace rt::app
