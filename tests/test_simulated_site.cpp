@@ -83,6 +83,13 @@ TEST_CASE("with effects off the depth images are the ground truth in millimetres
   CHECK(valid > 300);  // the user is in view: the comparison is not vacuous
 }
 
+TEST_CASE("a site with lens distortion is refused, not rendered as a pinhole", "[simulated_site]") {
+  sim::SiteDescription site = sim::make_default_site();
+  site.cameras[2].depth.distortion.k1 = 0.1;
+  CHECK_THROWS_WITH(app::camera_spec(site.cameras[2], {}, 1.0), Catch::Contains(site.cameras[2].name) &&
+                                                                  Catch::Contains("distortion is not simulated"));
+}
+
 TEST_CASE("the rendered hand is built on the tracker's joints", "[simulated_site]") {
   // Every bone capsule of the hand mesh keeps its surface at its radius from the segment
   // between two tracked joints: the joints lie on the rendered fingers' axes, to < 1 mm.

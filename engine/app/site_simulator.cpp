@@ -1,6 +1,7 @@
 #include "app/site_simulator.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "geometry/target_view.h"
 #include "sim/person_mesh.h"
@@ -33,6 +34,13 @@ CameraIntrinsics scaled_intrinsics(const CameraIntrinsics& k, double scale) {
 }
 
 RgbdCameraSpec camera_spec(const sim::RgbdCamera& camera, const sim::Effects& effects, double resolution_scale) {
+  // The rasterizer draws pinhole images; a lens the site describes must not be dropped silently.
+  for (const CameraIntrinsics* k : {&camera.colour, &camera.depth})
+    for (double coefficient : k->distortion.as_opencv())
+      if (coefficient != 0.0)
+        throw std::invalid_argument("camera '" + camera.name +
+                                    "': the simulator renders pinhole cameras; lens distortion is not simulated yet "
+                                    "(set its distortion coefficients to 0)");
   RgbdCameraSpec spec;
   spec.name = camera.name;
   spec.colour = camera.colour_camera();
