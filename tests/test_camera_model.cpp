@@ -2,6 +2,9 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
 
 #include "config/json_fields.h"
 #include "geometry/camera.h"
@@ -81,4 +84,8 @@ TEST_CASE("bad camera JSON names the camera and the field", "[camera]") {
   json["camera_from_site"] = {1, 2, 3};
   CHECK_THROWS_WITH(camera_from_json(json), Catch::Contains("4x4"));
   CHECK_THROWS_WITH(config::read_json_file("/nonexistent/site.json"), Catch::Contains("/nonexistent/site.json"));
+  const auto huge = std::filesystem::temp_directory_path() / ("remotetouch-huge-" + std::to_string(getpid()) + ".json");
+  std::ofstream(huge) << "{\"fx\": 1E999}";
+  CHECK_THROWS_AS(config::read_json_file(huge), config::JsonError);  // out of range: still a JsonError
+  std::filesystem::remove(huge);
 }

@@ -10,7 +10,7 @@ nlohmann::json read_json_file(const std::filesystem::path& path) {
   if (!file) throw JsonError("cannot open '" + path.string() + "'");
   try {
     return nlohmann::json::parse(file);
-  } catch (const nlohmann::json::parse_error& error) {
+  } catch (const nlohmann::json::exception& error) {  // parse errors, and numbers out of range (1E999)
     throw JsonError("'" + path.string() + "' is not valid JSON: " + error.what());
   }
 }

@@ -215,8 +215,8 @@ void validate_site(const SiteDescription& site, const std::string& where) {
 }
 
 SiteDescription load_site(const std::filesystem::path& path) {
-  // read_json_file reports parse errors; a number too large for a double (1E999) comes as
-  // another nlohmann exception, caught here with the rest.
+  // read_json_file reports unreadable JSON; a reader's own nlohmann exception (a value of the
+  // wrong kind deep in the document) is named with the file here.
   try {
     const nlohmann::json json = config::read_json_file(path);
     return site_from_json(json, "site '" + path.string() + "'");
