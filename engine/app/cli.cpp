@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "app/calibrate.h"
+#include "app/eval_ibr.h"
 #include "app/options.h"
 #include "app/simulate.h"
 
@@ -56,9 +57,10 @@ int run_cli(int argc, char** argv) {
   CLI::App* bench_command = app.add_subcommand("bench", "Print per-pass GPU times and bandwidth against a copy pass");
   bench_command->add_option("what", bench_what,
                             "Which benchmark: compositing (GPU ms per pass), touch (touch-start to motor command; "
-                            "--frames claps), simulate (one frame of all six cameras at full resolution)")
+                            "--frames claps), simulate (one frame of all six cameras at full resolution), ibr (the image-based "
+                            "model's passes for 2, 4, 6 views)")
       ->required()
-      ->check(CLI::IsMember({"compositing", "touch", "simulate"}));
+      ->check(CLI::IsMember({"compositing", "touch", "simulate", "ibr"}));
   add_common_options(*bench_command, bench, "out/bench");
   add_frame_options(*bench_command, bench, 20);
   auto* width = bench_command->add_option("--width", bench.width, "Only this width (default: 1280x720 and 2560x1440)")
@@ -86,10 +88,41 @@ int run_cli(int argc, char** argv) {
   simulate_command->add_option("--gt-height", simulate_options.gt_height, "Ground-truth target view height")
       ->check(CLI::Range(1u, 16384u))->capture_default_str();
 
+  CLI::App* eval_command = app.add_subcommand("eval", "Measure a part of the system against the simulator's ground truth");
+  eval_command->require_subcommand(1);
+  RunOptions eval_ibr;
+  EvalIbrOptions eval_ibr_options;
+  CLI::App* eval_ibr_command = eval_command->add_subcommand(
+      "ibr", "The image-based model (fusion, warping, blending) against ground truth: metrics.json, PNGs, a table");
+  eval_ibr_command->add_option("--scene", eval_ibr_options.scene, "Scene name under assets/scenes/, or a scene file")
+      ->capture_default_str();
+  eval_ibr_command->add_option("--fusion", eval_ibr_options.fusion, "Depth fusion: min (the paper), avg (baseline), both")
+      ->check(CLI::IsMember({"min", "avg", "both"}))->capture_default_str();
+  eval_ibr_command->add_option("--views", eval_ibr_options.views, "Cameras used per frame")
+      ->check(CLI::Range(1u, 6u))->capture_default_str();
+  eval_ibr_command->add_option("--refine", eval_ibr_options.refine_hypotheses,
+                               "Plane-sweep refinement with this many depth hypotheses (0 = off)")
+      ->check(CLI::Range(0, 64))->capture_default_str();
+  eval_ibr_command->add_option("--site", eval_ibr_options.site, "Whose user is rendered")
+      ->check(CLI::IsMember({"A", "B"}))->capture_default_str();
+  add_common_options(*eval_ibr_command, eval_ibr, "out/eval-ibr");
+  add_frame_options(*eval_ibr_command, eval_ibr, 1);
+  eval_ibr_command->get_option("--frames")->description("Frames to render (default: the scene's own count)");
+  eval_ibr.width = 640;
+  eval_ibr.height = 360;
+  eval_ibr_command->add_option("--width", eval_ibr.width, "Target view width")->check(CLI::Range(1u, 16384u))
+      ->capture_default_str();
+  eval_ibr_command->add_option("--height", eval_ibr.height, "Target view height")->check(CLI::Range(1u, 16384u))
+      ->capture_default_str();
+
   try {
     app.parse(argc, argv);
     if (demo_command->parsed()) check_capture_frame(demo);
     if (bench_command->parsed()) check_capture_frame(bench);
+    if (eval_ibr_command->parsed()) {
+      eval_ibr_options.frames_given = eval_ibr_command->count("--frames") > 0;
+      if (eval_ibr_options.frames_given) check_capture_frame(eval_ibr);
+    }
     if (simulate_command->parsed()) {
       simulate_options.frames_given = simulate_command->count("--frames") > 0;
       simulate_options.site = simulate_site == "B" ? Site::B : Site::A;
@@ -103,6 +136,7 @@ int run_cli(int argc, char** argv) {
     if (demo_command->parsed()) return run_demo(demo);
     if (bench_command->parsed()) return run_bench(bench_what, bench);
     if (simulate_command->parsed()) return run_simulate(simulate, simulate_options);
+    if (eval_ibr_command->parsed()) return run_eval_ibr(eval_ibr, eval_ibr_options);
     if (calibrate.parsed()) return calibrate.run();
   } catch (const std::exception& error) {
     std::cerr << "remotetouch: error: " << error.what() << "\n";

@@ -1,0 +1,20 @@
+#pragma once
+// `remotetouch eval ibr`: the image-based model against the simulator's ground truth.
+#include <string>
+
+#include "app/options.h"
+
+namespace rt::app {
+
+struct EvalIbrOptions {
+  std::string scene = "wave";
+  std::string fusion = "min";  // min, avg, or both (each frame rendered with both, compared)
+  std::string site = "A";      // whose user is rendered, for the other site's eye
+  uint32_t views = 4;
+  int refine_hypotheses = 0;   // plane-sweep refinement; 0 = off
+  bool frames_given = false;   // else the scene's own frame count
+};
+
+int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval);
+
+}  // namespace rt::app

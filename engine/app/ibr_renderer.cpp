@@ -1,0 +1,117 @@
+#include "app/ibr_renderer.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace rt::app {
+namespace {
+
+IbrSettings with_fusion(IbrSettings settings) {
+  if (settings.views == 0 || settings.views > RT_IBR_MAX_VIEWS)
+    throw std::invalid_argument("image-based model: views must be 1.." + std::to_string(RT_IBR_MAX_VIEWS));
+  if (settings.width == 0 || settings.height == 0) throw std::invalid_argument("image-based model: empty target view");
+  settings.splat.fusion = settings.fusion;
+  settings.fuse.fusion = settings.fusion;
+  return settings;
+}
+
+}  // namespace
+
+struct IbrRenderer::Images {
+  vk::Image depth_mm, depth_rays, points, colour;        // views in bands
+  vk::Buffer fusion;
+  vk::Image fused_depth, refined_depth, warped, features;  // target sized (atlases: bands)
+
+  Images(vk::Context& context, const passes::IbrCameraModel& camera, const IbrSettings& s)
+      : depth_mm(context, {"ibr depth mm", camera.depth.intrinsics.width, camera.depth.intrinsics.height * s.views,
+                           PixelFormat::R16U}),
+        depth_rays(context, {"ibr depth rays", camera.depth.intrinsics.width,
+                             camera.depth.intrinsics.height * s.views, PixelFormat::RGBA32F}),
+        points(context, {"ibr points", camera.depth.intrinsics.width, camera.depth.intrinsics.height * s.views,
+                         PixelFormat::RGBA32F}),
+        colour(context, {"ibr colour", camera.colour.intrinsics.width, camera.colour.intrinsics.height * s.views,
+                         PixelFormat::RGBA8}),
+        fusion(context, passes::fusion_buffer_desc(s.width, s.height)),
+        fused_depth(context, {"ibr fused depth", s.width, s.height, PixelFormat::R32F}),
+        refined_depth(context, {"ibr refined depth", s.width, s.height, PixelFormat::R32F}),
+        warped(context, {"ibr warped", s.width, s.height * s.views, PixelFormat::RGBA32F}),
+        features(context, {"ibr features", s.width, s.height * s.views, PixelFormat::RGBA32F}) {}
+};
+
+IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraModel> cameras, const IbrSettings& settings)
+    : context_(context),
+      cameras_(std::move(cameras)),
+      settings_(with_fusion(settings)),
+      foreground_(context, settings_.foreground),
+      splat_(context, settings_.splat),
+      fuse_(context, settings_.fuse),
+      refine_(settings_.refine ? std::make_unique<passes::IbrRefinePass>(context, settings_.refinement) : nullptr),
+      warp_(context, settings_.warp),
+      blend_(context, settings_.blend),
+      scene_(context) {
+  if (cameras_.size() < settings_.views)
+    throw std::invalid_argument("image-based model: " + std::to_string(settings_.views) + " views asked for, the site has " +
+                                std::to_string(cameras_.size()) + " cameras");
+  // Checks sizes and poses of every camera once, whichever are selected later.
+  for (size_t first = 0; first < cameras_.size(); first += RT_IBR_MAX_VIEWS) {
+    const size_t count = std::min<size_t>(RT_IBR_MAX_VIEWS, cameras_.size() - first);
+    (void)passes::make_scene_table(cameras_[0].colour, std::span(cameras_).subspan(first, count));
+  }
+  images_ = std::make_unique<Images>(context, cameras_[0], settings_);
+  portrait_ = std::make_unique<vk::Image>(context, vk::ImageDesc{"portrait", settings_.width, settings_.height});
+  portrait_depth_ = std::make_unique<vk::Image>(
+      context, vk::ImageDesc{"portrait depth", settings_.width, settings_.height, PixelFormat::R32F});
+
+  graph_ = std::make_unique<vk::FrameGraph>(context, "image-based model");
+  Images& i = *images_;
+  const uint32_t views = settings_.views;
+  foreground_.add_to(*graph_, scene_, i.depth_mm, i.depth_rays, i.points, views);
+  splat_.add_to(*graph_, scene_, i.points, i.fusion, views);
+  fuse_.add_to(*graph_, i.fusion, i.fused_depth);
+  vk::Image* depth = &i.fused_depth;
+  if (refine_) {
+    refine_->add_to(*graph_, scene_, i.fused_depth, i.colour, i.refined_depth, views);
+    depth = &i.refined_depth;
+  }
+  warp_.add_to(*graph_, scene_, *depth, i.colour, i.points, i.warped, i.features, views);
+  blend_.add_to(*graph_, *depth, i.warped, i.features, *portrait_, *portrait_depth_, views);
+}
+
+IbrRenderer::~IbrRenderer() = default;
+
+void IbrRenderer::prepare(std::span<const sim::RgbdImage> images, std::span<const size_t> selection,
+                         const Camera& target_view) {
+  if (images.size() != cameras_.size())
+    throw std::invalid_argument("image-based model: " + std::to_string(images.size()) + " images for " +
+                                std::to_string(cameras_.size()) + " cameras");
+  if (selection.size() != settings_.views)
+    throw std::invalid_argument("image-based model: " + std::to_string(selection.size()) + " cameras selected, " +
+                                std::to_string(settings_.views) + " expected");
+  if (target_view.intrinsics.width != settings_.width || target_view.intrinsics.height != settings_.height)
+    throw std::invalid_argument("image-based model: the target view is not " + std::to_string(settings_.width) + "x" +
+                                std::to_string(settings_.height));
+  std::vector<passes::IbrCameraModel> selected;
+  std::vector<HostImage> colours, depths;
+  for (size_t index : selection) {
+    if (index >= cameras_.size()) throw std::invalid_argument("image-based model: camera index out of range");
+    const sim::RgbdImage& image = images[index];
+    const passes::IbrCameraModel& camera = cameras_[index];
+    if (image.colour.width != camera.colour.intrinsics.width || image.colour.height != camera.colour.intrinsics.height ||
+        image.depth_mm.width != camera.depth.intrinsics.width || image.depth_mm.height != camera.depth.intrinsics.height ||
+        image.colour.format != PixelFormat::RGBA8 || image.depth_mm.format != PixelFormat::R16U)
+      throw std::invalid_argument("image-based model: camera '" + camera.colour.name +
+                                  "' sent images of another size or format than its calibration");
+    selected.push_back(camera);
+    colours.push_back(image.colour);
+    depths.push_back(image.depth_mm);
+  }
+  scene_.write(passes::make_scene_table(target_view, selected));
+  if (uploaded_selection_ != std::vector<size_t>(selection.begin(), selection.end())) {
+    vk::upload(context_, images_->depth_rays, passes::depth_ray_atlas(selected));
+    uploaded_selection_.assign(selection.begin(), selection.end());
+  }
+  vk::upload(context_, images_->colour, passes::stack_bands(colours));
+  vk::upload(context_, images_->depth_mm, passes::stack_bands(depths));
+}
+
+}  // namespace rt::app

@@ -1,0 +1,74 @@
+#pragma once
+// The sender's image-based model (paper 3.1.1) as one frame graph: background removal, depth
+// reprojection with min (or average) fusion and crack filling, optional plane-sweep refinement,
+// warping of each selected view, unstructured lumigraph blending. In: the site's RGBD images
+// and the target view of the remote eye; out: the portrait (RGBA, straight alpha) and its depth.
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "passes/ibr_blend.h"
+#include "passes/ibr_foreground.h"
+#include "passes/ibr_fuse.h"
+#include "passes/ibr_refine.h"
+#include "passes/ibr_scene.h"
+#include "passes/ibr_splat.h"
+#include "passes/ibr_warp.h"
+#include "sim/rgbd_source.h"
+
+namespace rt::app {
+
+struct IbrSettings {
+  uint32_t width = 640, height = 360;  // the target view
+  uint32_t views = 4;                  // cameras used per frame (the paper: 4 of 6)
+  passes::DepthFusion fusion = passes::DepthFusion::Min;
+  bool refine = false;  // plane sweep, off by default
+  passes::ForegroundSettings foreground;
+  passes::SplatSettings splat;  // its `fusion` is set from `fusion`
+  passes::FuseSettings fuse;    // likewise
+  passes::RefineSettings refinement;
+  passes::WarpSettings warp;
+  passes::BlendSettings blend;
+};
+
+class IbrRenderer {
+ public:
+  // `cameras`: all of the site's cameras (colour and depth calibration); each frame uses
+  // `settings.views` of them. All colour images must share one size, all depth images too.
+  IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraModel> cameras, const IbrSettings& settings);
+  ~IbrRenderer();
+
+  // Renders one frame: `selection` indexes `cameras` (settings.views of them), `images` holds
+  // every camera's image of this frame, in the order of `cameras`. The target view must be
+  // settings.width x settings.height. `prepare` uploads; running graph() renders (a session may
+  // capture that run); `render` does both.
+  void prepare(std::span<const sim::RgbdImage> images, std::span<const size_t> selection, const Camera& target_view);
+  void render(std::span<const sim::RgbdImage> images, std::span<const size_t> selection, const Camera& target_view) {
+    prepare(images, selection, target_view);
+    graph_->run();
+  }
+
+  vk::Image& portrait() { return *portrait_; }
+  vk::Image& portrait_depth() { return *portrait_depth_; }
+  vk::FrameGraph& graph() { return *graph_; }
+  const IbrSettings& settings() const { return settings_; }
+
+ private:
+  struct Images;
+  vk::Context& context_;
+  std::vector<passes::IbrCameraModel> cameras_;
+  IbrSettings settings_;
+  passes::IbrForegroundPass foreground_;
+  passes::IbrSplatPass splat_;
+  passes::IbrFusePass fuse_;
+  std::unique_ptr<passes::IbrRefinePass> refine_;
+  passes::IbrWarpPass warp_;
+  passes::IbrBlendPass blend_;
+  passes::IbrSceneBuffer scene_;
+  std::unique_ptr<Images> images_;
+  std::unique_ptr<vk::Image> portrait_, portrait_depth_;
+  std::unique_ptr<vk::FrameGraph> graph_;
+  std::vector<size_t> uploaded_selection_;  // whose depth rays the ray atlas holds
+};
+
+}  // namespace rt::app

@@ -1,0 +1,118 @@
+#include "ibr/portrait_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "shared/config.h"
+
+namespace rt::ibr {
+namespace {
+
+double psnr(double squared_error, size_t values) {
+  if (values == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double mse = squared_error / double(values);
+  return mse > 0 ? 10.0 * std::log10(1.0 / mse) : 99.0;  // identical: a capped, finite figure
+}
+
+// Pixels within `radius` (Chebyshev) of a set pixel.
+std::vector<uint8_t> dilate(const std::vector<uint8_t>& mask, uint32_t w, uint32_t h, int radius) {
+  std::vector<uint8_t> out(mask.size(), 0);
+  for (int y = 0; y < int(h); ++y)
+    for (int x = 0; x < int(w); ++x) {
+      if (!mask[size_t(y) * w + size_t(x)]) continue;
+      for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx >= 0 && ny >= 0 && nx < int(w) && ny < int(h)) out[size_t(ny) * w + size_t(nx)] = 1;
+        }
+    }
+  return out;
+}
+
+}  // namespace
+
+PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& depth, const HostImage& truth_colour,
+                                   const HostImage& truth_depth, const HostImage& truth_part) {
+  const uint32_t w = portrait.width, h = portrait.height;
+  for (const HostImage* image : {&depth, &truth_colour, &truth_depth, &truth_part})
+    if (image->width != w || image->height != h) throw std::invalid_argument("portrait metrics: images differ in size");
+  const size_t n = size_t(w) * h;
+  std::vector<uint8_t> foreground(n), hand(n), edge(n);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      foreground[i] = truth_part.at(x, y) > 0.5f;
+      hand[i] = std::abs(truth_part.at(x, y) - float(RT_PART_HAND)) < 0.5f;
+      // A depth edge: the person's outline, or a jump between neighbours (hand over body).
+      const float z = truth_depth.at(x, y);
+      for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
+        if (x + uint32_t(dx) >= w || y + uint32_t(dy) >= h) continue;
+        const float other = truth_depth.at(x + uint32_t(dx), y + uint32_t(dy));
+        if ((z > 0) != (other > 0) || (z > 0 && std::abs(z - other) > regions_.depth_edge_m))
+          edge[i] = edge[size_t(y + uint32_t(dy)) * w + x + uint32_t(dx)] = 1;
+      }
+    }
+  hand = dilate(hand, w, h, regions_.hand_dilation_px);
+  edge = dilate(edge, w, h, regions_.edge_band_px);
+
+  PortraitError error{HostImage(w, h, PixelFormat::R32F), HostImage(w, h, PixelFormat::R32F)};
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const float alpha = std::clamp(portrait.at(x, y, 3), 0.0f, 1.0f);
+      const float truth_alpha = truth_colour.at(x, y, 3);
+      double squared = 0, absolute = 0;
+      for (uint32_t c = 0; c < 3; ++c) {
+        // Both over black: a missing portrait pixel costs its full colour.
+        const double difference = double(portrait.at(x, y, c)) * alpha - double(truth_colour.at(x, y, c)) * truth_alpha;
+        squared += difference * difference;
+        absolute += std::abs(difference);
+      }
+      error.colour_error.at(x, y) = float(absolute / 3.0);
+      if (foreground[i]) fg_squared_error_ += squared, fg_values_ += 3;
+      if (hand[i]) hand_squared_error_ += squared, hand_values_ += 3;
+      const float z = depth.at(x, y), truth_z = truth_depth.at(x, y);
+      if (z > 0 && truth_z > 0) {
+        const double mm = std::abs(double(z) - truth_z) * 1000.0;
+        error.depth_error_mm.at(x, y) = float(mm);
+        signed_error_mm_ += (double(z) - truth_z) * 1000.0;
+        ++depth_pixels_;
+        if (edge[i]) edge_abs_error_mm_ += mm, ++edge_pixels_;
+      }
+      const bool covered = alpha > 0.5f;
+      intersection_ += covered && foreground[i];
+      union_ += covered || foreground[i];
+    }
+  ++frames_;
+  return error;
+}
+
+double PortraitMetrics::psnr_fg_db() const { return psnr(fg_squared_error_, fg_values_); }
+double PortraitMetrics::psnr_hand_db() const { return psnr(hand_squared_error_, hand_values_); }
+double PortraitMetrics::depth_mae_edge_mm() const {
+  return edge_pixels_ ? edge_abs_error_mm_ / double(edge_pixels_) : std::numeric_limits<double>::quiet_NaN();
+}
+double PortraitMetrics::depth_bias_mm() const {
+  return depth_pixels_ ? signed_error_mm_ / double(depth_pixels_) : std::numeric_limits<double>::quiet_NaN();
+}
+double PortraitMetrics::alpha_iou() const {
+  return union_ ? double(intersection_) / double(union_) : std::numeric_limits<double>::quiet_NaN();
+}
+
+nlohmann::json PortraitMetrics::to_json() const {
+  auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  return {{"psnr_fg_db", number(psnr_fg_db())},
+          {"psnr_hand_db", number(psnr_hand_db())},
+          {"depth_mae_edge_mm", number(depth_mae_edge_mm())},
+          {"alpha_iou", number(alpha_iou())},
+          {"depth_bias_mm", number(depth_bias_mm())},
+          {"frames", frames_},
+          {"foreground_values", fg_values_},
+          {"hand_values", hand_values_},
+          {"edge_pixels", edge_pixels_}};
+}
+
+}  // namespace rt::ibr

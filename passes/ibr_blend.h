@@ -1,0 +1,35 @@
+#pragma once
+// Pass: unstructured lumigraph blending (Buehler et al. 2001) into the portrait
+// (shaders/ibr_blend.comp). The blending stage of the image-based model: it reads only the
+// warped views and their features, so a learned blending (Lumi-Net) can replace it.
+//   in:  fused_depth r32f, warped and features rgba32f atlases (ibr_warp), view_count bands
+//   out: portrait rgba32f (straight colour, alpha 1 where a view sees the surface, else 0),
+//        portrait_depth r32f (metres, 0 = nothing)
+#include "passes/ibr_scene.h"
+#include "vulkan/frame_graph.h"
+
+namespace rt::passes {
+
+struct BlendSettings {
+  int best_views = 3;              // k: the k-1 best views blend, the k-th has weight 0
+  float resolution_weight = 1.0f;  // radians of penalty per metre of resolution penalty
+};
+
+class IbrBlendPass {
+ public:
+  IbrBlendPass(vk::Context& context, const BlendSettings& settings = {});
+  void add_to(vk::FrameGraph& graph, vk::Image& fused_depth, vk::Image& warped, vk::Image& features,
+              vk::Image& portrait, vk::Image& portrait_depth, uint32_t view_count) const;
+
+ private:
+  vk::ComputeKernel kernel_;
+};
+
+struct Portrait {
+  HostImage colour;  // rgba32f, straight alpha
+  HostImage depth;   // r32f metres
+};
+Portrait ibr_blend_reference(const HostImage& fused_depth, const HostImage& warped, const HostImage& features,
+                             uint32_t view_count, const BlendSettings& settings = {});
+
+}  // namespace rt::passes

@@ -1,0 +1,93 @@
+#include "passes/ibr_refine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "ibr_refine.comp.h"
+
+namespace rt::passes {
+namespace {
+
+const RefineSettings& check(const RefineSettings& s) {
+  if (s.hypotheses < 1 || s.hypotheses > 64 || !(s.step_m > 0.0f) || !std::isfinite(s.step_m))
+    throw std::invalid_argument("depth refinement: hypotheses must be 1..64 and step_m a positive number of metres");
+  return s;
+}
+
+// Colour variance across the views that see `site` inside their colour image; -1 with fewer than two.
+float disagreement(const IbrSceneTable& table, const HostImage& colour, Float3 site) {
+  std::array<float, 3> sum{}, squares{};
+  int seen = 0;
+  for (uint32_t v = 0; v < table.camera_count; ++v) {
+    const shader_abi::IbrCamera& camera = table.cameras[v];
+    const Float3 q = transform_point(camera.camera_from_site, site);
+    if (!(q.z > 1e-4f)) continue;
+    const Float2 at = lens_project(camera.colour, q);
+    const Float2 size{camera.colour.tangential[2], camera.colour.tangential[3]};
+    if (!inside_image(at, size, 0.0f)) continue;
+    const auto c = bilinear_rgb(colour, at, v * uint32_t(size.y), uint32_t(size.x), uint32_t(size.y));
+    for (size_t i = 0; i < 3; ++i) sum[i] += c[i], squares[i] += c[i] * c[i];
+    ++seen;
+  }
+  if (seen < 2) return -1.0f;
+  float variance = 0.0f;
+  for (size_t i = 0; i < 3; ++i) {
+    const float mean = sum[i] / float(seen);
+    variance += std::max(squares[i] / float(seen) - mean * mean, 0.0f);
+  }
+  return variance;
+}
+
+}  // namespace
+
+IbrRefinePass::IbrRefinePass(vk::Context& context, const RefineSettings& settings)
+    : kernel_(context, "ibr_refine", ibr_refine_comp_spirv,
+              {{"hypotheses", int32_t(check(settings).hypotheses)}, {"step_m", settings.step_m}}) {}
+
+void IbrRefinePass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
+                           vk::Image& refined_depth, uint32_t view_count) const {
+  if (refined_depth.width() != fused_depth.width() || refined_depth.height() != fused_depth.height())
+    throw std::invalid_argument("ibr_refine: refined and fused depth differ in size");
+  graph.add_compute_pass({
+      .name = "ibr_refine",
+      .kernel = &kernel_,
+      .bindings = {{"fused_depth", &fused_depth}, {"colour", &colour}, {"refined_depth", &refined_depth},
+                   {"IbrSceneTable", &scene.buffer()}},
+      .threads = {fused_depth.width(), fused_depth.height(), 1},
+      .push_constants = vk::push_constants_from<shader_abi::IbrBlendParams>(
+          [view_count] { return shader_abi::IbrBlendParams{view_count}; }),
+  });
+}
+
+HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
+                               const RefineSettings& s) {
+  HostImage refined = fused_depth;
+  const shader_abi::IbrTarget& target = table.target;
+  for (uint32_t y = 0; y < fused_depth.height; ++y)
+    for (uint32_t x = 0; x < fused_depth.width; ++x) {
+      const float z = fused_depth.at(x, y);
+      if (!(z > 0.0f)) continue;
+      const float rx = (float(x) - target.pinhole[2]) / target.pinhole[0];
+      const float ry = (float(y) - target.pinhole[3]) / target.pinhole[1];
+      float best_score = 1e30f, best_offset = 1e30f, best_z = z;
+      for (int h = 0; h < s.hypotheses; ++h) {
+        const float offset = (float(h) - 0.5f * float(s.hypotheses - 1)) * s.step_m;
+        const float candidate = z + offset;
+        if (candidate <= 1e-3f) continue;
+        const float score =
+            disagreement(table, colour, transform_point(target.site_from_camera, {rx * candidate, ry * candidate, candidate}));
+        if (score < 0.0f) continue;
+        if (score < best_score || (score == best_score && std::abs(offset) < best_offset)) {
+          best_score = score;
+          best_offset = std::abs(offset);
+          best_z = candidate;
+        }
+      }
+      refined.at(x, y) = best_z;
+    }
+  return refined;
+}
+
+}  // namespace rt::passes

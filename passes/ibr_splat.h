@@ -1,0 +1,44 @@
+#pragma once
+// Pass: depth reprojection into the target view with the min-filter (shaders/ibr_splat.comp).
+//   in:  points rgba32f atlas (ibr_foreground), the camera table
+//   out: the fusion buffer (3 uints per target pixel: nearest depth bits, sum and count of the
+//        depths within average_tolerance_m of it), cleared first by a fill.
+// Min fusion runs one dispatch; average fusion (the baseline) adds a second that accumulates.
+#include <cstdint>
+#include <vector>
+
+#include "passes/ibr_scene.h"
+#include "vulkan/frame_graph.h"
+
+namespace rt::passes {
+
+enum class DepthFusion { Min, Average };
+
+struct SplatSettings {
+  DepthFusion fusion = DepthFusion::Min;
+  float footprint_scale = 1.0f;   // splat side over a depth pixel's projected size
+  float max_footprint_px = 6.0f;
+  float average_tolerance_m = 0.1f;
+};
+
+// A fusion buffer for a target of this size: usable as storage and as a fill destination.
+vk::BufferDesc fusion_buffer_desc(uint32_t target_width, uint32_t target_height);
+
+class IbrSplatPass {
+ public:
+  IbrSplatPass(vk::Context& context, const SplatSettings& settings = {});
+  void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& points, vk::Buffer& fusion,
+              uint32_t view_count) const;
+  const SplatSettings& settings() const { return settings_; }
+
+ private:
+  SplatSettings settings_;
+  vk::ComputeKernel nearest_;
+  vk::ComputeKernel average_;
+};
+
+// The plain C++ reference: the fusion buffer's contents.
+std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const HostImage& points,
+                                          const SplatSettings& settings = {});
+
+}  // namespace rt::passes

@@ -1,0 +1,97 @@
+#include "passes/ibr_warp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "ibr_warp.comp.h"
+
+namespace rt::passes {
+namespace {
+
+const WarpSettings& check(const WarpSettings& s) {
+  if (!(s.visibility_tolerance_m >= 0.0f) || !(s.visibility_tolerance_rel >= 0.0f) || !(s.feather_px > 0.0f))
+    throw std::invalid_argument("warping: visibility tolerances must be >= 0 and feather_px > 0");
+  return s;
+}
+
+void require_bands(const vk::Image& atlas, uint32_t width, uint32_t band_height, uint32_t views, const char* what) {
+  if (atlas.width() != width || atlas.height() != band_height * views)
+    throw std::invalid_argument(std::string("ibr_warp: '") + atlas.name() + "' is not a " + what + " atlas of " +
+                                std::to_string(views) + " bands of " + std::to_string(width) + "x" +
+                                std::to_string(band_height));
+}
+
+}  // namespace
+
+IbrWarpPass::IbrWarpPass(vk::Context& context, const WarpSettings& settings)
+    : kernel_(context, "ibr_warp", ibr_warp_comp_spirv,
+              {{"visibility_tolerance_m", check(settings).visibility_tolerance_m},
+               {"visibility_tolerance_rel", settings.visibility_tolerance_rel},
+               {"feather_px", settings.feather_px}}) {}
+
+void IbrWarpPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
+                         vk::Image& points, vk::Image& warped, vk::Image& features, uint32_t view_count) const {
+  if (view_count == 0 || colour.height() % view_count != 0 || points.height() % view_count != 0)
+    throw std::invalid_argument("ibr_warp: the colour and points atlases must hold " + std::to_string(view_count) + " bands");
+  require_bands(warped, fused_depth.width(), fused_depth.height(), view_count, "warped colour");
+  require_bands(features, fused_depth.width(), fused_depth.height(), view_count, "feature");
+  graph.add_compute_pass({
+      .name = "ibr_warp",
+      .kernel = &kernel_,
+      .bindings = {{"fused_depth", &fused_depth}, {"colour", &colour}, {"points", &points}, {"warped", &warped},
+                   {"features", &features}, {"IbrSceneTable", &scene.buffer()}},
+      .threads = {fused_depth.width(), fused_depth.height(), view_count},
+  });
+}
+
+WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
+                               const HostImage& points, const WarpSettings& s) {
+  const uint32_t width = fused_depth.width, height = fused_depth.height;
+  WarpedViews out{HostImage(width, height * table.camera_count, PixelFormat::RGBA32F),
+                  HostImage(width, height * table.camera_count, PixelFormat::RGBA32F)};
+  const shader_abi::IbrTarget& target = table.target;
+  const Float3 eye = transform_point(target.site_from_camera, {0, 0, 0});
+  for (uint32_t view = 0; view < table.camera_count; ++view) {
+    const shader_abi::IbrCamera& camera = table.cameras[view];
+    const Float2 colour_size{camera.colour.tangential[2], camera.colour.tangential[3]};
+    const Float2 depth_size{camera.depth.tangential[2], camera.depth.tangential[3]};
+    const Float3 centre = transform_point(camera.site_from_camera, {0, 0, 0});
+    for (uint32_t y = 0; y < height; ++y)
+      for (uint32_t x = 0; x < width; ++x) {
+        const float z = fused_depth.at(x, y);
+        if (!(z > 0.0f)) continue;
+        const Float3 target_point{(float(x) - target.pinhole[2]) / target.pinhole[0] * z,
+                                  (float(y) - target.pinhole[3]) / target.pinhole[1] * z, z};
+        const Float3 site = transform_point(target.site_from_camera, target_point);
+        const Float3 q = transform_point(camera.camera_from_site, site);
+        if (!(q.z > 1e-4f)) continue;
+        const Float2 colour_pixel = lens_project(camera.colour, q);
+        const Float2 depth_pixel = lens_project(camera.depth, q);
+        if (!inside_image(colour_pixel, colour_size, 0.0f) || !inside_image(depth_pixel, depth_size, 0.0f)) continue;
+        const int dx = int(std::floor(depth_pixel.x + 0.5f)), dy = int(std::floor(depth_pixel.y + 0.5f));
+        const float seen = points.at(uint32_t(dx), uint32_t(dy) + view * uint32_t(depth_size.y), 3);
+        if (!(seen > 0.0f) || std::abs(q.z - seen) > s.visibility_tolerance_m + s.visibility_tolerance_rel * seen) continue;
+        const Float3 to_eye{site.x - eye.x, site.y - eye.y, site.z - eye.z};
+        const Float3 to_camera{site.x - centre.x, site.y - centre.y, site.z - centre.z};
+        const float cosine = (to_eye.x * to_camera.x + to_eye.y * to_camera.y + to_eye.z * to_camera.z) /
+                             std::max(length(to_eye) * length(to_camera), 1e-12f);
+        const float border = std::min(std::min(colour_pixel.x + 0.5f, colour_size.x - 0.5f - colour_pixel.x),
+                                      std::min(colour_pixel.y + 0.5f, colour_size.y - 0.5f - colour_pixel.y));
+        const auto rgb = bilinear_rgb(colour, colour_pixel, view * uint32_t(colour_size.y), uint32_t(colour_size.x),
+                                      uint32_t(colour_size.y));
+        const uint32_t row = y + view * height;
+        float* warped = &out.warped.texels[out.warped.index(x, row)];
+        warped[0] = rgb[0], warped[1] = rgb[1], warped[2] = rgb[2], warped[3] = 1.0f;
+        float* features = &out.features.texels[out.features.index(x, row)];
+        features[0] = std::acos(std::clamp(cosine, -1.0f, 1.0f));
+        features[1] = std::max(0.0f, length(to_camera) - length(to_eye));
+        features[2] = std::clamp(border / s.feather_px, 1e-3f, 1.0f);
+        features[3] = 1.0f;
+      }
+  }
+  return out;
+}
+
+}  // namespace rt::passes

@@ -1,0 +1,39 @@
+#pragma once
+// Pass: every view's colour warped into the target view through the fused depth
+// (shaders/ibr_warp.comp).
+//   in:  fused_depth r32f, colour rgba8 atlas (views in bands), points rgba32f atlas (each view's
+//        own depth in w), the camera table
+//   out: warped rgba32f atlas (rgb, visible) and features rgba32f atlas (angle penalty in radians,
+//        resolution penalty in metres, field-of-view feather, visible), one target-sized band per
+//        view: the inputs of any blending, the lumigraph weights or a learned one.
+// A view sees a surface point when it projects inside its colour and depth images and its own
+// depth there agrees within visibility_tolerance_m + visibility_tolerance_rel * depth.
+#include "passes/ibr_scene.h"
+#include "vulkan/frame_graph.h"
+
+namespace rt::passes {
+
+struct WarpSettings {
+  float visibility_tolerance_m = 0.03f;
+  float visibility_tolerance_rel = 0.01f;
+  float feather_px = 16.0f;
+};
+
+class IbrWarpPass {
+ public:
+  IbrWarpPass(vk::Context& context, const WarpSettings& settings = {});
+  void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
+              vk::Image& points, vk::Image& warped, vk::Image& features, uint32_t view_count) const;
+
+ private:
+  vk::ComputeKernel kernel_;
+};
+
+struct WarpedViews {
+  HostImage warped;    // rgba32f atlas
+  HostImage features;  // rgba32f atlas
+};
+WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
+                               const HostImage& points, const WarpSettings& settings = {});
+
+}  // namespace rt::passes

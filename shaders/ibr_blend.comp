@@ -1,0 +1,78 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Unstructured lumigraph blending (Buehler et al. 2001): each visible view's penalty is its
+// angle penalty plus a weighted resolution penalty; the k-th smallest penalty is the threshold,
+// so the k-1 best views get weight 1 - p / p_k (the k-th falls to zero and views fade in and out
+// smoothly as the eye moves), times the field-of-view feather, normalised. With fewer than k
+// visible views the threshold is just above the largest penalty. Alpha is the coverage: 0 where
+// no view sees the surface point (never a NaN), 1 where one does; the feather only shapes weights.
+#include "shared/config.h"
+#include "shared/ibr.h"
+
+layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
+layout(constant_id = 0) const int best_views = 3;  // k
+layout(constant_id = 1) const float resolution_weight = 1.0;  // radians of penalty per metre
+
+layout(binding = 0, r32f) uniform readonly image2D fused_depth;
+layout(binding = 1, rgba32f) uniform readonly image2D warped;
+layout(binding = 2, rgba32f) uniform readonly image2D features;
+layout(binding = 3, rgba32f) uniform writeonly image2D portrait;        // straight colour, alpha
+layout(binding = 4, r32f) uniform writeonly image2D portrait_depth;     // metres, 0 = nothing
+layout(push_constant) uniform Push { IbrBlendParams params; };
+
+void main() {
+  ivec2 size = imageSize(portrait);
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, size))) return;
+  float penalty[RT_IBR_MAX_VIEWS];
+  float feather[RT_IBR_MAX_VIEWS];
+  int candidates = 0;
+  float largest = 0.0;
+  for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
+    penalty[v] = -1.0;  // not a candidate
+    feather[v] = 0.0;
+    if (v >= int(params.view_count)) continue;
+    vec4 f = imageLoad(features, ivec2(pixel.x, pixel.y + v * size.y));
+    if (f.w <= 0.0 || f.z <= 0.0) continue;
+    penalty[v] = f.x + resolution_weight * f.y;
+    feather[v] = f.z;
+    largest = max(largest, penalty[v]);
+    ++candidates;
+  }
+  vec4 result = vec4(0.0);
+  float depth = 0.0;
+  if (candidates > 0) {
+    float threshold = largest * 1.0001 + 1e-6;
+    if (candidates >= best_views) {
+      // The k-th smallest penalty: the one with exactly k-1 candidates strictly below it (ties
+      // broken by index, so that equal penalties still count once each).
+      for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
+        if (penalty[v] < 0.0) continue;
+        int below = 0;
+        for (int u = 0; u < RT_IBR_MAX_VIEWS; ++u)
+          if (penalty[u] >= 0.0 && (penalty[u] < penalty[v] || (penalty[u] == penalty[v] && u < v))) ++below;
+        if (below == best_views - 1) threshold = penalty[v];
+      }
+    }
+    vec3 colour_sum = vec3(0.0);
+    float weight_sum = 0.0, best_penalty = 1e30;
+    vec3 best_colour = vec3(0.0);
+    for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
+      if (penalty[v] < 0.0) continue;
+      vec3 c = imageLoad(warped, ivec2(pixel.x, pixel.y + v * size.y)).rgb;
+      float w = threshold > 0.0 ? max(0.0, 1.0 - penalty[v] / threshold) * feather[v] : feather[v];
+      colour_sum += w * c;
+      weight_sum += w;
+      if (penalty[v] < best_penalty) {
+        best_penalty = penalty[v];
+        best_colour = c;
+      }
+    }
+    // Every weight zero happens only when the best views tie with the threshold: take the best.
+    vec3 colour = weight_sum > 1e-6 ? colour_sum / weight_sum : best_colour;
+    result = vec4(clamp(colour, 0.0, 1.0), 1.0);
+    depth = imageLoad(fused_depth, pixel).r;
+  }
+  imageStore(portrait, pixel, result);
+  imageStore(portrait_depth, pixel, vec4(depth));
+}

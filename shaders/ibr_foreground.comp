@@ -1,0 +1,55 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Background removal (paper 3.1.1): each depth pixel of every view is unprojected into the site
+// frame; it is foreground when it lies in the user's volume in front of the screen and enough of
+// its neighbours do too at a similar depth. That last test cleans the silhouette: flying pixels
+// between the user and the background and one-pixel fringes have too few agreeing neighbours.
+// Views are bands of the atlases, one band per camera (z of the dispatch).
+#include "shared/config.h"
+#include "common/numeric.glsl"
+#include "common/ibr_camera.glsl"
+
+layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
+layout(constant_id = 0) const int min_support = 4;             // of 8 neighbours
+layout(constant_id = 1) const float edge_tolerance_m = 0.04;  // neighbours closer than this agree
+
+layout(binding = 0, r16ui) uniform readonly uimage2D depth_mm;   // views stacked in bands, 0 = invalid
+layout(binding = 1, rgba32f) uniform readonly image2D depth_rays;  // x/z, y/z, valid
+layout(binding = 2, rgba32f) uniform writeonly image2D points;    // site xyz, camera z; 0 = none
+layout(push_constant) uniform Push { IbrForegroundParams params; };
+
+// Camera z (metres) of a depth pixel that lies in the volume, else 0.
+float volume_depth(ivec2 pixel, int band, ivec2 size, int view) {
+  if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, size))) return 0.0;
+  ivec2 texel = ivec2(pixel.x, pixel.y + band);
+  uint millimetres = imageLoad(depth_mm, texel).r;
+  vec4 ray = imageLoad(depth_rays, texel);
+  if (millimetres == 0u || ray.z == 0.0) return 0.0;
+  float z = float(millimetres) * 0.001;
+  vec3 site = transform_point(cameras[view].site_from_camera, vec3(ray.xy * z, z));
+  bool inside = all(greaterThanEqual(site, params.volume_min.xyz)) && all(lessThanEqual(site, params.volume_max.xyz));
+  return inside ? z : 0.0;
+}
+
+void main() {
+  int view = int(gl_GlobalInvocationID.z);
+  ivec2 size = ivec2(lens_size(cameras[view].depth));
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, size))) return;
+  int band = view * size.y;
+  float z = volume_depth(pixel, band, size, view);
+  int support = 0;
+  if (z > 0.0)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (dx == 0 && dy == 0) continue;
+        float neighbour = volume_depth(pixel + ivec2(dx, dy), band, size, view);
+        if (neighbour > 0.0 && abs(neighbour - z) <= edge_tolerance_m) ++support;
+      }
+  vec4 point = vec4(0.0);
+  if (z > 0.0 && support >= min_support) {
+    vec2 xy = imageLoad(depth_rays, ivec2(pixel.x, pixel.y + band)).xy;
+    point = vec4(transform_point(cameras[view].site_from_camera, vec3(xy * z, z)), z);
+  }
+  imageStore(points, ivec2(pixel.x, pixel.y + band), point);
+}
