@@ -34,15 +34,21 @@ if(CMAKE_SCRIPT_MODE_FILE)
       message(FATAL_ERROR "${JSON}: RMS reprojection error ${rms} px, expected below 0.3 px")
     endif()
   elseif(KIND STREQUAL "site")
+    # The site file (engine/sim/site_description.h): calibrated parts and the kept ones.
     require_number(screen.width_m)
+    require_number(seat.head_centre_m.2)
+    require_number(motor.position_m.0)
     require_length(cameras 6)
     foreach(camera RANGE 5)
       require_number(cameras.${camera}.fx)
+      require_number(cameras.${camera}.distortion.k1)
       require_length(cameras.${camera}.camera_from_site 4)
       require_number(cameras.${camera}.camera_from_site.2.3)
+      require_number(cameras.${camera}.depth.fx)
     endforeach()
     require_number(tracker.site_from_tracker.0.3)
     require_number(tracker.rms_residual_mm)
+    require_number(tracker.range.max_distance_m)
   else()
     message(FATAL_ERROR "unknown KIND '${KIND}'")
   endif()
@@ -55,9 +61,15 @@ set(checker ${CMAKE_CURRENT_LIST_FILE})
 
 add_test(NAME calibrate_help COMMAND ${rt} calibrate --help)
 set_tests_properties(calibrate_help PROPERTIES PASS_REGULAR_EXPRESSION "intrinsics.*extrinsics.*tracker.*synthesize")
-foreach(step intrinsics extrinsics tracker synthesize)
+foreach(step intrinsics synthesize)
   add_test(NAME calibrate_${step}_help COMMAND ${rt} calibrate ${step} --help)
   set_tests_properties(calibrate_${step}_help PROPERTIES PASS_REGULAR_EXPRESSION "--out.*--device TEXT *Not used")
+endforeach()
+# These two update a site file in place instead of writing an --out.
+foreach(step extrinsics tracker)
+  add_test(NAME calibrate_${step}_help COMMAND ${rt} calibrate ${step} --help)
+  set_tests_properties(calibrate_${step}_help PROPERTIES
+    PASS_REGULAR_EXPRESSION "--site TEXT REQUIRED *Site file to update in place.*--device TEXT *Not used")
 endforeach()
 add_test(NAME calibrate_without_step COMMAND ${rt} calibrate)
 set_tests_properties(calibrate_without_step PROPERTIES WILL_FAIL TRUE)
@@ -94,39 +106,45 @@ add_test(NAME calibrate_intrinsics_too_few
                  --board 9x6 --square 0.025)
 set_tests_properties(calibrate_intrinsics_too_few PROPERTIES PASS_REGULAR_EXPRESSION "found in 2 of 2 images, at least 3 are needed")
 
-# A simulated site, calibrated step by step into one site calibration file.
+# A simulated site, calibrated step by step into a copy of the default site file.
 add_test(NAME calibrate_synthesize COMMAND ${rt} calibrate synthesize --out ${calibration_out}/synthetic)
 set_tests_properties(calibrate_synthesize PROPERTIES FIXTURES_SETUP calibration_synthetic
-  PASS_REGULAR_EXPRESSION "6 cameras, 24 chessboard views, 20 touches \\(3 slipped\\)")
-add_test(NAME calibrate_site_clean COMMAND ${CMAKE_COMMAND} -E rm -f ${calibration_out}/site.json)
-set_tests_properties(calibrate_site_clean PROPERTIES FIXTURES_SETUP calibration_site_clean)
+  PASS_REGULAR_EXPRESSION "6 cameras, 24 chessboard views, 20 touches \\(3 slipped\\).*cp assets/sites/default.json SITE.json")
+add_test(NAME calibrate_site_copy
+         COMMAND ${CMAKE_COMMAND} -E copy ${CMAKE_SOURCE_DIR}/assets/sites/default.json ${calibration_out}/site.json)
+set_tests_properties(calibrate_site_copy PROPERTIES FIXTURES_SETUP calibration_site_copy)
 add_test(NAME calibrate_extrinsics_synthetic
          COMMAND ${rt} calibrate extrinsics --input ${calibration_out}/synthetic/extrinsics_input.json
-                 --out ${calibration_out}/site.json)
+                 --site ${calibration_out}/site.json)
 set_tests_properties(calibrate_extrinsics_synthetic PROPERTIES
-  FIXTURES_REQUIRED "calibration_synthetic;calibration_site_clean" FIXTURES_SETUP calibration_site_cameras
-  PASS_REGULAR_EXPRESSION "bottom-right +top-centre.*alignment RMS [0-4]\\.[0-9]+ mm.*wrote .*site\\.json \\(6 cameras\\)")
+  FIXTURES_REQUIRED "calibration_synthetic;calibration_site_copy" FIXTURES_SETUP calibration_site_cameras
+  PASS_REGULAR_EXPRESSION "bottom-right +top-centre.*alignment RMS [0-4]\\.[0-9]+ mm.*updated .*site\\.json \\(6 cameras: colour intrinsics and poses; kept the tracker")
 add_test(NAME calibrate_tracker_synthetic
          COMMAND ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
-                 --out ${calibration_out}/site.json)
+                 --site ${calibration_out}/site.json)
 set_tests_properties(calibrate_tracker_synthetic PROPERTIES
   FIXTURES_REQUIRED "calibration_synthetic;calibration_site_cameras" FIXTURES_SETUP calibration_site_full
-  PASS_REGULAR_EXPRESSION "row0-col0 +[0-9.]+ mm  rejected.*rejected 3 of 20 touches.*residual RMS [2-3]\\.[0-9]+ mm over the 17 touches kept.*kept the cameras already there")
+  PASS_REGULAR_EXPRESSION "row0-col0 +[0-9.]+ mm  rejected.*rejected 3 of 20 touches.*residual RMS [2-3]\\.[0-9]+ mm over the 17 touches kept.*updated .*site\\.json \\(tracker pose; kept the cameras")
 add_test(NAME calibrate_site_json COMMAND ${CMAKE_COMMAND} -DKIND=site -DJSON=${calibration_out}/site.json -P ${checker})
 set_tests_properties(calibrate_site_json PROPERTIES FIXTURES_REQUIRED calibration_site_full)
 
 add_test(NAME calibrate_tracker_missing_input
-         COMMAND ${rt} calibrate tracker --input ${calibration_out}/no-such-touches.json)
+         COMMAND ${rt} calibrate tracker --input ${calibration_out}/no-such-touches.json --site ${calibration_out}/site.json)
 set_tests_properties(calibrate_tracker_missing_input PROPERTIES PASS_REGULAR_EXPRESSION "--input: File does not exist")
-# An existing --out that is not a site calibration (here: a camera JSON) is not overwritten.
-add_test(NAME calibrate_tracker_foreign_out
+add_test(NAME calibrate_tracker_missing_site
          COMMAND ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
-                 --out ${calibration_out}/left_intrinsics.json)
-set_tests_properties(calibrate_tracker_foreign_out PROPERTIES
+                 --site ${calibration_out}/no-such-site.json)
+set_tests_properties(calibrate_tracker_missing_site PROPERTIES FIXTURES_REQUIRED calibration_synthetic
+  PASS_REGULAR_EXPRESSION "no-such-site\\.json' does not exist: start from a copy of assets/sites/default\\.json")
+# A --site that is not a site file (here: a camera JSON) is not overwritten.
+add_test(NAME calibrate_tracker_foreign_site
+         COMMAND ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
+                 --site ${calibration_out}/left_intrinsics.json)
+set_tests_properties(calibrate_tracker_foreign_site PROPERTIES
   FIXTURES_REQUIRED "calibration_synthetic;calibration_left_intrinsics"
-  PASS_REGULAR_EXPRESSION "left_intrinsics\\.json' exists but is not a site calibration to update")
+  PASS_REGULAR_EXPRESSION "left_intrinsics\\.json' is not a site file to update")
 add_test(NAME calibrate_extrinsics_wrong_input
          COMMAND ${rt} calibrate extrinsics --input ${calibration_out}/synthetic/tracker_touches.json
-                 --out ${calibration_out}/unused.json)
+                 --site ${calibration_out}/unused.json)
 set_tests_properties(calibrate_extrinsics_wrong_input PROPERTIES FIXTURES_REQUIRED calibration_synthetic
   PASS_REGULAR_EXPRESSION "extrinsics input '.*tracker_touches\\.json': missing field 'board'")

@@ -1,20 +1,40 @@
-// The site calibration file the rest of the system reads: round trip, partial files, and
-// errors that name the field.
+// Calibration writes the one site file the rest reads: synthetic data calibrated into a copy of
+// the shipped default site gives back the poses through load_site(), keeps what calibration does
+// not measure, drives the simulated tracker through a scene; and the refusals (no site file, a
+// foreign file, a camera the site does not have, another screen, a result that fails the checks).
 #include <catch2/catch.hpp>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
-#include "calibration/site_calibration.h"
+#include "calibration/calibration_error.h"
+#include "calibration/extrinsics_calibration.h"
+#include "calibration/site_update.h"
 #include "calibration/synthetic_site.h"
+#include "calibration/tracker_calibration.h"
 #include "config/json_fields.h"
+#include "sim/default_site.h"
+#include "sim/motion.h"
+#include "sim/scene.h"
+#include "sim/tracker_sim.h"
 
 using namespace rt;
+using namespace rt::calibration;
 using Catch::Matchers::Contains;
 
 namespace {
+
+const std::filesystem::path kAssets = REMOTETOUCH_ASSETS_DIR;
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+// The synthetic data's noise (0.1 px corners, 1 mm distances, 2 mm fingertips) bounds how well
+// the poses come back; the bounds are those of test_calibration_extrinsics and _tracker.
+constexpr double kCameraPositionToleranceM = 10e-3;
+constexpr double kCameraAngleToleranceRad = 0.5 * kDegree;
+constexpr double kTrackerPositionToleranceM = 4e-3;
+constexpr double kTrackerAngleToleranceRad = 0.6 * kDegree;
 
 std::filesystem::path scratch_file(const std::string& name) {
   const auto folder =
@@ -23,101 +43,189 @@ std::filesystem::path scratch_file(const std::string& name) {
   return folder / name;
 }
 
-SiteCalibration example() { return calibration::make_synthetic_site().truth; }
+// What a user does first: copy the shipped default site.
+std::filesystem::path copy_of_default_site(const std::string& name) {
+  const auto path = scratch_file(name);
+  std::filesystem::copy_file(kAssets / "sites" / "default.json", path, std::filesystem::copy_options::overwrite_existing);
+  return path;
+}
+
+std::string file_text(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+double angle_between(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear() * b.linear().transpose()).angle();
+}
+
+const SyntheticSite& synthetic() {
+  static const SyntheticSite site = make_synthetic_site();
+  return site;
+}
 
 }  // namespace
 
-TEST_CASE("A site calibration survives the round trip through its file", "[calibration][site]") {
-  const SiteCalibration written = example();
-  const auto path = scratch_file("site.json");
-  write_site_calibration(path, written);
-  const SiteCalibration read = read_site_calibration(path);
-  CHECK(read.screen.width_m == written.screen.width_m);
-  CHECK(read.screen.height_m == written.screen.height_m);
+TEST_CASE("Synthetic data calibrated into a copy of the default site: load_site gives back the poses",
+          "[calibration][site]") {
+  const SyntheticSite& truth = synthetic();
+  const auto path = copy_of_default_site("round-trip.json");
+
+  // `calibrate extrinsics --site`, then `calibrate tracker --site`, as the commands do it.
+  sim::SiteDescription site = load_site_to_update(path);
+  const ExtrinsicsResult cameras = calibrate_extrinsics(truth.extrinsics_input);
+  CHECK(apply_camera_calibration(site, cameras, truth.extrinsics_input.screen).empty());
+  write_updated_site(path, site);
+  site = load_site_to_update(path);
+  const TrackerCalibration tracker = calibrate_tracker(truth.touches);
+  apply_tracker_calibration(site, tracker);
+  write_updated_site(path, site);
+
+  const sim::SiteDescription read = sim::load_site(path);
+  const sim::SiteDescription shipped = sim::load_site(kAssets / "sites" / "default.json");
+  REQUIRE(read.cameras.size() == truth.truth.cameras.size());
+  for (size_t i = 0; i < read.cameras.size(); ++i) {
+    const sim::RgbdCamera& found = read.cameras[i];
+    const sim::RgbdCamera& expected = truth.truth.cameras[i];
+    INFO("camera " << expected.name);
+    CHECK(found.name == expected.name);
+    CHECK((found.colour_camera().position_in_site() - expected.colour_camera().position_in_site()).norm() <
+          kCameraPositionToleranceM);
+    CHECK(angle_between(found.camera_from_site, expected.camera_from_site) < kCameraAngleToleranceRad);
+    // The colour intrinsics are the calibrated ones (here: the inputs'), with their distortion.
+    const CameraIntrinsics& calibrated = truth.extrinsics_input.cameras[i].intrinsics;
+    CHECK(found.colour.fx == Approx(calibrated.fx).epsilon(1e-12));
+    CHECK(found.colour.cy == Approx(calibrated.cy).epsilon(1e-12));
+    CHECK(found.colour.distortion.k1 == Approx(calibrated.distortion.k1).epsilon(1e-12));
+    // What calibration does not measure stays as the site file had it.
+    CHECK(found.depth.fx == shipped.cameras[i].depth.fx);
+    CHECK(found.depth.width == shipped.cameras[i].depth.width);
+    CHECK(found.depth_max_m == shipped.cameras[i].depth_max_m);
+  }
+  const Eigen::Isometry3d& expected_tracker = truth.truth.tracker.site_from_tracker;
+  CHECK((read.tracker.site_from_tracker.translation() - expected_tracker.translation()).norm() <
+        kTrackerPositionToleranceM);
+  CHECK(angle_between(read.tracker.site_from_tracker, expected_tracker) < kTrackerAngleToleranceRad);
+  REQUIRE(read.tracker.rms_residual_mm);
+  CHECK(*read.tracker.rms_residual_mm == Approx(tracker.inlier_rms_mm).epsilon(1e-12));
+  CHECK(read.name == shipped.name);
+  CHECK(read.seat.head_centre_m == shipped.seat.head_centre_m);
+  CHECK(read.touch_region.centre_m == shipped.touch_region.centre_m);
+  CHECK(read.touch_region.half_size_m == shipped.touch_region.half_size_m);
+  CHECK(read.motor_position_m == shipped.motor_position_m);
+  CHECK(read.tracker.range.max_distance_m == shipped.tracker.range.max_distance_m);
+  CHECK_FALSE(shipped.tracker.rms_residual_mm);
+}
+
+TEST_CASE("A scene naming the calibrated site file drives the simulated tracker with the calibrated pose",
+          "[calibration][site][sim]") {
+  // The site file the user started from has the tracker where they guessed it: 4 cm off and
+  // turned; the calibration puts it where it is.
+  sim::SiteDescription guess = sim::make_default_site();
+  guess.tracker.site_from_tracker.translation() += Eigen::Vector3d(0.03, -0.02, 0.02);
+  guess.tracker.site_from_tracker.linear() =
+      Eigen::AngleAxisd(4 * kDegree, Eigen::Vector3d::UnitY()) * guess.tracker.site_from_tracker.linear();
+  const auto site_path = scratch_file("guessed-tracker.json");
+  sim::write_site(site_path, guess);
+
+  sim::SiteDescription site = load_site_to_update(site_path);
+  const TrackerCalibration calibrated = calibrate_tracker(synthetic().touches);
+  apply_tracker_calibration(site, calibrated);
+  write_updated_site(site_path, site);
+
+  nlohmann::json scene_json = config::read_json_file(kAssets / "scenes" / "clap.json");
+  scene_json["sites"]["A"]["site"] = site_path.string();
+  scene_json["sites"]["B"]["site"] = (kAssets / "sites" / "default.json").string();
+  const auto scene_path = scratch_file("calibrated-clap.json");
+  config::write_json_file(scene_path, scene_json);
+  const sim::Scene scene = sim::load_scene(scene_path);
+  const sim::SiteSetup& setup = scene.at(Site::A);
+  CHECK((setup.site.tracker.site_from_tracker.matrix() - calibrated.site_from_tracker.matrix()).norm() < 1e-12);
+  CHECK((calibrated.site_from_tracker.translation() - guess.tracker.site_from_tracker.translation()).norm() > 0.03);
+
+  const sim::MotionTrack track(setup.motion, setup.site.seat, setup.user);
+  sim::SimulatedHandTracker device = sim::make_simulated_tracker(scene, Site::A);
+  int hands = 0;
+  while (std::optional<sim::TrackerFrame> frame = device.next_frame())
+    for (const sim::TrackerHand& hand : frame->hands) {
+      const Eigen::Vector3d truth_palm = track.pose_at(frame->timestamp_us * 1e-6).right_hand.palm;
+      CHECK((hand.palm_position - 1000.0 * (calibrated.site_from_tracker.inverse() * truth_palm)).norm() < 1e-3);
+      ++hands;
+    }
+  CHECK(hands > 25);
+}
+
+TEST_CASE("Calibration refuses a site file it cannot update, and leaves it as it was", "[calibration][site]") {
+  const SyntheticSite& truth = synthetic();
+  SECTION("no site file yet") {
+    CHECK_THROWS_WITH(load_site_to_update(scratch_file("no-such-site.json")),
+                      Contains("does not exist") && Contains("copy of assets/sites/default.json"));
+  }
+  SECTION("a file that is not a site file, such as an old site calibration") {
+    const auto path = scratch_file("old-calibration.json");
+    const nlohmann::json old = {{"screen", {{"width_m", 1.439}, {"height_m", 0.809}}},
+                                {"tracker", {{"site_from_tracker", isometry_to_json(Eigen::Isometry3d::Identity())},
+                                             {"tracker_unit", "mm"}}}};
+    config::write_json_file(path, old);
+    const std::string before = file_text(path);
+    CHECK_THROWS_WITH(load_site_to_update(path),
+                      Contains("old-calibration.json' is not a site file to update") && Contains("missing field 'name'"));
+    CHECK(file_text(path) == before);
+  }
+  SECTION("a site file with the old tracker convention") {
+    const auto path = copy_of_default_site("old-convention.json");
+    nlohmann::json json = config::read_json_file(path);
+    json["tracker"]["tracker_from_site"] = json["tracker"]["site_from_tracker"];
+    json["tracker"].erase("site_from_tracker");
+    config::write_json_file(path, json);
+    CHECK_THROWS_WITH(load_site_to_update(path), Contains("'tracker_from_site' is the old convention"));
+  }
+  SECTION("a calibrated camera the site file does not have") {
+    sim::SiteDescription site = sim::make_default_site();
+    site.cameras[2].name = "upper-right";
+    CHECK_THROWS_WITH(check_cameras_fit_site(site, {"top-left", "top-right"}, site.screen),
+                      Contains("camera 'top-right' is not in the site file") && Contains("'upper-right'"));
+    const ExtrinsicsResult cameras = calibrate_extrinsics(truth.extrinsics_input);
+    const sim::SiteDescription before = site;
+    CHECK_THROWS_AS(apply_camera_calibration(site, cameras, truth.extrinsics_input.screen), CalibrationError);
+    CHECK(site.cameras[0].camera_from_site.matrix() == before.cameras[0].camera_from_site.matrix());
+  }
+  SECTION("cameras calibrated against another screen") {
+    const sim::SiteDescription site = sim::make_default_site();
+    Screen smaller = site.screen;
+    smaller.width_m = 1.21;  // a 55-inch panel
+    CHECK_THROWS_WITH(check_cameras_fit_site(site, {"top-left"}, smaller),
+                      Contains("1.210 x 0.809 m screen") && Contains("the site file has 1.439 x 0.809 m"));
+  }
+  SECTION("a result that fails the site's checks is not written") {
+    const auto path = copy_of_default_site("fails-checks.json");
+    const std::string before = file_text(path);
+    sim::SiteDescription site = load_site_to_update(path);
+    TrackerCalibration upside_down;
+    upside_down.site_from_tracker = site.tracker.site_from_tracker *
+                                    Eigen::Isometry3d(Eigen::AngleAxisd(180 * kDegree, Eigen::Vector3d::UnitX()));
+    apply_tracker_calibration(site, upside_down);
+    CHECK_THROWS_WITH(write_updated_site(path, site),
+                      Contains("fails its checks") && Contains("does not see the touch region"));
+    CHECK(file_text(path) == before);
+  }
+  SECTION("a non-finite number is not written") {
+    const auto path = copy_of_default_site("nan.json");
+    const std::string before = file_text(path);
+    sim::SiteDescription site = load_site_to_update(path);
+    site.cameras[4].colour.cy = std::nan("");
+    CHECK_THROWS_WITH(write_updated_site(path, site), Contains("cameras/4/cy is not finite"));
+    CHECK(file_text(path) == before);
+  }
+}
+
+TEST_CASE("The synthetic site's truth is itself a valid site file", "[calibration][site]") {
+  const auto folder = scratch_file("synthetic");
+  write_synthetic_site(synthetic(), folder);
+  const sim::SiteDescription read = sim::load_site(folder / "truth_site.json");
   REQUIRE(read.cameras.size() == 6);
-  for (size_t i = 0; i < 6; ++i) {
-    CHECK(read.cameras[i].name == written.cameras[i].name);
-    CHECK(read.cameras[i].intrinsics.fx == written.cameras[i].intrinsics.fx);
-    CHECK(read.cameras[i].intrinsics.distortion.k3 == written.cameras[i].intrinsics.distortion.k3);
-    CHECK((read.cameras[i].camera_from_site.matrix() - written.cameras[i].camera_from_site.matrix()).norm() < 1e-15);
-  }
-  REQUIRE(read.tracker);
-  CHECK((read.tracker->site_from_tracker.matrix() - written.tracker->site_from_tracker.matrix()).norm() < 1e-15);
-  REQUIRE(read.find_camera("bottom-centre"));
-  CHECK(read.find_camera("bottom-centre")->intrinsics.width == 1280);
-  CHECK(read.find_camera("nobody") == nullptr);
-  // A camera's projection works straight from the file: the screen centre is in view of all.
-  for (const Camera& camera : read.cameras) CHECK(camera.project(Eigen::Vector3d(0, 0, 0.7)).has_value());
-}
-
-TEST_CASE("A partly calibrated site has no cameras or no tracker yet", "[calibration][site]") {
-  SiteCalibration cameras_only = example();
-  cameras_only.tracker.reset();
-  const auto path = scratch_file("cameras_only.json");
-  write_site_calibration(path, cameras_only);
-  CHECK_FALSE(read_site_calibration(path).tracker);
-
-  const nlohmann::json tracker_only = {
-      {"screen", {{"width_m", 1.439}, {"height_m", 0.809}}},
-      {"tracker",
-       {{"site_from_tracker", isometry_to_json(Eigen::Isometry3d::Identity())}, {"tracker_unit", "mm"}}}};
-  const SiteCalibration read = site_calibration_from_json(tracker_only, "site");
-  CHECK(read.cameras.empty());
-  REQUIRE(read.tracker);
-  CHECK((read.tracker->to_site({1000, 0, 0}) - Eigen::Vector3d(1, 0, 0)).norm() < 1e-12);
-}
-
-TEST_CASE("Site calibration errors name the field", "[calibration][site]") {
-  const nlohmann::json good = site_calibration_to_json(example());
-  auto fails_with = [](const nlohmann::json& broken, const std::string& message) {
-    CHECK_THROWS_WITH(site_calibration_from_json(broken, "site 'x'"), Contains(message));
-  };
-  {
-    nlohmann::json broken = good;
-    broken.erase("screen");
-    fails_with(broken, "site 'x': missing field 'screen'");
-  }
-  {
-    nlohmann::json broken = good;
-    broken["screen"]["width_m"] = -1.0;
-    fails_with(broken, "site 'x' screen: field 'width_m' must be > 0");
-  }
-  {
-    nlohmann::json broken = good;
-    broken["cameras"][2].erase("camera_from_site");
-    fails_with(broken, "camera 'top-right': missing field 'camera_from_site'");
-  }
-  {
-    nlohmann::json broken = good;
-    broken["cameras"][1]["fx"] = "six hundred";
-    fails_with(broken, "site 'x': camera 'top-centre': field 'fx' must be a number");
-  }
-  {
-    nlohmann::json broken = good;
-    broken["cameras"][3]["name"] = "top-left";
-    fails_with(broken, "camera name 'top-left' appears twice");
-  }
-  {
-    nlohmann::json broken = good;
-    broken["tracker"]["tracker_unit"] = "cm";
-    fails_with(broken, "field 'tracker_unit' is 'cm'");
-  }
-  {
-    nlohmann::json broken = good;
-    broken["tracker"]["site_from_tracker"][0][0] = -1.0;  // a reflection
-    fails_with(broken, "site 'x' tracker site_from_tracker: the 3x3 part is not a rotation");
-  }
-  const auto path = scratch_file("broken.json");
-  std::ofstream(path) << "{ not json";
-  CHECK_THROWS_WITH(read_site_calibration(path), Contains("is not valid JSON"));
-}
-
-TEST_CASE("A site calibration with a non-finite number is not written", "[calibration][site]") {
-  SiteCalibration site = example();
-  site.cameras[4].intrinsics.cy = std::nan("");
-  CHECK_THROWS_WITH(write_site_calibration(scratch_file("nan.json"), site),
-                    Contains("camera 'bottom-centre'") && Contains("not finite"));
-  site = example();
-  site.tracker->site_from_tracker.translation().x() = INFINITY;
-  CHECK_THROWS_WITH(write_site_calibration(scratch_file("nan.json"), site), Contains("tracker"));
+  CHECK((read.tracker.site_from_tracker.matrix() - synthetic().truth.tracker.site_from_tracker.matrix()).norm() < 1e-12);
+  CHECK(read.cameras[3].colour.distortion.k1 == synthetic().truth.cameras[3].colour.distortion.k1);
 }

@@ -13,6 +13,7 @@
 #include "calibration/rigid_alignment.h"
 #include "calibration/synthetic_site.h"
 #include "calibration/tracker_calibration.h"
+#include "sim/tracker_space.h"
 
 using namespace rt;
 using namespace rt::calibration;
@@ -21,9 +22,9 @@ using Catch::Matchers::Contains;
 namespace {
 
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
-// 17 good touches with 2 mm noise per axis over a 1.0 x 0.6 m grid: the translation is good
-// to about 2 mm / sqrt(17) at the grid's centre (plus lever arm), the rotation to about
-// 2 mm / 0.4 m = 0.3 degrees at worst; twice that is the bound.
+// 17 good touches with 2 mm noise per axis over the synthetic site's 0.7 x 0.45 m grid (the
+// glass its tracker sees): the translation is good to about 2 mm / sqrt(17) at the grid's centre
+// (plus lever arm), the rotation to about 2 mm / 0.25 m = 0.5 degrees at worst.
 constexpr double kNoisyTranslationToleranceM = 4e-3;
 constexpr double kNoisyAngleToleranceRad = 0.6 * kDegree;
 // The residuals of the good touches keep the noise the 6 pose parameters do not absorb: their
@@ -78,7 +79,7 @@ TEST_CASE("Tracker: 2 mm noise and slipped touches; the slips are rejected, the 
     options.seed = seed;
     const SyntheticSite site = make_synthetic_site(options);
     const TrackerCalibration found = calibrate_tracker(site.touches);
-    const Eigen::Isometry3d& truth = site.truth.tracker->site_from_tracker;
+    const Eigen::Isometry3d& truth = site.truth.tracker.site_from_tracker;
     INFO("seed " << seed << ": inlier RMS " << found.inlier_rms_mm << " mm, translation error "
                  << (found.site_from_tracker.translation() - truth.translation()).norm() * 1000 << " mm, rotation error "
                  << angle_between(found.site_from_tracker, truth) / kDegree << " degrees");
@@ -102,9 +103,13 @@ TEST_CASE("Tracker: exact touches give the pose exactly; mm become m", "[calibra
   CHECK((found.site_from_tracker.matrix() - tracker_pose().matrix()).norm() < 1e-9);
   CHECK(found.inlier_count() == touches.size());
   CHECK(found.inlier_rms_mm < 1e-6);
-  // The stored pose maps tracker-native millimetres into site metres.
-  TrackerPose pose{found.site_from_tracker, found.inlier_rms_mm};
-  CHECK((pose.to_site(touches[5].tip_mm) - touches[5].site_m).norm() < 1e-9);
+  // The pose, stored as the site file's tracker placement, maps tracker-native millimetres into
+  // site metres through the conversion every consumer of tracker data uses.
+  sim::TrackerPlacement placement;
+  placement.site_from_tracker = found.site_from_tracker;
+  sim::TrackerHand hand;
+  hand.palm_position = touches[5].tip_mm;
+  CHECK((sim::skeleton_from_tracker_hand(hand, 0, placement).palm - touches[5].site_m).norm() < 1e-9);
 }
 
 TEST_CASE("Tracker: many touches go through random minimal sets with the same result", "[calibration][tracker]") {

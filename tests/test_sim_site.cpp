@@ -116,11 +116,11 @@ TEST_CASE("the default site: screen, six cameras around it, tracker, motor, seat
     const Eigen::Vector3d down = camera->camera_from_site.linear().row(1).transpose();
     CHECK(down.y() < -0.5);
   }
-  const Eigen::Vector3d tracker = site.tracker.tracker_from_site.inverse().translation();
+  const Eigen::Vector3d tracker = site.tracker.site_from_tracker.translation();
   CHECK(tracker.z() == Approx(0.5));  // 0.5 m from the screen
   CHECK(tracker.x() > 0.0);           // on the right-hand side
   CHECK(tracker.y() < site.touch_region.centre_m.y());  // below the hand
-  const Eigen::Vector3d tracker_up = site.tracker.tracker_from_site.linear().row(1).transpose();
+  const Eigen::Vector3d tracker_up = site.tracker.site_from_tracker.linear().col(1);
   CHECK(tracker_up.y() > 0.3);   // faces up...
   CHECK(tracker_up.z() < -0.3);  // ...and towards the screen, where the touch region is
   CHECK((site.motor_position_m - Eigen::Vector3d(-1.439 / 2, 0.809 / 2, 0)).norm() < 1e-12);
@@ -219,9 +219,20 @@ TEST_CASE("bad site descriptions name the field or the camera", "[sim][site]") {
   }
   SECTION("a tracker facing away from the touch region") {
     SiteDescription site = make_default_site();
-    site.tracker.tracker_from_site = Eigen::Isometry3d(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX())) *
-                                     site.tracker.tracker_from_site;
+    site.tracker.site_from_tracker =
+        site.tracker.site_from_tracker * Eigen::Isometry3d(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()));
     require_error(site_to_json(site), "tracker", "touch region");
+  }
+  SECTION("a file with the old tracker convention") {
+    nlohmann::json json = default_json();
+    json["tracker"]["tracker_from_site"] = json["tracker"]["site_from_tracker"];
+    json["tracker"].erase("site_from_tracker");
+    require_error(json, "field 'tracker_from_site' is the old convention", "'site_from_tracker'");
+  }
+  SECTION("a negative calibration residual") {
+    nlohmann::json json = default_json();
+    json["tracker"]["rms_residual_mm"] = -1.0;
+    require_error(json, "'rms_residual_mm'", "tracker");
   }
   SECTION("unknown and misspelt fields") {
     nlohmann::json json = default_json();

@@ -94,7 +94,7 @@ TEST_CASE("effects off: the round trip through tracker space and Leap JSON gives
       for (const TrackerHand& device_hand : parsed.hands) {
         // The device's own space: millimetres, Leap axes (y out of the device), checked against
         // the placement directly rather than through the inverse conversion.
-        const Eigen::Vector3d expected_mm = 1000.0 * (setup.site.tracker.tracker_from_site * truth.right_hand.palm);
+        const Eigen::Vector3d expected_mm = 1000.0 * (setup.site.tracker.tracker_from_site() * truth.right_hand.palm);
         CHECK((device_hand.palm_position - expected_mm).norm() < 1e-3);
         CHECK(device_hand.palm_position.y() > 0.0);
         CHECK(device_hand.palm_position.norm() >= 70.0);
@@ -248,7 +248,7 @@ TEST_CASE("tracker_dropouts: the lost fraction and burst length are the configur
 
 TEST_CASE("tracking is lost outside the tracker's range", "[sim][tracker]") {
   const TrackerPlacement placement = load_scene(kScenes / "clap.json").at(Site::A).site.tracker;
-  const Eigen::Isometry3d site_from_tracker = placement.tracker_from_site.inverse();
+  const Eigen::Isometry3d& site_from_tracker = placement.site_from_tracker;
   const Eigen::Vector3d device = site_from_tracker.translation();
   const Eigen::Vector3d up = site_from_tracker.linear().col(1);
   // The hand moves away from the device along its axis, from 0.02 m to 1.2 m over 100 frames.

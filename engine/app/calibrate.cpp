@@ -9,7 +9,7 @@
 namespace rt::app {
 namespace {
 
-// --out and --device are on every subcommand of the CLI; calibration has no use for a GPU.
+// --device is on every subcommand of the CLI; calibration has no use for a GPU.
 void add_device_option(CLI::App& command, std::string& device) {
   command.add_option("--device", device, "Not used: calibration runs on the CPU (accepted like on every command)");
 }
@@ -34,7 +34,6 @@ CalibrateCommand::CalibrateCommand(CLI::App& app) {
   intrinsics_->add_flag("--rational-model", in.rational_model, "Also estimate k4, k5, k6 (wide-angle lenses)");
 
   ExtrinsicsCommandOptions& ex = extrinsics_options_;
-  ex.out = "out/calibration/site_calibration.json";
   ex.max_distance_residual_mm = calibration::kMaxCornerDistanceResidualM * 1000.0;
   ex.max_link_rms_px = calibration::kMaxLinkRmsPx;
   ex.max_alignment_residual_mm = calibration::kMaxAlignmentResidualM * 1000.0;
@@ -44,8 +43,10 @@ CalibrateCommand::CalibrateCommand(CLI::App& app) {
   extrinsics_->add_option("--input", ex.input, "Extrinsics input JSON (see engine/calibration/extrinsics_input.h)")
       ->required()
       ->check(CLI::ExistingFile);
-  extrinsics_->add_option("--out", ex.out, "Site calibration JSON to write; an existing one keeps its tracker")
-      ->capture_default_str();
+  extrinsics_->add_option("--site", ex.site,
+                          "Site file to update in place (start from a copy of assets/sites/default.json): "
+                          "each calibrated camera's colour intrinsics and pose, by name; the rest is kept")
+      ->required();
   add_device_option(*extrinsics_, unused_device_);
   extrinsics_->add_option("--max-distance-residual-mm", ex.max_distance_residual_mm,
                           "Largest disagreement between a camera's four corner distances")
@@ -61,15 +62,16 @@ CalibrateCommand::CalibrateCommand(CLI::App& app) {
       ->capture_default_str();
 
   TrackerCommandOptions& tr = tracker_options_;
-  tr.out = "out/calibration/site_calibration.json";
   tr.inlier_threshold_mm = calibration::kDefaultInlierThresholdMm;
   tracker_ = command_->add_subcommand(
       "tracker", "The hand tracker's pose in the site frame from fingertip touches on known screen points");
   tracker_->add_option("--input", tr.input, "Touches JSON (see engine/calibration/tracker_calibration.h)")
       ->required()
       ->check(CLI::ExistingFile);
-  tracker_->add_option("--out", tr.out, "Site calibration JSON to write; an existing one keeps its cameras")
-      ->capture_default_str();
+  tracker_->add_option("--site", tr.site,
+                       "Site file to update in place (start from a copy of assets/sites/default.json): "
+                       "the tracker pose and its residual; the rest is kept")
+      ->required();
   add_device_option(*tracker_, unused_device_);
   tracker_->add_option("--inlier-threshold-mm", tr.inlier_threshold_mm,
                        "A touch farther than this from its screen point is rejected")

@@ -19,9 +19,10 @@ struct IntrinsicsCommandOptions {
   bool rational_model = false;
 };
 
+// `calibrate extrinsics` and `calibrate tracker` update a site file (sim/site_description.h) in place.
 struct ExtrinsicsCommandOptions {
   std::filesystem::path input;
-  std::filesystem::path out;
+  std::filesystem::path site;
   double max_distance_residual_mm = 0;
   double max_link_rms_px = 0;
   double max_alignment_residual_mm = 0;
@@ -29,7 +30,7 @@ struct ExtrinsicsCommandOptions {
 
 struct TrackerCommandOptions {
   std::filesystem::path input;
-  std::filesystem::path out;
+  std::filesystem::path site;
   double inlier_threshold_mm = 0;
 };
 

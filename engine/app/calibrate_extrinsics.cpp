@@ -1,12 +1,12 @@
 // `remotetouch calibrate extrinsics`: the cameras' poses in the site frame, written into the
-// site calibration file.
+// site file.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "app/calibrate.h"
-#include "app/calibrate_site_file.h"
 #include "calibration/extrinsics_calibration.h"
+#include "calibration/site_update.h"
 
 namespace rt::app {
 namespace {
@@ -44,16 +44,20 @@ int run_calibrate_extrinsics(const ExtrinsicsCommandOptions& options) {
   const calibration::ExtrinsicsInput input = calibration::read_extrinsics_input(options.input);
   const calibration::ExtrinsicsLimits limits{options.max_distance_residual_mm / 1000.0, options.max_link_rms_px,
                                              options.max_alignment_residual_mm / 1000.0};
+  // Checked before calibrating so that a wrong --site fails at once, not after the solve.
+  sim::SiteDescription site = calibration::load_site_to_update(options.site);
+  std::vector<std::string> camera_names;
+  for (const calibration::CameraSetup& camera : input.cameras) camera_names.push_back(camera.name);
+  calibration::check_cameras_fit_site(site, camera_names, input.screen);
   const calibration::ExtrinsicsResult result = calibration::calibrate_extrinsics(input, limits);
   print_report(input, result);
 
-  SiteCalibration site = load_site_calibration_to_update(options.out);
-  site.screen = input.screen;
-  site.cameras.clear();
-  for (const auto& placed : result.cameras) site.cameras.push_back(placed.camera);
-  write_site_calibration(options.out, site);
-  std::printf("wrote %s (%zu cameras%s)\n", options.out.c_str(), site.cameras.size(),
-              site.tracker ? "; kept the tracker pose already there" : "");
+  const std::vector<std::string> not_calibrated = calibration::apply_camera_calibration(site, result, input.screen);
+  calibration::write_updated_site(options.site, site);
+  std::printf("updated %s (%zu cameras: colour intrinsics and poses; kept the tracker, seat, touch region, motor)\n",
+              options.site.c_str(), result.cameras.size());
+  for (const std::string& name : not_calibrated)
+    std::printf("note: camera '%s' of the site file was not in the calibration input; left as it was\n", name.c_str());
   return 0;
 }
 

@@ -19,11 +19,12 @@ int run_calibrate_synthesize(const SynthesizeCommandOptions& options) {
   std::printf("wrote a simulated site to %s: %zu cameras, %zu chessboard views, %zu touches (%zu slipped)\n",
               options.out.c_str(), site.extrinsics_input.cameras.size(), site.extrinsics_input.snapshots.size(),
               site.touches.size(), options.tip_outliers);
-  std::printf("  remotetouch calibrate extrinsics --input %s --out SITE.json\n",
+  std::printf("calibrate it into a copy of the default site:\n  cp assets/sites/default.json SITE.json\n");
+  std::printf("  remotetouch calibrate extrinsics --input %s --site SITE.json\n",
               (options.out / "extrinsics_input.json").c_str());
-  std::printf("  remotetouch calibrate tracker --input %s --out SITE.json\n",
+  std::printf("  remotetouch calibrate tracker --input %s --site SITE.json\n",
               (options.out / "tracker_touches.json").c_str());
-  std::printf("the truth: %s, %s\n", (options.out / "truth_site_calibration.json").c_str(),
+  std::printf("the truth: %s, %s\n", (options.out / "truth_site.json").c_str(),
               (options.out / "truth_touch_outliers.json").c_str());
   return 0;
 }

@@ -1,16 +1,17 @@
 // `remotetouch calibrate tracker`: the hand tracker's pose in the site frame, written into the
-// site calibration file.
+// site file.
 #include <cmath>
 #include <cstdio>
 
 #include "app/calibrate.h"
-#include "app/calibrate_site_file.h"
+#include "calibration/site_update.h"
 #include "calibration/tracker_calibration.h"
 
 namespace rt::app {
 
 int run_calibrate_tracker(const TrackerCommandOptions& options) {
   const auto touches = calibration::read_tracker_touches(options.input);
+  sim::SiteDescription site = calibration::load_site_to_update(options.site);
   const calibration::TrackerCalibration result = calibration::calibrate_tracker(touches, options.inlier_threshold_mm);
 
   std::printf("%zu touches; a touch farther than %.1f mm from its screen point is rejected\n", touches.size(),
@@ -28,11 +29,9 @@ int run_calibrate_tracker(const TrackerCommandOptions& options) {
               origin.x(), origin.y(), origin.z(), turn.angle() * 180.0 / 3.14159265358979323846, turn.axis().x(),
               turn.axis().y(), turn.axis().z());
 
-  SiteCalibration site = load_site_calibration_to_update(options.out);
-  site.tracker = TrackerPose{result.site_from_tracker, result.inlier_rms_mm};
-  write_site_calibration(options.out, site);
-  std::printf("wrote %s (tracker pose%s)\n", options.out.c_str(),
-              site.cameras.empty() ? "" : "; kept the cameras already there");
+  calibration::apply_tracker_calibration(site, result);
+  calibration::write_updated_site(options.site, site);
+  std::printf("updated %s (tracker pose; kept the cameras, seat, touch region, motor)\n", options.site.c_str());
   return 0;
 }
 

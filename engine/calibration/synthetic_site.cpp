@@ -7,27 +7,25 @@
 
 #include "calibration/calibration_error.h"
 #include "config/json_fields.h"
+#include "sim/default_site.h"
 
 namespace rt::calibration {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// The stand holds the cameras just outside the screen's bezel, a little in front of its plane.
-constexpr double kCameraStandOffsetM = 0.12;
-// Where the cameras look: the seated user, 0.7 m in front of the screen centre.
-const Eigen::Vector3d kUserPosition(0.0, 0.0, 0.7);
+// The default site's stand, held farther out: the distances to the screen corners fix a camera's
+// depth only through their slope, about in_front / distance, so a camera 3 cm in front of the
+// glass would have its depth known to a few centimetres from 1 mm tape readings; 12 cm gives
+// about 5 mm (see the tolerances in tests/test_calibration_extrinsics.cpp).
+constexpr sim::CameraStandGeometry kCalibrationStand{0.06, 0.12};
 // A camera must see the whole board at least this far inside the image, and no more obliquely
 // than this, for the corner finder to find it.
 constexpr double kImageMarginPx = 20.0;
 constexpr double kMaxViewAngleRad = 70.0 * kPi / 180.0;
 constexpr size_t kMinViewsPerCamera = 4;
-
-struct CameraSpot {
-  const char* name;
-  double x, y;  // in units of half the screen size, beyond the edge
-};
-constexpr CameraSpot kCameraSpots[] = {{"top-left", -1, 1},    {"top-centre", 0, 1},    {"top-right", 1, 1},
-                                       {"bottom-left", -1, -1}, {"bottom-centre", 0, -1}, {"bottom-right", 1, -1}};
+// The touches: a grid over the part of the glass the default site's tracker sees.
+constexpr int kTouchColumns = 5, kTouchRows = 4;
+const Eigen::Vector2d kTouchGridMin(-0.2, -0.3), kTouchGridMax(0.5, 0.15);
 
 CameraIntrinsics kinect_like_intrinsics(size_t index) {
   // 1280x720 colour, about 92 degrees across, mild barrel distortion; each unit a little off.
@@ -91,13 +89,15 @@ std::optional<std::vector<cv::Point2f>> observe(const Camera& camera, const Eige
 void add_board_views(SyntheticSite& site, const SyntheticSiteOptions& options, std::mt19937& rng) {
   ExtrinsicsInput& input = site.extrinsics_input;
   std::vector<size_t> views_per_camera(site.truth.cameras.size(), 0);
+  std::vector<Camera> cameras;
+  for (const sim::RgbdCamera& camera : site.truth.cameras) cameras.push_back(camera.colour_camera());
   for (size_t attempt = 0; input.snapshots.size() < options.board_poses && attempt < 200 * options.board_poses;
        ++attempt) {
     const Eigen::Isometry3d site_from_board = site_from_board_pose(rng, input.board);
     BoardSnapshot snapshot;
     snapshot.name = "view-" + std::to_string(input.snapshots.size());
     for (size_t c = 0; c < site.truth.cameras.size(); ++c)
-      if (auto corners = observe(site.truth.cameras[c], site_from_board, input.board, options.corner_noise_px, rng)) {
+      if (auto corners = observe(cameras[c], site_from_board, input.board, options.corner_noise_px, rng)) {
         snapshot.observations.push_back({site.truth.cameras[c].name, std::move(*corners)});
         ++views_per_camera[c];
       }
@@ -110,18 +110,21 @@ void add_board_views(SyntheticSite& site, const SyntheticSiteOptions& options, s
 }
 
 void add_touches(SyntheticSite& site, const SyntheticSiteOptions& options, std::mt19937& rng) {
-  // A grid over the part of the screen in the tracker's reach, 5 across and 4 up.
-  constexpr int kColumns = 5, kRows = 4;
   std::normal_distribution<double> noise(0.0, options.tip_noise_mm);
-  const Eigen::Isometry3d tracker_from_site = site.truth.tracker->site_from_tracker.inverse();
-  for (int r = 0; r < kRows; ++r)
-    for (int c = 0; c < kColumns; ++c) {
+  const sim::TrackerPlacement& tracker = site.truth.tracker;
+  const Eigen::Vector2d step =
+      (kTouchGridMax - kTouchGridMin).cwiseQuotient(Eigen::Vector2d(kTouchColumns - 1, kTouchRows - 1));
+  for (int r = 0; r < kTouchRows; ++r)
+    for (int c = 0; c < kTouchColumns; ++c) {
       TrackerTouch touch;
       char label[32];
       std::snprintf(label, sizeof label, "row%d-col%d", r, c);
       touch.label = label;
-      touch.site_m = {-0.5 + 1.0 * c / (kColumns - 1), 0.3 - 0.6 * r / (kRows - 1), 0.0};
-      touch.tip_mm = (tracker_from_site * touch.site_m) * 1000.0 + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      touch.site_m = {kTouchGridMin.x() + step.x() * c, kTouchGridMax.y() - step.y() * r, 0.0};
+      if (!tracker.sees(touch.site_m))
+        throw CalibrationError("synthetic site: the tracker does not see the touch '" + touch.label + "'");
+      touch.tip_mm =
+          (tracker.tracker_from_site() * touch.site_m) * 1000.0 + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
       site.touches.push_back(touch);
     }
   site.touch_is_outlier.assign(site.touches.size(), false);
@@ -138,51 +141,34 @@ void add_touches(SyntheticSite& site, const SyntheticSiteOptions& options, std::
 
 }  // namespace
 
-Eigen::Isometry3d camera_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d forward = (target - position).normalized();
-  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitY()).normalized();
-  const Eigen::Vector3d down = forward.cross(right);
-  Eigen::Isometry3d camera_from_site = Eigen::Isometry3d::Identity();
-  camera_from_site.linear().row(0) = right;
-  camera_from_site.linear().row(1) = down;
-  camera_from_site.linear().row(2) = forward;
-  camera_from_site.translation() = -(camera_from_site.linear() * position);
-  return camera_from_site;
-}
-
 SyntheticSite make_synthetic_site(const SyntheticSiteOptions& options) {
   std::mt19937 rng(options.seed);
   SyntheticSite site;
+  sim::DefaultSiteOptions site_options;
+  site_options.name = "synthetic";
+  site_options.stand = kCalibrationStand;
+  site.truth = sim::make_default_site(site_options);
+  // Real lenses: each unit a little off the nominal, with distortion. The site file keeps it
+  // (the simulator refuses to render such a site; calibration does not need it rendered).
+  for (size_t index = 0; index < site.truth.cameras.size(); ++index)
+    site.truth.cameras[index].colour = kinect_like_intrinsics(index);
+
   ExtrinsicsInput& input = site.extrinsics_input;
   input.board = parse_chessboard("9x6", 0.05);
   input.screen = site.truth.screen;
   std::normal_distribution<double> distance_noise(0.0, options.distance_noise_mm * 1e-3);
-  for (const CameraSpot& spot : kCameraSpots) {
-    Camera camera;
-    camera.name = spot.name;
-    camera.intrinsics = kinect_like_intrinsics(site.truth.cameras.size());
-    const Eigen::Vector3d position(spot.x * (input.screen.width_m / 2 + 0.06), spot.y * (input.screen.height_m / 2 + 0.06),
-                                   kCameraStandOffsetM);
-    camera.camera_from_site = camera_looking_at(position, kUserPosition);
+  for (const sim::RgbdCamera& camera : site.truth.cameras) {
     CameraSetup setup;
     setup.name = camera.name;
-    setup.intrinsics = camera.intrinsics;
+    setup.intrinsics = camera.colour;
+    const Eigen::Vector3d position = camera.camera_from_site.inverse().translation();
     for (ScreenCorner corner : kScreenCorners)
       setup.corner_distances_m[size_t(corner)] =
           (position - corner_position(input.screen, corner)).norm() + distance_noise(rng);
     input.cameras.push_back(setup);
-    site.truth.cameras.push_back(camera);
   }
   input.reference_camera = "top-centre";
   add_board_views(site, options, rng);
-
-  // On the desk beside the hand, half a metre in front of the screen, turned a little.
-  TrackerPose tracker;
-  tracker.site_from_tracker.linear() = (Eigen::AngleAxisd(10.0 * kPi / 180.0, Eigen::Vector3d::UnitY()) *
-                                        Eigen::AngleAxisd(4.0 * kPi / 180.0, Eigen::Vector3d::UnitX()))
-                                           .toRotationMatrix();
-  tracker.site_from_tracker.translation() = Eigen::Vector3d(0.30, -0.42, 0.50);
-  site.truth.tracker = tracker;
   add_touches(site, options, rng);
   return site;
 }
@@ -196,7 +182,7 @@ void write_synthetic_site(const SyntheticSite& site, const std::filesystem::path
   }
   config::write_json_file(folder / "extrinsics_input.json", input);
   config::write_json_file(folder / "tracker_touches.json", tracker_touches_to_json(site.touches));
-  write_site_calibration(folder / "truth_site_calibration.json", site.truth);
+  sim::write_site(folder / "truth_site.json", site.truth);
   nlohmann::json outliers = nlohmann::json::array();
   for (size_t i = 0; i < site.touches.size(); ++i)
     if (site.touch_is_outlier[i]) outliers.push_back(site.touches[i].label);

@@ -1,9 +1,10 @@
 #pragma once
-// A simulated site with known ground truth for the calibration: six cameras on a stand around
-// the 65-inch screen looking at the seated user, a chessboard held up in front of the screen
-// in many poses (its corners as each camera that sees it whole would find them, with noise),
+// A simulated site with known ground truth for the calibration: the default site
+// (sim/default_site.h) with its camera stand a little farther from the glass and real lenses,
+// a chessboard held up in front of the screen in many poses (its corners as each camera that
+// sees it whole would find them, with noise),
 // tape-measured distances from each camera to the screen corners (with noise), and a grid of
-// fingertip touches on the screen as the tracker would report them (with noise and a few
+// fingertip touches on the glass the tracker sees, as it would report them (with noise and a few
 // slipped touches). Used by the tests and by `remotetouch calibrate synthesize`.
 #include <Eigen/Geometry>
 
@@ -12,8 +13,8 @@
 #include <vector>
 
 #include "calibration/extrinsics_input.h"
-#include "calibration/site_calibration.h"
 #include "calibration/tracker_calibration.h"
+#include "sim/site_description.h"
 
 namespace rt::calibration {
 
@@ -27,7 +28,7 @@ struct SyntheticSiteOptions {
 };
 
 struct SyntheticSite {
-  SiteCalibration truth;
+  sim::SiteDescription truth;        // a valid site file: what a perfect calibration would write
   ExtrinsicsInput extrinsics_input;  // views as corners_px, noisy distances
   std::vector<TrackerTouch> touches;
   std::vector<bool> touch_is_outlier;
@@ -35,13 +36,9 @@ struct SyntheticSite {
 
 SyntheticSite make_synthetic_site(const SyntheticSiteOptions& options = {});
 
-// The camera-from-site pose of a camera at `position` looking at `target`, image x to the
-// right as seen from the camera, with the site's +y as up.
-Eigen::Isometry3d camera_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target);
-
 // Writes the inputs of the calibrate commands and the truth into `folder`:
 // extrinsics_input.json (naming intrinsics/<camera>.json), tracker_touches.json,
-// truth_site_calibration.json.
+// truth_site.json (a site file) and truth_touch_outliers.json.
 void write_synthetic_site(const SyntheticSite& site, const std::filesystem::path& folder);
 
 }  // namespace rt::calibration

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 namespace rt::sim {
 
@@ -13,9 +14,6 @@ constexpr uint32_t kDepthSize = 512;
 constexpr double kDepthFovDeg = 120.0;
 constexpr double kDepthMinM = 0.25, kDepthMaxM = 2.88;
 
-// The stand holds the cameras just outside the panel's bezel, slightly in front of the glass.
-constexpr double kCameraMarginM = 0.04;
-constexpr double kCameraInFrontM = 0.03;
 // Aim between face and chest so that both stay in view when the user leans in.
 constexpr double kAimBelowHeadM = 0.1;
 
@@ -27,10 +25,27 @@ constexpr double kTrackerAimHeightM = 0.07;
 
 }  // namespace
 
+std::vector<CameraMount> camera_stand_mounts(const Screen& screen, const CameraStandGeometry& geometry) {
+  const double x = screen.width_m / 2 + geometry.beyond_edge_m;
+  const double y = screen.height_m / 2 + geometry.beyond_edge_m;
+  const double z = geometry.in_front_m;
+  // x is the site's +x, the seated user's right.
+  return {{"top-left", {-x, y, z}},     {"top-centre", {0, y, z}},     {"top-right", {x, y, z}},
+          {"bottom-left", {-x, -y, z}}, {"bottom-centre", {0, -y, z}}, {"bottom-right", {x, -y, z}}};
+}
+
+Eigen::Vector3d camera_aim_point(const Seat& seat) { return seat.head_centre_m - Eigen::Vector3d(0, kAimBelowHeadM, 0); }
+
 Eigen::Isometry3d camera_from_site_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d forward = (target - position).normalized();
+  const Eigen::Vector3d to_target = target - position;
+  if (!to_target.allFinite() || to_target.norm() < 1e-9)
+    throw std::invalid_argument("camera position and target coincide or are not finite");
+  const Eigen::Vector3d forward = to_target.normalized();
   // OpenCV axes: x right, y down. Right = forward x up keeps the image upright.
-  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitY()).normalized();
+  const Eigen::Vector3d right_unnormalised = forward.cross(Eigen::Vector3d::UnitY());
+  if (right_unnormalised.norm() < 1e-6)
+    throw std::invalid_argument("the camera looks straight up or down, its roll is undefined");
+  const Eigen::Vector3d right = right_unnormalised.normalized();
   const Eigen::Vector3d down = forward.cross(right);
   Eigen::Matrix3d site_from_camera;
   site_from_camera << right, down, forward;
@@ -54,22 +69,11 @@ CameraIntrinsics intrinsics_for_horizontal_fov(uint32_t width, uint32_t height, 
 SiteDescription make_default_site(const DefaultSiteOptions& options) {
   SiteDescription site;
   site.name = options.name;
-  const double half_w = site.screen.width_m / 2 + kCameraMarginM;
-  const double half_h = site.screen.height_m / 2 + kCameraMarginM;
-  const Eigen::Vector3d aim = site.seat.head_centre_m - Eigen::Vector3d(0, kAimBelowHeadM, 0);
-
-  struct Mount {
-    const char* name;
-    double x, y;
-  };
-  // x is the site's +x, the seated user's right.
-  const Mount mounts[] = {{"top-left", -half_w, half_h},     {"top-centre", 0.0, half_h},
-                          {"top-right", half_w, half_h},     {"bottom-left", -half_w, -half_h},
-                          {"bottom-centre", 0.0, -half_h},   {"bottom-right", half_w, -half_h}};
-  for (const Mount& mount : mounts) {
+  const Eigen::Vector3d aim = camera_aim_point(site.seat);
+  for (const CameraMount& mount : camera_stand_mounts(site.screen, options.stand)) {
     RgbdCamera camera;
     camera.name = mount.name;
-    camera.camera_from_site = camera_from_site_looking_at({mount.x, mount.y, kCameraInFrontM}, aim);
+    camera.camera_from_site = camera_from_site_looking_at(mount.position, aim);
     camera.colour = intrinsics_for_horizontal_fov(options.colour_width, options.colour_height, kColourHorizontalFovDeg);
     camera.depth = intrinsics_for_horizontal_fov(kDepthSize, kDepthSize, kDepthFovDeg);
     camera.depth_min_m = kDepthMinM;
@@ -85,7 +89,7 @@ SiteDescription make_default_site(const DefaultSiteOptions& options) {
   Eigen::Isometry3d site_from_tracker = Eigen::Isometry3d::Identity();
   site_from_tracker.linear() << right, up, towards_user;
   site_from_tracker.translation() = tracker_position;
-  site.tracker.tracker_from_site = site_from_tracker.inverse();
+  site.tracker.site_from_tracker = site_from_tracker;
 
   site.motor_position_m = {-site.screen.width_m / 2, site.screen.height_m / 2, 0.0};
   return site;
@@ -93,8 +97,8 @@ SiteDescription make_default_site(const DefaultSiteOptions& options) {
 
 const std::vector<ShippedSite>& shipped_sites() {
   static const std::vector<ShippedSite> sites{
-      {"default.json", {"default", 1280, 720}},
-      {"paper.json", {"paper", 2560, 1440}},
+      {"default.json", {"default", 1280, 720, {}}},
+      {"paper.json", {"paper", 2560, 1440, {}}},
   };
   return sites;
 }

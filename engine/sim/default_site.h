@@ -12,11 +12,29 @@
 
 namespace rt::sim {
 
+// Where the stand holds the cameras: just outside the panel's bezel, slightly in front of the glass.
+struct CameraStandGeometry {
+  double beyond_edge_m = 0.04;
+  double in_front_m = 0.03;
+};
+
+// One camera place on the stand, named as the seated user sees it ("top-left": site -x, +y).
+struct CameraMount {
+  std::string name;
+  Eigen::Vector3d position;  // site frame, metres
+};
+
+// The six places of DESIGN.md section 1, in this order: "top-left", "top-centre", "top-right",
+// "bottom-left", "bottom-centre", "bottom-right". The one definition of the stand: the default
+// site, the calibration's synthetic site and the viewer's simulated views all take it from here.
+std::vector<CameraMount> camera_stand_mounts(const Screen& screen, const CameraStandGeometry& geometry = {});
+
 struct DefaultSiteOptions {
   std::string name = "default";
   // 16:9 colour; the paper records 2560x1440, 1280x720 keeps the simulator fast.
   uint32_t colour_width = 1280;
   uint32_t colour_height = 720;
+  CameraStandGeometry stand;
 };
 
 // A 65-inch screen, the user seated 0.7 m away, six cameras just outside the screen's corners and
@@ -24,7 +42,12 @@ struct DefaultSiteOptions {
 // from the screen below the right hand facing up at the touch region, the motor on the top-left corner.
 SiteDescription make_default_site(const DefaultSiteOptions& options = {});
 
-// Pose of a camera at `position` looking at `target`, image "up" towards +y of the site.
+// Where the default site's cameras look: between the seated user's face and chest.
+Eigen::Vector3d camera_aim_point(const Seat& seat);
+
+// Pose of a camera at `position` looking at `target`, image "up" towards +y of the site (OpenCV
+// axes: x right, y down, z forward). Throws std::invalid_argument when the points coincide or
+// the view is vertical (the roll is undefined then).
 Eigen::Isometry3d camera_from_site_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target);
 // Pinhole intrinsics with square pixels and the principal point at the image centre.
 CameraIntrinsics intrinsics_for_horizontal_fov(uint32_t width, uint32_t height, double horizontal_fov_deg);

@@ -72,6 +72,28 @@ RgbdCamera camera_entry_from_json(const nlohmann::json& entry, const std::string
   return camera;
 }
 
+nlohmann::json tracker_to_json(const TrackerPlacement& tracker) {
+  const TrackingRange& range = tracker.range;
+  nlohmann::json json = {{"site_from_tracker", isometry_to_json(tracker.site_from_tracker)},
+                         {"range",
+                          {{"min_distance_m", range.min_distance_m},
+                           {"max_distance_m", range.max_distance_m},
+                           {"half_angle_x_deg", range.half_angle_x_deg},
+                           {"half_angle_z_deg", range.half_angle_z_deg}}}};
+  if (tracker.rms_residual_mm) json["rms_residual_mm"] = *tracker.rms_residual_mm;
+  return json;
+}
+
+// JSON has no NaN: nlohmann writes null, which no reader would take for a number.
+void check_finite(const nlohmann::json& json, const std::string& where, const std::string& path = "") {
+  if (json.is_number_float() && !std::isfinite(json.get<double>()))
+    throw JsonError(where + ": " + path + " is not finite; not written");
+  if (json.is_object())
+    for (const auto& [key, value] : json.items()) check_finite(value, where, path.empty() ? key : path + "/" + key);
+  if (json.is_array())
+    for (size_t i = 0; i < json.size(); ++i) check_finite(json[i], where, path + "/" + std::to_string(i));
+}
+
 }  // namespace
 
 Camera RgbdCamera::colour_camera() const { return Camera{name + " colour", colour, camera_from_site}; }
@@ -123,19 +145,12 @@ nlohmann::json site_to_json(const SiteDescription& site) {
     entry["depth"] = depth_to_json(camera);
     cameras.push_back(entry);
   }
-  const TrackingRange& range = site.tracker.range;
   return {
       {"name", site.name},
       {"screen", {{"width_m", site.screen.width_m}, {"height_m", site.screen.height_m}}},
       {"seat", {{"head_centre_m", to_json(site.seat.head_centre_m)}}},
       {"cameras", cameras},
-      {"tracker",
-       {{"tracker_from_site", isometry_to_json(site.tracker.tracker_from_site)},
-        {"range",
-         {{"min_distance_m", range.min_distance_m},
-          {"max_distance_m", range.max_distance_m},
-          {"half_angle_x_deg", range.half_angle_x_deg},
-          {"half_angle_z_deg", range.half_angle_z_deg}}}}},
+      {"tracker", tracker_to_json(site.tracker)},
       {"touch_region",
        {{"centre_m", to_json(site.touch_region.centre_m)}, {"half_size_m", to_json(site.touch_region.half_size_m)}}},
       {"motor", {{"position_m", to_json(site.motor_position_m)}}},
@@ -165,9 +180,16 @@ SiteDescription site_from_json(const nlohmann::json& json, const std::string& wh
 
   const std::string tracker_where = where + " tracker";
   const nlohmann::json& tracker = require_object(json, "tracker", where);
-  reject_unknown_fields(tracker, {"tracker_from_site", "range"}, tracker_where);
-  site.tracker.tracker_from_site =
-      isometry_from_json(require(tracker, "tracker_from_site", tracker_where), tracker_where + " tracker_from_site");
+  // Files written before the convention became the calibration's own carry the inverse pose.
+  if (tracker.contains("tracker_from_site"))
+    throw JsonError(tracker_where +
+                    ": field 'tracker_from_site' is the old convention; the site file stores the tracker pose as "
+                    "'site_from_tracker' (its inverse), as `remotetouch calibrate tracker` writes it");
+  reject_unknown_fields(tracker, {"site_from_tracker", "rms_residual_mm", "range"}, tracker_where);
+  site.tracker.site_from_tracker =
+      isometry_from_json(require(tracker, "site_from_tracker", tracker_where), tracker_where + " site_from_tracker");
+  if (tracker.contains("rms_residual_mm"))
+    site.tracker.rms_residual_mm = require_in_range(tracker, "rms_residual_mm", tracker_where, 0.0, 1000.0);
   const std::string range_where = tracker_where + " range";
   const nlohmann::json& range = require_object(tracker, "range", tracker_where);
   reject_unknown_fields(range, {"min_distance_m", "max_distance_m", "half_angle_x_deg", "half_angle_z_deg"}, range_where);
@@ -223,6 +245,14 @@ SiteDescription load_site(const std::filesystem::path& path) {
   } catch (const nlohmann::json::exception& error) {
     throw JsonError("site '" + path.string() + "': " + error.what());
   }
+}
+
+void write_site(const std::filesystem::path& path, const SiteDescription& site) {
+  const std::string where = "site '" + path.string() + "'";
+  const nlohmann::json json = site_to_json(site);
+  check_finite(json, where);
+  validate_site(site, where);
+  config::write_json_file(path, json);
 }
 
 }  // namespace rt::sim

@@ -4,7 +4,7 @@ namespace rt::sim {
 
 TrackerHand tracker_hand_from_skeleton(const HandSkeleton& site_hand, double palm_width_m,
                                        const TrackerPlacement& placement) {
-  const Eigen::Isometry3d& to_tracker = placement.tracker_from_site;
+  const Eigen::Isometry3d to_tracker = placement.tracker_from_site();
   auto point = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(kMillimetresPerMetre * (to_tracker * p)); };
   auto direction = [&](const Eigen::Vector3d& d) { return Eigen::Vector3d(to_tracker.linear() * d); };
   TrackerHand hand;
@@ -31,7 +31,7 @@ TrackerHand tracker_hand_from_skeleton(const HandSkeleton& site_hand, double pal
 
 HandSkeleton skeleton_from_tracker_hand(const TrackerHand& hand, uint64_t timestamp_us,
                                         const TrackerPlacement& placement) {
-  const Eigen::Isometry3d site_from_tracker = placement.tracker_from_site.inverse();
+  const Eigen::Isometry3d& site_from_tracker = placement.site_from_tracker;
   auto point = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(site_from_tracker * (p / kMillimetresPerMetre)); };
   auto direction = [&](const Eigen::Vector3d& d) {
     return Eigen::Vector3d((site_from_tracker.linear() * d).normalized());

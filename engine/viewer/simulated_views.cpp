@@ -10,42 +10,21 @@ namespace rt {
 
 Camera camera_looking_at(const std::string& name, const CameraIntrinsics& intrinsics, const Eigen::Vector3d& position,
                          const Eigen::Vector3d& target) {
-  const Eigen::Vector3d forward = target - position;
-  if (!forward.allFinite() || forward.norm() < 1e-9)
-    throw std::invalid_argument("camera '" + name + "': position and target coincide or are not finite");
-  const Eigen::Vector3d z = forward.normalized();
-  const Eigen::Vector3d site_down(0.0, -1.0, 0.0);
-  // OpenCV's camera axes are right-handed with y down, so x = y cross z.
-  const Eigen::Vector3d x_unnormalised = site_down.cross(z);
-  if (x_unnormalised.norm() < 1e-6)
-    throw std::invalid_argument("camera '" + name + "': looks straight up or down, its roll is undefined");
-  const Eigen::Vector3d x = x_unnormalised.normalized();
-  const Eigen::Vector3d y = z.cross(x);
   Camera camera;
   camera.name = name;
   camera.intrinsics = intrinsics;
-  Eigen::Matrix3d camera_from_site_rotation;
-  camera_from_site_rotation.row(0) = x;
-  camera_from_site_rotation.row(1) = y;
-  camera_from_site_rotation.row(2) = z;
-  camera.camera_from_site.linear() = camera_from_site_rotation;
-  camera.camera_from_site.translation() = -camera_from_site_rotation * position;
+  try {
+    camera.camera_from_site = sim::camera_from_site_looking_at(position, target);
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument("camera '" + name + "': " + error.what());
+  }
   return camera;
 }
 
 std::vector<Camera> simulated_camera_stand(const CameraStandOptions& options) {
-  const double x = options.screen.width_m / 2 + options.beyond_edge_m;
-  const double y = options.screen.height_m / 2 + options.beyond_edge_m;
-  const double z = options.in_front_m;
-  struct Place {
-    const char* name;
-    Eigen::Vector3d position;
-  };
-  const Place places[] = {{"top-left", {-x, y, z}},     {"top-centre", {0, y, z}},     {"top-right", {x, y, z}},
-                          {"bottom-left", {-x, -y, z}}, {"bottom-centre", {0, -y, z}}, {"bottom-right", {x, -y, z}}};
   std::vector<Camera> cameras;
-  for (const Place& place : places)
-    cameras.push_back(camera_looking_at(place.name, options.intrinsics, place.position, options.aim));
+  for (const sim::CameraMount& mount : sim::camera_stand_mounts(options.screen, options.stand))
+    cameras.push_back(camera_looking_at(mount.name, options.intrinsics, mount.position, options.aim));
   return cameras;
 }
 

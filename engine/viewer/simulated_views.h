@@ -8,12 +8,14 @@
 
 #include "geometry/camera.h"
 #include "geometry/site_frames.h"
+#include "sim/default_site.h"
 
 namespace rt {
 
 // A camera at `position` (site frame) looking at `target`, its image "down" as close to site -y
-// as the view direction allows (an upright mount). Throws std::invalid_argument when the view
-// direction is vertical or the points coincide.
+// as the view direction allows (an upright mount): sim::camera_from_site_looking_at with a name
+// and intrinsics. Throws std::invalid_argument, naming the camera, when the view direction is
+// vertical or the points coincide.
 Camera camera_looking_at(const std::string& name, const CameraIntrinsics& intrinsics, const Eigen::Vector3d& position,
                          const Eigen::Vector3d& target);
 
@@ -21,13 +23,12 @@ struct CameraStandOptions {
   // 640x360 with a 90 x 59 degree field of view: the Azure Kinect's 16:9 colour mode, scaled down.
   CameraIntrinsics intrinsics{640, 360, 320.0, 320.0, 319.5, 179.5, {}};
   Screen screen;
-  double beyond_edge_m = 0.04;     // the stand holds the cameras just outside the bezel
-  double in_front_m = 0.03;        // and a little in front of the panel
+  sim::CameraStandGeometry stand;          // the default site's stand
   Eigen::Vector3d aim = {0.0, 0.0, 0.7};  // the seated viewer's head (DESIGN.md section 1)
 };
 
-// The six cameras of DESIGN.md section 1, named "top-left", "top-centre", "top-right",
-// "bottom-left", "bottom-centre", "bottom-right" (left/right as the seated user sees them).
+// The six cameras of the site stand (sim::camera_stand_mounts), named "top-left", "top-centre",
+// "top-right", "bottom-left", "bottom-centre", "bottom-right" (left/right as the seated user sees them).
 std::vector<Camera> simulated_camera_stand(const CameraStandOptions& options = {});
 
 // A photograph as a flat, rectangular object in the site. Photo frame: origin at the centre of
