@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "passes/reference_math.h"
 
 #include "ibr_blend.comp.h"
 
@@ -58,8 +61,9 @@ Portrait ibr_blend_reference(const HostImage& fused_depth, const HostImage& warp
       float largest = 0.0f;
       for (uint32_t v = 0; v < view_count; ++v) {
         const float* f = &features.texels[features.index(x, y + v * h)];
-        if (!(f[3] > 0.0f) || !(f[2] > 0.0f)) continue;
-        penalty[v] = f[0] + s.resolution_weight * f[1];
+        if (!(f[3] > 0.0f) || !(f[2] > 0.0f) || !std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2]))
+          continue;
+        penalty[v] = std::max(f[0], 0.0f) + s.resolution_weight * std::max(f[1], 0.0f);
         feather[v] = f[2];
         largest = std::max(largest, penalty[v]);
         ++candidates;
@@ -82,7 +86,8 @@ Portrait ibr_blend_reference(const HostImage& fused_depth, const HostImage& warp
       std::array<float, 3> best{};
       for (uint32_t v = 0; v < view_count; ++v) {
         if (penalty[v] < 0.0f) continue;
-        const float* c = &warped.texels[warped.index(x, y + v * h)];
+        const float* raw = &warped.texels[warped.index(x, y + v * h)];
+        const float c[3] = {unit_or_zero(raw[0]), unit_or_zero(raw[1]), unit_or_zero(raw[2])};
         const float weight = threshold > 0.0f ? std::max(0.0f, 1.0f - penalty[v] / threshold) * feather[v] : feather[v];
         for (int i = 0; i < 3; ++i) sum[size_t(i)] += weight * c[i];
         weight_sum += weight;
@@ -93,9 +98,10 @@ Portrait ibr_blend_reference(const HostImage& fused_depth, const HostImage& warp
       }
       float* p = &out.colour.texels[out.colour.index(x, y)];
       for (int i = 0; i < 3; ++i)
-        p[i] = std::clamp(weight_sum > 1e-6f ? sum[size_t(i)] / weight_sum : best[size_t(i)], 0.0f, 1.0f);
+        p[i] = unit_or_zero(weight_sum > 1e-6f ? sum[size_t(i)] / weight_sum : best[size_t(i)]);
       p[3] = 1.0f;
-      out.depth.at(x, y) = fused_depth.at(x, y);
+      const float z = fused_depth.at(x, y);
+      out.depth.at(x, y) = std::isfinite(z) && z > 0.0f ? z : 0.0f;
     }
   return out;
 }

@@ -8,6 +8,7 @@
 // no view sees the surface point (never a NaN), 1 where one does; the feather only shapes weights.
 #include "shared/config.h"
 #include "shared/ibr.h"
+#include "common/numeric.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
 layout(constant_id = 0) const int best_views = 3;  // k
@@ -24,17 +25,18 @@ void main() {
   ivec2 size = imageSize(portrait);
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, size))) return;
-  float penalty[RT_IBR_MAX_VIEWS];
+  float penalty[RT_IBR_MAX_VIEWS];  // -1: not a candidate
   float feather[RT_IBR_MAX_VIEWS];
   int candidates = 0;
   float largest = 0.0;
   for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
-    penalty[v] = -1.0;  // not a candidate
+    penalty[v] = -1.0;
     feather[v] = 0.0;
     if (v >= int(params.view_count)) continue;
     vec4 f = imageLoad(features, ivec2(pixel.x, pixel.y + v * size.y));
-    if (f.w <= 0.0 || f.z <= 0.0) continue;
-    penalty[v] = f.x + resolution_weight * f.y;
+    // Written so that NaN features count as not visible.
+    if (!(f.w > 0.0) || !(f.z > 0.0) || !is_finite(f.x) || !is_finite(f.y) || !is_finite(f.z)) continue;
+    penalty[v] = max(f.x, 0.0) + resolution_weight * max(f.y, 0.0);
     feather[v] = f.z;
     largest = max(largest, penalty[v]);
     ++candidates;
@@ -59,7 +61,7 @@ void main() {
     vec3 best_colour = vec3(0.0);
     for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
       if (penalty[v] < 0.0) continue;
-      vec3 c = imageLoad(warped, ivec2(pixel.x, pixel.y + v * size.y)).rgb;
+      vec3 c = unit_or_zero(imageLoad(warped, ivec2(pixel.x, pixel.y + v * size.y)).rgb);
       float w = threshold > 0.0 ? max(0.0, 1.0 - penalty[v] / threshold) * feather[v] : feather[v];
       colour_sum += w * c;
       weight_sum += w;
@@ -70,8 +72,9 @@ void main() {
     }
     // Every weight zero happens only when the best views tie with the threshold: take the best.
     vec3 colour = weight_sum > 1e-6 ? colour_sum / weight_sum : best_colour;
-    result = vec4(clamp(colour, 0.0, 1.0), 1.0);
-    depth = imageLoad(fused_depth, pixel).r;
+    result = vec4(unit_or_zero(colour), 1.0);
+    float z = imageLoad(fused_depth, pixel).r;
+    depth = is_finite(z) && z > 0.0 ? z : 0.0;
   }
   imageStore(portrait, pixel, result);
   imageStore(portrait_depth, pixel, vec4(depth));

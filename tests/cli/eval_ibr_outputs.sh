@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# `remotetouch eval ibr` as a user runs it, small: both fusions, the metrics file with every
+# figure the issue asks for, portraits and error images, and the table.
+set -euo pipefail
+binary=$1 out=$2
+rm -rf "$out"
+"$binary" eval ibr --scene wave --frames 2 --fusion both --width 81 --height 45 --out "$out" --validation | tee "$out.log"
+[ -s "$out/metrics.json" ] || { echo "missing $out/metrics.json" >&2; exit 1; }
+for key in psnr_fg_db psnr_hand_db depth_mae_edge_mm alpha_iou gpu_ms by_fusion; do
+  grep -q "\"$key\"" "$out/metrics.json" || { echo "metrics.json lacks $key" >&2; exit 1; }
+done
+# Every figure is a number (null would mean an empty region: not expected on wave).
+if grep -Eq '"(psnr_fg_db|psnr_hand_db|depth_mae_edge_mm|alpha_iou)": null' "$out/metrics.json"; then
+  echo "a metric is null" >&2
+  exit 1
+fi
+for f in 0000_truth.png 0000_min_portrait.png 0000_avg_portrait.png 0001_min_colour_error_x4.png \
+         0001_avg_depth_error_per_50mm.png; do
+  [ -s "$out/images/$f" ] || { echo "missing $out/images/$f" >&2; exit 1; }
+done
+grep -Eq '^min +[0-9.]+' "$out.log" && grep -Eq '^avg +[0-9.]+' "$out.log"
+echo "eval ibr outputs ok"

@@ -1,0 +1,10 @@
+# The image-based model's commands, as a user runs them (small sizes).
+add_test(NAME cli_eval_ibr_outputs
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/eval_ibr_outputs.sh $<TARGET_FILE:remotetouch> ${CMAKE_BINARY_DIR}/test-out/eval-ibr)
+add_test(NAME cli_eval_ibr_unknown_scene COMMAND $<TARGET_FILE:remotetouch> eval ibr --scene no-such-scene --frames 1)
+set_tests_properties(cli_eval_ibr_unknown_scene PROPERTIES PASS_REGULAR_EXPRESSION "no-such-scene")
+add_test(NAME cli_eval_ibr_bad_fusion COMMAND $<TARGET_FILE:remotetouch> eval ibr --fusion median)
+set_tests_properties(cli_eval_ibr_bad_fusion PROPERTIES PASS_REGULAR_EXPRESSION "--fusion.*median")
+add_test(NAME cli_bench_ibr
+         COMMAND $<TARGET_FILE:remotetouch> bench ibr --frames 1 --width 65 --height 33 --out ${CMAKE_BINARY_DIR}/test-out/bench-ibr)
+set_tests_properties(cli_bench_ibr PROPERTIES PASS_REGULAR_EXPRESSION "6 views: image-based model.*copy")

@@ -1,0 +1,97 @@
+#include "support/ibr_rig.h"
+
+#include <cmath>
+
+#include "geometry/target_view.h"
+
+namespace rt::test {
+namespace {
+
+// OpenCV camera axes looking from `position` at `target`, +y of the site roughly up in the image.
+Eigen::Isometry3d camera_from_site_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d forward = (target - position).normalized();
+  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitY()).normalized();
+  const Eigen::Vector3d down = forward.cross(right);
+  Eigen::Matrix3d site_from_camera;
+  site_from_camera << right, down, forward;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = site_from_camera.transpose();
+  pose.translation() = -site_from_camera.transpose() * position;
+  return pose;
+}
+
+CameraIntrinsics intrinsics(uint32_t w, uint32_t h, double horizontal_fov_deg, bool distortion) {
+  CameraIntrinsics k;
+  k.width = w;
+  k.height = h;
+  k.fx = k.fy = 0.5 * w / std::tan(horizontal_fov_deg * M_PI / 360.0);
+  k.cx = 0.5 * w - 0.5;
+  k.cy = 0.5 * h - 0.5;
+  if (distortion) k.distortion = {.k1 = -0.05, .k2 = 0.01, .p1 = 0.001, .p2 = -0.0005};
+  return k;
+}
+
+}  // namespace
+
+IbrRig ibr_rig(uint32_t views, uint32_t colour_w, uint32_t colour_h, uint32_t depth_w, uint32_t depth_h,
+               uint32_t target_w, uint32_t target_h, bool distortion) {
+  // Around the screen's edges, as the site's stand, looking at the user's chest.
+  const Eigen::Vector3d mounts[RT_IBR_MAX_VIEWS] = {{-0.72, 0.40, 0.05}, {0.0, 0.40, 0.05}, {0.72, 0.40, 0.05},
+                                                    {-0.72, -0.40, 0.05}, {0.0, -0.40, 0.05}, {0.72, -0.40, 0.05}};
+  const Eigen::Vector3d chest(0.0, 0.0, 0.7);
+  IbrRig rig;
+  for (uint32_t v = 0; v < views; ++v) {
+    passes::IbrCameraModel camera;
+    camera.colour.name = "camera " + std::to_string(v);
+    camera.colour.intrinsics = intrinsics(colour_w, colour_h, 90.0, distortion);
+    camera.colour.camera_from_site = camera_from_site_looking_at(mounts[v % RT_IBR_MAX_VIEWS], chest);
+    camera.depth = camera.colour;
+    camera.depth.intrinsics = intrinsics(depth_w, depth_h, 100.0, distortion);
+    rig.cameras.push_back(camera);
+  }
+  rig.target = target_view_camera(Eigen::Vector3d(0.05, 0.1, -0.7), Screen{}, target_w, target_h);
+  rig.table = passes::make_scene_table(rig.target, rig.cameras);
+  return rig;
+}
+
+HostImage random_depth_atlas(std::mt19937& rng, const IbrRig& rig, float hole_fraction) {
+  std::vector<HostImage> bands;
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (const auto& camera : rig.cameras) {
+    const uint32_t w = camera.depth.intrinsics.width, h = camera.depth.intrinsics.height;
+    HostImage depth(w, h, PixelFormat::R16U);
+    const float phase = unit(rng) * 6.0f;
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x) {
+        if (unit(rng) < hole_fraction) continue;
+        // A smooth, bumpy surface with a step: both gentle slopes and depth edges.
+        const float base = 700.0f + 150.0f * std::sin(0.3f * float(x) + phase) * std::cos(0.2f * float(y));
+        const float step = (x + y) % 11 < 3 ? -200.0f : 0.0f;
+        depth.at(x, y) = std::round(base + step + unit(rng) * 4.0f);
+      }
+    bands.push_back(std::move(depth));
+  }
+  return passes::stack_bands(bands);
+}
+
+PixelComparison compare_pixels(const HostImage& gpu, const HostImage& reference, double abs_tol, double rel_tol) {
+  PixelComparison result;
+  const uint32_t channels = gpu.channels();
+  for (size_t pixel = 0; pixel < size_t(gpu.width) * gpu.height; ++pixel) {
+    bool mismatch = false;
+    for (uint32_t c = 0; c < channels; ++c) {
+      const double g = gpu.texels[pixel * channels + c], r = reference.texels[pixel * channels + c];
+      if (!std::isfinite(g)) {
+        ++result.non_finite;
+        continue;
+      }
+      const double error = std::abs(g - r);
+      result.max_abs_error = std::max(result.max_abs_error, error);
+      if (!(error <= abs_tol + rel_tol * std::abs(r))) mismatch = true;
+    }
+    result.mismatched_pixels += mismatch;
+  }
+  return result;
+}
+
+}  // namespace rt::test

@@ -1,0 +1,33 @@
+#pragma once
+// A small image-based-model rig for the IBR pass tests: RGBD cameras around the site's user
+// volume looking at it (with a slight lens distortion), the target view of a remote eye, and
+// random but plausible inputs (depths on a bumpy surface in front of the cameras, with holes).
+#include <random>
+#include <vector>
+
+#include "passes/ibr_scene.h"
+
+namespace rt::test {
+
+struct IbrRig {
+  std::vector<passes::IbrCameraModel> cameras;
+  Camera target;
+  passes::IbrSceneTable table;
+};
+
+// `views` cameras with colour and depth images of the given sizes; target of the given size.
+IbrRig ibr_rig(uint32_t views, uint32_t colour_w, uint32_t colour_h, uint32_t depth_w, uint32_t depth_h,
+               uint32_t target_w, uint32_t target_h, bool distortion = true);
+
+// R16U atlas: each view sees a surface about 0.5-0.9 m away; `hole_fraction` of pixels are 0.
+HostImage random_depth_atlas(std::mt19937& rng, const IbrRig& rig, float hole_fraction = 0.1f);
+
+// Counts pixels whose values differ beyond abs + rel * |ref| in any channel, and non-finite ones.
+struct PixelComparison {
+  size_t mismatched_pixels = 0;
+  size_t non_finite = 0;
+  double max_abs_error = 0;
+};
+PixelComparison compare_pixels(const HostImage& gpu, const HostImage& reference, double abs_tol, double rel_tol);
+
+}  // namespace rt::test

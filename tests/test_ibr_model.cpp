@@ -1,0 +1,152 @@
+// The image-based model end to end on a simulated frame (small sizes): the portrait resembles
+// the simulator's ground truth of the same target view, min and average fusion both run, one
+// view is enough to render, camera selection follows the paper, and bad input says what is
+// wrong. Thresholds are loose on purpose: eval ibr measures quality; this catches breakage.
+#include "app/ibr_renderer.h"
+#include "app/site_simulator.h"
+#include "geometry/target_view.h"
+#include "ibr/camera_selection.h"
+#include "ibr/portrait_metrics.h"
+#include "sim/scene.h"
+#include "support/gpu_test.h"
+#include "support/hands.h"
+
+using namespace rt;
+
+namespace {
+
+struct Simulated {
+  sim::Scene scene;
+  std::unique_ptr<app::SiteSimulator> simulator;
+  sim::RgbdFrame frame;
+  std::vector<passes::IbrCameraModel> cameras;
+  std::vector<Eigen::Vector3d> positions;
+};
+
+Simulated simulate(uint32_t width, uint32_t height) {
+  Simulated s;
+  s.scene = sim::load_scene(std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes" / "wave.json");
+  s.scene.frame_count = 1;
+  s.scene.resolution_scale = 0.25;
+  s.simulator = std::make_unique<app::SiteSimulator>(test::gpu(), s.scene, Site::A, width, height);
+  s.frame = *s.simulator->next_frame();
+  for (size_t k = 0; k < s.simulator->renderer().camera_count(); ++k) {
+    s.cameras.push_back({s.simulator->renderer().camera(k).colour, s.simulator->renderer().camera(k).depth});
+    s.positions.push_back(s.cameras.back().colour.position_in_site());
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("the image-based model renders a simulated frame close to ground truth", "[ibr_model][gpu]") {
+  test::NoValidationErrors no_errors;
+  const uint32_t w = 161, h = 91;
+  Simulated s = simulate(w, h);
+  const Camera target = *s.simulator->renderer().target_view();
+  const auto selection = ibr::select_cameras(s.positions, ibr::TouchingHand::Right, 4);
+  for (auto fusion : {passes::DepthFusion::Min, passes::DepthFusion::Average}) {
+    app::IbrSettings settings;
+    settings.width = w;
+    settings.height = h;
+    settings.fusion = fusion;
+    settings.refine = fusion == passes::DepthFusion::Average;  // the sweep runs in the chain too
+    app::IbrRenderer renderer(test::gpu(), s.cameras, settings);
+    renderer.render(s.frame.cameras, selection, target);
+    const HostImage portrait = vk::download(test::gpu(), renderer.portrait());
+    const HostImage depth = vk::download(test::gpu(), renderer.portrait_depth());
+    REQUIRE(test::count_non_finite(portrait) == 0);
+    REQUIRE(test::count_non_finite(depth) == 0);
+    ibr::PortraitMetrics metrics;
+    metrics.add(portrait, depth, s.simulator->renderer().target_colour(), s.simulator->renderer().target_depth_m(),
+                s.simulator->renderer().target_part());
+    INFO("psnr_fg " << metrics.psnr_fg_db() << " dB, iou " << metrics.alpha_iou() << ", bias "
+                    << metrics.depth_bias_mm() << " mm");
+    CHECK(metrics.psnr_fg_db() > 12.0);
+    CHECK(metrics.alpha_iou() > 0.75);
+    CHECK(std::abs(metrics.depth_bias_mm()) < 15.0);
+  }
+}
+
+TEST_CASE("the image-based model with a single view, and its refusals", "[ibr_model][gpu]") {
+  test::NoValidationErrors no_errors;
+  Simulated s = simulate(33, 19);
+  const Camera target = *s.simulator->renderer().target_view();
+  app::IbrSettings one;
+  one.width = 33;
+  one.height = 19;
+  one.views = 1;
+  app::IbrRenderer renderer(test::gpu(), s.cameras, one);
+  const std::vector<size_t> centre{1};
+  renderer.render(s.frame.cameras, centre, target);
+  const HostImage portrait = vk::download(test::gpu(), renderer.portrait());
+  REQUIRE(test::count_non_finite(portrait) == 0);
+  float coverage = 0;
+  for (size_t i = 3; i < portrait.texels.size(); i += 4) coverage += portrait.texels[i];
+  REQUIRE(coverage > 20);
+
+  const std::vector<size_t> two{0, 1};
+  REQUIRE_THROWS_WITH(renderer.render(s.frame.cameras, two, target), Catch::Contains("2 cameras selected, 1 expected"));
+  REQUIRE_THROWS_WITH(renderer.render(std::span(s.frame.cameras).first(2), centre, target), Catch::Contains("2 images for 6"));
+  const Camera other_size = target_view_camera(Eigen::Vector3d(0, 0.1, -0.7), Screen{}, 34, 19);
+  REQUIRE_THROWS_WITH(renderer.render(s.frame.cameras, centre, other_size), Catch::Contains("is not 33x19"));
+  app::IbrSettings seven = one;
+  seven.views = 7;
+  REQUIRE_THROWS_WITH(app::IbrRenderer(test::gpu(), s.cameras, seven), Catch::Contains("views must be 1..6"));
+  // The remote eye on or behind the screen plane has no target view.
+  for (double z : {0.0, 0.3})
+    REQUIRE_THROWS_WITH(target_view_camera(Eigen::Vector3d(0, 0.1, z), Screen{}, 33, 19),
+                        Catch::Contains("in front of their own screen"));
+}
+
+TEST_CASE("camera selection: the two central cameras and two on the side opposite the hand", "[ibr_model]") {
+  // The default stand: top and bottom rows, left, centre, right.
+  const std::vector<Eigen::Vector3d> positions = {{-0.75, 0.45, 0.05}, {0.0, 0.45, 0.05}, {0.75, 0.45, 0.05},
+                                                  {-0.75, -0.45, 0.05}, {0.0, -0.45, 0.05}, {0.75, -0.45, 0.05}};
+  REQUIRE(ibr::select_cameras(positions, ibr::TouchingHand::Right, 4) == std::vector<size_t>{1, 4, 0, 3});
+  REQUIRE(ibr::select_cameras(positions, ibr::TouchingHand::Left, 4) == std::vector<size_t>{1, 4, 2, 5});
+  REQUIRE(ibr::select_cameras(positions, ibr::TouchingHand::Right, 2) == std::vector<size_t>{1, 4});
+  REQUIRE(ibr::select_cameras(positions, ibr::TouchingHand::Right, 6).size() == 6);
+  REQUIRE_THROWS_WITH(ibr::select_cameras(positions, ibr::TouchingHand::Right, 7), Catch::Contains("7 of 6"));
+  REQUIRE_THROWS_WITH(ibr::cameras_by_name({"a", "b"}, {"c"}), Catch::Contains("no camera named 'c'"));
+  REQUIRE_THROWS_WITH(ibr::cameras_by_name({"a", "b"}, {"a", "a"}), Catch::Contains("named twice"));
+  REQUIRE(ibr::cameras_by_name({"a", "b", "c"}, {"c", "a"}) == std::vector<size_t>{2, 0});
+
+  HandSkeleton right = test::flat_hand(0.2, 0.0, 0.05), left = test::flat_hand(-0.2, 0.0, 0.3);
+  REQUIRE(ibr::touching_hand(right, left) == ibr::TouchingHand::Right);
+  left.palm.z() = 0.01;
+  REQUIRE(ibr::touching_hand(right, left) == ibr::TouchingHand::Left);
+  left.palm.z() = std::numeric_limits<double>::quiet_NaN();
+  REQUIRE(ibr::touching_hand(right, left) == ibr::TouchingHand::Right);
+}
+
+TEST_CASE("portrait metrics on known images", "[ibr_model]") {
+  const uint32_t w = 20, h = 10;
+  HostImage truth(w, h, PixelFormat::RGBA8, 0.0f), part(w, h, PixelFormat::R32F, 0.0f), depth(w, h, PixelFormat::R32F, 0.0f);
+  for (uint32_t y = 2; y < 8; ++y)
+    for (uint32_t x = 5; x < 15; ++x) {
+      for (uint32_t c = 0; c < 4; ++c) truth.at(x, y, c) = c == 3 ? 1.0f : 0.5f;
+      part.at(x, y) = x < 8 ? float(RT_PART_HAND) : float(RT_PART_BODY);
+      depth.at(x, y) = 1.0f;
+    }
+  HostImage portrait(w, h, PixelFormat::RGBA32F, 0.0f);
+  for (size_t i = 0; i < portrait.texels.size(); ++i) portrait.texels[i] = truth.texels[i];
+  ibr::PortraitMetrics exact;
+  exact.add(portrait, depth, truth, depth, part);
+  REQUIRE(exact.alpha_iou() == 1.0);
+  REQUIRE(exact.depth_mae_edge_mm() == 0.0);
+  REQUIRE(exact.psnr_fg_db() == 99.0);  // identical: capped, finite
+
+  for (uint32_t x = 5; x < 15; ++x) portrait.at(x, 2, 3) = 0.0f;  // one missing row of 6
+  HostImage deeper = depth;
+  for (float& z : deeper.texels)
+    if (z > 0) z += 0.01f;
+  ibr::PortraitMetrics missing;
+  missing.add(portrait, deeper, truth, depth, part);
+  REQUIRE(missing.alpha_iou() == Approx(50.0 / 60.0));
+  // A sixth of the pixels off by 0.5 in each channel: MSE 0.25 / 6.
+  REQUIRE(missing.psnr_fg_db() == Approx(10 * std::log10(6.0 / 0.25)).epsilon(1e-6));
+  REQUIRE(missing.depth_mae_edge_mm() == Approx(10.0).epsilon(1e-3));
+  REQUIRE(missing.depth_bias_mm() == Approx(10.0).epsilon(1e-3));
+  REQUIRE_THROWS(missing.add(portrait, depth, truth, depth, HostImage(3, 3, PixelFormat::R32F)));
+}

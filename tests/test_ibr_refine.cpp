@@ -1,0 +1,76 @@
+// ibr_refine (plane sweep): GPU against the C++ reference. The winner among hypotheses is an
+// argmin of colour variances; two hypotheses within float rounding of each other may swap, so
+// at most 1% of pixels (and at least one) may pick another hypothesis (stated tolerance); the rest match to 1e-5.
+#include "passes/ibr_refine.h"
+#include "support/gpu_test.h"
+#include "support/ibr_rig.h"
+
+using namespace rt;
+
+namespace {
+
+HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused_in, const HostImage& colour_in,
+                  const passes::RefineSettings& settings = {}) {
+  vk::Context& context = test::gpu();
+  const uint32_t w = fused_in.width, h = fused_in.height;
+  vk::Image fused(context, {"fused depth", w, h, PixelFormat::R32F});
+  vk::Image colour(context, {"colour", colour_in.width, colour_in.height, PixelFormat::RGBA8});
+  vk::Image refined(context, {"refined depth", w, h, PixelFormat::R32F});
+  vk::upload(context, fused, fused_in);
+  vk::upload(context, colour, colour_in);
+  passes::IbrSceneBuffer scene(context);
+  scene.write(rig.table);
+  const passes::IbrRefinePass pass(context, settings);
+  vk::FrameGraph graph(context, "test ibr_refine");
+  pass.add_to(graph, scene, fused, colour, refined, uint32_t(rig.cameras.size()));
+  graph.run();
+  return vk::download(context, refined);
+}
+
+}  // namespace
+
+TEST_CASE("ibr_refine on random inputs, odd sizes", "[ibr_refine][gpu]") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(41);
+  size_t moved = 0;
+  for (const auto& [width, height] : test::odd_sizes()) {
+    INFO(width << "x" << height);
+    const test::IbrRig rig = test::ibr_rig(3, 37, 21, 9, 7, width, height);
+    HostImage fused = test::random_image(rng, width, height, PixelFormat::R32F, 1.3f, 1.5f);
+    for (size_t i = 0; i < fused.texels.size(); i += 5) fused.texels[i] = 0.0f;
+    const HostImage colour = test::random_image(rng, 37, 63, PixelFormat::RGBA8);
+    const HostImage gpu = run_gpu(rig, fused, colour);
+    const HostImage reference = passes::ibr_refine_reference(rig.table, fused, colour);
+    const auto comparison = test::compare_pixels(gpu, reference, 1e-5, 1e-5);
+    REQUIRE(comparison.non_finite == 0);
+    REQUIRE(comparison.mismatched_pixels <= 1 + size_t(width) * height / 100);
+    for (size_t i = 0; i < fused.texels.size(); ++i) {
+      REQUIRE(std::abs(gpu.texels[i] - fused.texels[i]) <= 4 * 0.004f + 1e-5f);  // within the sweep
+      moved += gpu.texels[i] != fused.texels[i];
+    }
+  }
+  REQUIRE(moved > 0);  // the sweep does move depths on random colours
+}
+
+TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(42);
+  const test::IbrRig rig = test::ibr_rig(2, 37, 21, 9, 7, 13, 11);
+  SECTION("uniform colour: every hypothesis ties, the fused depth stays") {
+    const HostImage fused = test::random_image(rng, 13, 11, PixelFormat::R32F, 1.3f, 1.5f);
+    const HostImage grey(37, 42, PixelFormat::RGBA8, 0.5f);
+    RT_REQUIRE_MATCHES(run_gpu(rig, fused, grey), fused, 0.0, 0.0);
+  }
+  SECTION("no depth stays no depth; one hypothesis is the identity") {
+    HostImage fused(13, 11, PixelFormat::R32F, 0.0f);
+    fused.at(3, 3) = 1.4f;
+    passes::RefineSettings one;
+    one.hypotheses = 1;
+    RT_REQUIRE_MATCHES(run_gpu(rig, fused, test::random_image(rng, 37, 42, PixelFormat::RGBA8), one), fused, 0.0, 0.0);
+  }
+  SECTION("bad settings are refused") {
+    passes::RefineSettings bad;
+    bad.hypotheses = 0;
+    REQUIRE_THROWS_WITH(passes::IbrRefinePass(test::gpu(), bad), Catch::Contains("hypotheses"));
+  }
+}

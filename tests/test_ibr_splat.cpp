@@ -1,0 +1,214 @@
+// ibr_splat and ibr_fuse: GPU against the C++ references. Splatting: nearest depths agree to
+// 1e-5 relative; a splat's square is decided by float comparisons at pixel centres, so a
+// pixel on the very edge of a square may go either way: at most 0.5% of pixels may differ in
+// coverage (stated tolerance), none may be NaN. Fusion from a given buffer matches to 1e-5.
+#include <bit>
+#include <cstring>
+#include <span>
+
+#include "passes/ibr_foreground.h"
+#include "passes/ibr_fuse.h"
+#include "passes/ibr_splat.h"
+#include "support/gpu_test.h"
+#include "support/ibr_rig.h"
+
+using namespace rt;
+
+namespace {
+
+std::vector<uint32_t> as_uints(const std::vector<std::byte>& bytes) {
+  std::vector<uint32_t> out(bytes.size() / 4);
+  std::memcpy(out.data(), bytes.data(), out.size() * 4);
+  return out;
+}
+
+struct SplatResult {
+  std::vector<uint32_t> fusion;
+  HostImage fused_depth;
+};
+
+SplatResult run_gpu(const test::IbrRig& rig, const HostImage& points_in, const passes::SplatSettings& splat = {},
+                    passes::FuseSettings fuse = {}) {
+  vk::Context& context = test::gpu();
+  const uint32_t tw = rig.target.intrinsics.width, th = rig.target.intrinsics.height;
+  vk::Image points(context, {"points", points_in.width, points_in.height, PixelFormat::RGBA32F});
+  vk::upload(context, points, points_in);
+  vk::Buffer fusion(context, passes::fusion_buffer_desc(tw, th));
+  vk::Image fused(context, {"fused depth", tw, th, PixelFormat::R32F});
+  passes::IbrSceneBuffer scene(context);
+  scene.write(rig.table);
+  fuse.fusion = splat.fusion;
+  const passes::IbrSplatPass splat_pass(context, splat);
+  const passes::IbrFusePass fuse_pass(context, fuse);
+  vk::FrameGraph graph(context, "test ibr_splat");
+  splat_pass.add_to(graph, scene, points, fusion, uint32_t(rig.cameras.size()));
+  fuse_pass.add_to(graph, fusion, fused);
+  graph.run();
+  graph.run();  // a second frame must clear the buffer first, not accumulate
+  return {as_uints(vk::download(context, fusion)), vk::download(context, fused)};
+}
+
+// Points from the foreground pass's reference on random depths.
+HostImage random_points(std::mt19937& rng, const test::IbrRig& rig, float holes = 0.1f) {
+  const HostImage depth = test::random_depth_atlas(rng, rig, holes);
+  return passes::ibr_foreground_reference(rig.table, depth, passes::depth_ray_atlas(rig.cameras));
+}
+
+void require_fusion_matches(const std::vector<uint32_t>& gpu, const std::vector<uint32_t>& reference, size_t pixels) {
+  size_t coverage_differs = 0, depth_differs = 0, non_finite = 0;
+  for (size_t i = 0; i < pixels; ++i) {
+    const bool gpu_set = gpu[i] != RT_IBR_EMPTY_DEPTH_BITS, ref_set = reference[i] != RT_IBR_EMPTY_DEPTH_BITS;
+    if (gpu_set != ref_set) {
+      ++coverage_differs;
+      continue;
+    }
+    if (!gpu_set) continue;
+    const float g = std::bit_cast<float>(gpu[i]), r = std::bit_cast<float>(reference[i]);
+    if (!std::isfinite(g) || !(g > 0.0f)) ++non_finite;
+    if (std::abs(g - r) > 1e-5f * r) ++depth_differs;  // a neighbour's splat may win on an edge pixel
+  }
+  INFO(coverage_differs << " coverage, " << depth_differs << " depth differences of " << pixels);
+  REQUIRE(non_finite == 0);
+  REQUIRE(coverage_differs <= pixels / 200);
+  REQUIRE(depth_differs <= pixels / 200 + 1);
+}
+
+size_t covered(const std::vector<uint32_t>& fusion, size_t pixels) {
+  size_t count = 0;
+  for (size_t i = 0; i < pixels; ++i) count += fusion[i] != RT_IBR_EMPTY_DEPTH_BITS;
+  return count;
+}
+
+}  // namespace
+
+TEST_CASE("ibr_splat min and average fusion on random views, odd target sizes", "[ibr_splat][gpu]") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(21);
+  for (const auto& [width, height] : test::odd_sizes()) {
+    for (auto mode : {passes::DepthFusion::Min, passes::DepthFusion::Average}) {
+      INFO(width << "x" << height << (mode == passes::DepthFusion::Min ? " min" : " average"));
+      const test::IbrRig rig = test::ibr_rig(3, 16, 9, 41, 37, width, height);
+      const HostImage points = random_points(rng, rig);
+      passes::SplatSettings settings;
+      settings.fusion = mode;
+      const SplatResult gpu = run_gpu(rig, points, settings);
+      const auto reference = passes::ibr_splat_reference(rig.table, points, settings);
+      const size_t n = size_t(width) * height;
+      require_fusion_matches(gpu.fusion, reference, n);
+      if (n > 1000) REQUIRE(covered(reference, n) > n / 20);  // the rig really lands in the target
+      if (mode == passes::DepthFusion::Average) {
+        // Counts and sums: same tolerance on coverage, sums to 1e-4 relative per sample.
+        size_t differs = 0;
+        for (size_t i = 0; i < n; ++i)
+          if (gpu.fusion[2 * n + i] != reference[2 * n + i] ||
+              std::abs(double(gpu.fusion[n + i]) - reference[n + i]) > 1e-4 * reference[n + i] + 2.0)
+            ++differs;
+        REQUIRE(differs <= n / 100 + 1);
+      }
+    }
+  }
+}
+
+TEST_CASE("ibr_fuse from a given fusion buffer", "[ibr_fuse][gpu]") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(22);
+  for (const auto& [width, height] : test::odd_sizes()) {
+    for (auto mode : {passes::DepthFusion::Min, passes::DepthFusion::Average}) {
+      INFO(width << "x" << height);
+      const size_t n = size_t(width) * height;
+      std::vector<uint32_t> fusion(3 * n, 0u);
+      std::uniform_real_distribution<float> depth(0.5f, 1.5f), unit(0.0f, 1.0f);
+      for (size_t i = 0; i < n; ++i) {
+        if (unit(rng) < 0.3f) {
+          fusion[i] = RT_IBR_EMPTY_DEPTH_BITS;
+          continue;
+        }
+        const float z = unit(rng) < 0.5f ? 0.8f + 0.01f * unit(rng) : depth(rng);  // a flat patch and clutter
+        fusion[i] = std::bit_cast<uint32_t>(z);
+        fusion[2 * n + i] = 1 + uint32_t(unit(rng) * 3);
+        fusion[n + i] = uint32_t(z * 1e5f) * fusion[2 * n + i];
+      }
+      vk::Context& context = test::gpu();
+      vk::Buffer buffer(context, passes::fusion_buffer_desc(width, height));
+      vk::upload(context, buffer, std::as_bytes(std::span(fusion)));
+      vk::Image fused(context, {"fused depth", width, height, PixelFormat::R32F});
+      passes::FuseSettings settings;
+      settings.fusion = mode;
+      const passes::IbrFusePass pass(context, settings);
+      vk::FrameGraph graph(context, "test ibr_fuse");
+      pass.add_to(graph, buffer, fused);
+      graph.run();
+      RT_REQUIRE_MATCHES(vk::download(context, fused), passes::ibr_fuse_reference(fusion, width, height, settings),
+                         1e-6, 1e-5);
+    }
+  }
+}
+
+TEST_CASE("ibr_splat and ibr_fuse hard cases", "[ibr_splat][ibr_fuse][gpu]") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(23);
+  const test::IbrRig rig = test::ibr_rig(2, 16, 9, 31, 29, 45, 27);
+  const size_t n = 45 * 27;
+
+  SECTION("points behind the eye are not splatted") {
+    HostImage points(31, 58, PixelFormat::RGBA32F);
+    for (uint32_t y = 0; y < 58; ++y)
+      for (uint32_t x = 0; x < 31; ++x) {
+        float* p = &points.texels[points.index(x, y)];
+        p[0] = 0.001f * float(x), p[1] = 0.001f * float(y), p[2] = -1.0f, p[3] = 0.7f;  // z = -1: behind the eye at -0.7
+      }
+    const SplatResult gpu = run_gpu(rig, points);
+    REQUIRE(covered(gpu.fusion, n) == 0);
+    REQUIRE(covered(passes::ibr_splat_reference(rig.table, points), n) == 0);
+  }
+  SECTION("no points at all: an empty, finite depth") {
+    const HostImage points(31, 58, PixelFormat::RGBA32F, 0.0f);
+    const SplatResult gpu = run_gpu(rig, points);
+    REQUIRE(covered(gpu.fusion, n) == 0);
+    RT_REQUIRE_MATCHES(gpu.fused_depth, HostImage(45, 27, PixelFormat::R32F, 0.0f), 0.0, 0.0);
+  }
+  SECTION("the nearest surface wins: a near point in front of a far plane") {
+    HostImage points(31, 58, PixelFormat::RGBA32F, 0.0f);
+    auto put = [&](uint32_t x, uint32_t y, Eigen::Vector3f site) {
+      float* p = &points.texels[points.index(x, y)];
+      p[0] = site.x(), p[1] = site.y(), p[2] = site.z(), p[3] = 0.7f;
+    };
+    put(0, 0, {0.0f, 0.1f, 0.9f});   // far (view 0)
+    put(0, 29, {0.0f, 0.1f, 0.5f});  // near, same ray from the eye (view 1)
+    const SplatResult gpu = run_gpu(rig, points);
+    const auto reference = passes::ibr_splat_reference(rig.table, points);
+    require_fusion_matches(gpu.fusion, reference, n);
+    float nearest = 1e9f;
+    for (size_t i = 0; i < n; ++i)
+      if (gpu.fusion[i] != RT_IBR_EMPTY_DEPTH_BITS) nearest = std::min(nearest, std::bit_cast<float>(gpu.fusion[i]));
+    REQUIRE(nearest == Approx(1.2f).epsilon(1e-5));  // eye at z = -0.7: 0.5 + 0.7
+  }
+  SECTION("filling closes a one-pixel crack but not the outside of an edge, nor across a depth edge") {
+    std::vector<uint32_t> fusion(3 * n, 0u);
+    std::fill_n(fusion.begin(), n, RT_IBR_EMPTY_DEPTH_BITS);
+    for (uint32_t y = 5; y < 20; ++y)
+      for (uint32_t x = 5; x < 30; ++x)
+        if (x != 15) fusion[y * 45 + x] = std::bit_cast<uint32_t>(x < 15 ? 1.0f : 1.01f);  // crack at x = 15
+    for (uint32_t y = 5; y < 20; ++y) fusion[y * 45 + 31] = std::bit_cast<uint32_t>(1.0f);
+    for (uint32_t y = 5; y < 20; ++y) fusion[y * 45 + 33] = std::bit_cast<uint32_t>(1.5f);  // gap at 32 across an edge
+    const HostImage filled = passes::ibr_fuse_reference(fusion, 45, 27);
+    REQUIRE(filled.at(15, 10) == Approx(1.005f).epsilon(1e-3));  // crack filled with the mean
+    REQUIRE(filled.at(4, 10) == 0.0f);                            // outside the silhouette
+    REQUIRE(filled.at(32, 10) == 0.0f);                           // between 1.0 and 1.5 m: an edge
+    vk::Context& context = test::gpu();
+    vk::Buffer buffer(context, passes::fusion_buffer_desc(45, 27));
+    vk::upload(context, buffer, std::as_bytes(std::span(fusion)));
+    vk::Image fused(context, {"fused depth", 45, 27, PixelFormat::R32F});
+    const passes::IbrFusePass pass(context);
+    vk::FrameGraph graph(context, "test ibr_fuse edges");
+    pass.add_to(graph, buffer, fused);
+    graph.run();
+    RT_REQUIRE_MATCHES(vk::download(context, fused), filled, 1e-6, 1e-5);
+  }
+  SECTION("a fusion buffer of the wrong size is refused") {
+    vk::Buffer small(test::gpu(), passes::fusion_buffer_desc(4, 4));
+    vk::Image fused(test::gpu(), {"fused depth", 45, 27, PixelFormat::R32F});
+    vk::FrameGraph graph(test::gpu(), "refused");
+    REQUIRE_THROWS_WITH(passes::IbrFusePass(test::gpu()).add_to(graph, small, fused), Catch::Contains("does not match"));
+  }
+}
