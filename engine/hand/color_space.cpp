@@ -1,5 +1,6 @@
 #include "hand/color_space.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -31,11 +32,14 @@ Eigen::Vector3d rgb_to_lab_alpha_beta(const Eigen::Vector3d& rgb) {
 
 Eigen::Vector3d lab_alpha_beta_to_rgb(const Eigen::Vector3d& lab) {
   static const Eigen::Matrix3d inverse = log_lms_to_lab().inverse();
-  // Reinhard et al.'s published inverse (as the shader uses), not the exact one.
-  static const Eigen::Matrix3d lms_to_rgb = (Eigen::Matrix3d() << 4.4679, -3.5873, 0.1193, -1.2186, 2.3809, -0.1624, 0.0497,
-                                             -0.2439, 1.2045).finished();
+  // The exact inverse of rgb_to_lms() (Reinhard et al. print it to four digits, which is off by
+  // 0.4% on a round trip); the shader holds the same numbers.
+  static const Eigen::Matrix3d lms_to_rgb = (Eigen::Matrix3d() << 4.4686699, -3.5886759, 0.1196044, -1.2197166, 2.3830879,
+                                             -0.1626301, 0.0585085, -0.2610784, 1.2056659).finished();
   Eigen::Vector3d lms = inverse * lab;
-  for (int c = 0; c < 3; ++c) lms[c] = std::pow(10.0, lms[c]);
+  // Colours in [0, 1] have log10 LMS in [log10(kMinLms), 0]: clamping a little beyond keeps any
+  // transfer, however extreme, from overflowing.
+  for (int c = 0; c < 3; ++c) lms[c] = std::pow(10.0, std::clamp(lms[c], std::log10(kMinLms), 0.5));
   return lms_to_rgb * lms;
 }
 
