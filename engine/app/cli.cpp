@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "app/calibrate.h"
+#include "app/eval_hand.h"
 #include "app/options.h"
 #include "app/simulate.h"
 
@@ -56,9 +57,10 @@ int run_cli(int argc, char** argv) {
   CLI::App* bench_command = app.add_subcommand("bench", "Print per-pass GPU times and bandwidth against a copy pass");
   bench_command->add_option("what", bench_what,
                             "Which benchmark: compositing (GPU ms per pass), touch (touch-start to motor command; "
-                            "--frames claps), simulate (one frame of all six cameras at full resolution)")
+                            "--frames claps), simulate (one frame of all six cameras at full resolution), hand (skinning and "
+                            "rasterization of the geometry hand)")
       ->required()
-      ->check(CLI::IsMember({"compositing", "touch", "simulate"}));
+      ->check(CLI::IsMember({"compositing", "touch", "simulate", "hand"}));
   add_common_options(*bench_command, bench, "out/bench");
   add_frame_options(*bench_command, bench, 20);
   auto* width = bench_command->add_option("--width", bench.width, "Only this width (default: 1280x720 and 2560x1440)")
@@ -68,6 +70,10 @@ int run_cli(int argc, char** argv) {
   height->needs(width);
 
   CalibrateCommand calibrate(app);
+
+  CLI::App* eval_command = app.add_subcommand("eval", "Measure a part of the system against the simulator's ground truth");
+  eval_command->require_subcommand(1);
+  EvalHandCommand eval_hand(*eval_command);
 
   RunOptions simulate;
   SimulateOptions simulate_options;
@@ -104,6 +110,7 @@ int run_cli(int argc, char** argv) {
     if (bench_command->parsed()) return run_bench(bench_what, bench);
     if (simulate_command->parsed()) return run_simulate(simulate, simulate_options);
     if (calibrate.parsed()) return calibrate.run();
+    if (eval_hand.parsed()) return eval_hand.run();
   } catch (const std::exception& error) {
     std::cerr << "remotetouch: error: " << error.what() << "\n";
     return 1;
