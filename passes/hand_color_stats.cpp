@@ -12,7 +12,8 @@ ColorStatsParams color_stats_params(uint32_t width, uint32_t height) {
 }
 
 uint32_t color_stats_group_count(uint32_t width, uint32_t height) {
-  return (width * height + RT_COLOR_STATS_GROUP - 1) / RT_COLOR_STATS_GROUP;
+  const uint32_t per_group = RT_COLOR_STATS_GROUP * RT_COLOR_STATS_PIXELS_PER_THREAD;
+  return (width * height + per_group - 1) / per_group;
 }
 
 HandColorStatsPass::HandColorStatsPass(vk::Context& context) : kernel_(context, "hand_color_stats", hand_color_stats_comp_spirv) {}
@@ -32,7 +33,7 @@ void HandColorStatsPass::add_to(vk::FrameGraph& graph, vk::Image& portrait_color
       .kernel = &kernel_,
       .bindings = {{"portrait_color", &portrait_color}, {"portrait_depth", &portrait_depth}, {"mesh_color", &mesh_color},
                    {"mesh_depth", &mesh_depth}, {"mesh_mask", &mesh_mask}, {"Partials", &partials}},
-      .threads = {width * height, 1, 1},
+      .threads = {color_stats_group_count(width, height) * RT_COLOR_STATS_GROUP, 1, 1},
       .push_constants = vk::push_constants_from<ColorStatsParams>([width, height] { return color_stats_params(width, height); }),
   });
 }

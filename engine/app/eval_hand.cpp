@@ -153,7 +153,7 @@ int run_eval_hand(const RunOptions& options) {
     HandRenderer renderer(context, kTemplateDir, width, height);
     vk::FrameGraph graph(context, "eval hand " + user.name);
     renderer.add_to(graph);
-    std::mt19937 rng(29);
+    std::mt19937 rng(uint32_t(29 + 7 * (&user - kUsers.data())));
     std::uniform_real_distribution<double> unit(-1.0, 1.0), curl(0.0, 0.8);
 
     // Fingertips over poses, the template's shape (before) and the adapted one (after).

@@ -80,6 +80,8 @@ struct HandSkinParams {
 
 // Paper Eq. 3 statistics: per workgroup partial sums of L, alpha, beta, their squares and the count.
 #define RT_COLOR_STATS_GROUP 256
+// Each invocation first sums this many pixels on its own: fewer workgroups, fewer barriers.
+#define RT_COLOR_STATS_PIXELS_PER_THREAD 16
 // Depth agreement of the image-based and the mesh hand for the statistics (DESIGN.md section 3).
 #define RT_APPEARANCE_DEPTH_TOLERANCE_M 0.05
 
