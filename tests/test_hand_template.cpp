@@ -33,12 +33,10 @@ HandSkeleton posed_hand(bool is_left, double scale, double curl, const Eigen::Ve
   return hand;
 }
 
-std::vector<Eigen::Vector3d> skin(const HandTemplate& hand, const BoneFrames& frames, const RestSkeleton& rest,
-                                  std::span<const HandVertex> vertices) {
+std::vector<Eigen::Vector3d> skin(const BoneFrames& frames, const RestSkeleton& rest, std::span<const HandVertex> vertices) {
   const auto skinned = passes::hand_skinning_reference(vertices, skinning_matrices(frames, rest));
   std::vector<Eigen::Vector3d> out;
   for (const auto& v : skinned) out.emplace_back(v.position_u[0], v.position_u[1], v.position_u[2]);
-  (void)hand;
   return out;
 }
 
@@ -110,7 +108,7 @@ TEST_CASE("Posing the rest skeleton gives identity skinning; rigid motions move 
   HandSkeleton moved = posed_hand(false, 1.0, 0.0, where, turn);
   const BonePose moved_pose = pose_bones(moved, hand.rest);
   REQUIRE(moved_pose.ok());
-  const auto skinned = skin(hand, moved_pose.frames, hand.rest, hand.vertices);
+  const auto skinned = skin(moved_pose.frames, hand.rest, hand.vertices);
   const Eigen::Vector3d rest_palm(0, sim::palm_centre_uv().y(), 0);
   double worst = 0;
   for (size_t i = 0; i < skinned.size(); ++i) {
@@ -148,14 +146,14 @@ TEST_CASE("Hard skeletons: zero-length thumb metacarpal, collinear joints, missi
     const BonePose pose = pose_bones(hand_with_gaps, hand.rest);
     REQUIRE(pose.ok());
     CHECK(pose.fallback_bones == 3);  // index distal, ring proximal and intermediate
-    CHECK(all_finite(skin(hand, pose.frames, hand.rest, hand.vertices)));
+    CHECK(all_finite(skin(pose.frames, hand.rest, hand.vertices)));
   }
   SECTION("a skeleton collapsed to one point with a valid frame gives the rest-shaped hand there") {
     HandSkeleton point = posed_hand(true, 1.0, 0.0, palm);
     for (auto& digit : point.digits) digit.fill(point.wrist);
     const BonePose pose = pose_bones(point, hand.rest);
     REQUIRE(pose.ok());
-    CHECK(all_finite(skin(hand, pose.frames, hand.rest, hand.vertices)));
+    CHECK(all_finite(skin(pose.frames, hand.rest, hand.vertices)));
   }
   SECTION("no wrist, or no way to form the hand frame, is a clear error") {
     HandSkeleton no_wrist = posed_hand(true, 1.0, 0.0, palm);

@@ -246,8 +246,8 @@ HandTemplate build_hand_template(bool is_left) {
     Influence influence;
     const double wrist = smoothstep(-0.04, 0.005, y);
     influence.add(kArmBone, 1.0 - wrist);
-    // Towards the knuckles the palm follows the metacarpals of index to pinky (shared out
-    // below per vertex would need per-vertex rings; the ring's middle bones stand in).
+    // Towards the knuckles the palm bends a little with the middle and ring metacarpals (one
+    // weight set per ring: the palm's rings are not split per finger).
     const double metacarpal = 0.6 * smoothstep(0.035, knuckle_y, y);
     influence.add(kWristBone, wrist * (1.0 - metacarpal));
     influence.add(digit_bone(2, 0), wrist * metacarpal * 0.5);
