@@ -5,6 +5,7 @@
 
 #include "app/calibrate.h"
 #include "app/eval_ibr.h"
+#include "app/eval_hand.h"
 #include "app/options.h"
 #include "app/simulate.h"
 
@@ -58,9 +59,9 @@ int run_cli(int argc, char** argv) {
   bench_command->add_option("what", bench_what,
                             "Which benchmark: compositing (GPU ms per pass), touch (touch-start to motor command; "
                             "--frames claps), simulate (one frame of all six cameras at full resolution), ibr (the image-based "
-                            "model's passes for 2, 4, 6 views)")
+                            "model's passes for 2, 4, 6 views), hand (skinning and rasterization of the geometry hand)")
       ->required()
-      ->check(CLI::IsMember({"compositing", "touch", "simulate", "ibr"}));
+      ->check(CLI::IsMember({"compositing", "touch", "simulate", "ibr", "hand"}));
   add_common_options(*bench_command, bench, "out/bench");
   add_frame_options(*bench_command, bench, 20);
   auto* width = bench_command->add_option("--width", bench.width, "Only this width (default: 1280x720 and 2560x1440)")
@@ -70,6 +71,10 @@ int run_cli(int argc, char** argv) {
   height->needs(width);
 
   CalibrateCommand calibrate(app);
+
+  CLI::App* eval_command = app.add_subcommand("eval", "Measure a part of the system against the simulator's ground truth");
+  eval_command->require_subcommand(1);
+  EvalHandCommand eval_hand(*eval_command);
 
   RunOptions simulate;
   SimulateOptions simulate_options;
@@ -88,8 +93,6 @@ int run_cli(int argc, char** argv) {
   simulate_command->add_option("--gt-height", simulate_options.gt_height, "Ground-truth target view height")
       ->check(CLI::Range(1u, 16384u))->capture_default_str();
 
-  CLI::App* eval_command = app.add_subcommand("eval", "Measure a part of the system against the simulator's ground truth");
-  eval_command->require_subcommand(1);
   RunOptions eval_ibr;
   EvalIbrOptions eval_ibr_options;
   CLI::App* eval_ibr_command = eval_command->add_subcommand(
@@ -138,6 +141,7 @@ int run_cli(int argc, char** argv) {
     if (simulate_command->parsed()) return run_simulate(simulate, simulate_options);
     if (eval_ibr_command->parsed()) return run_eval_ibr(eval_ibr, eval_ibr_options);
     if (calibrate.parsed()) return calibrate.run();
+    if (eval_hand.parsed()) return eval_hand.run();
   } catch (const std::exception& error) {
     std::cerr << "remotetouch: error: " << error.what() << "\n";
     return 1;

@@ -232,9 +232,13 @@ void FrameGraph::add_graphics_pass(GraphicsPassDecl decl) {
     if (decl.depth->pixel_format() != PixelFormat::D32F) throw fail("depth target '" + decl.depth->name() + "' is not d32f");
     uses.push_back({decl.depth, access::depth_attachment_write});
   }
+  // Only attachments share the render area; a sampled texture has its own size.
   for (const ResourceUse& use : uses)
     if (auto* image = std::get_if<Image*>(&use.resource);
-        image && use.access.layout != VK_IMAGE_LAYOUT_GENERAL && ((*image)->width() != extent.width || (*image)->height() != extent.height))
+        image &&
+        (use.access.layout == VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL ||
+         use.access.layout == VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL) &&
+        ((*image)->width() != extent.width || (*image)->height() != extent.height))
       throw fail("target '" + (*image)->name() + "' differs in size from the others");
 
   const Context& context = context_;

@@ -54,6 +54,74 @@ struct DepthSensorParams {
   RT_UINT seed;  // per camera and frame: the simulated noise is reproducible
 };
 
+
+// ---- The geometry hand (issue 5) ----
+// Bones of the hand template, in the tracker's hierarchy: arm, wrist, then per digit (thumb to
+// pinky) metacarpal, proximal, intermediate, distal. Bone 2 + 4 digit + b.
+#define RT_HAND_BONES 22
+
+// A vertex of the hand template in its rest pose (std430: four vec4).
+struct HandVertex {
+  RT_VEC4 position_u;  // rest position in the template's frame (metres); w: texture u
+  RT_VEC4 normal_v;    // unit normal; w: texture v
+  RT_VEC4 joints;      // up to four bone indices (small integers as floats)
+  RT_VEC4 weights;     // their weights: >= 0, summing to 1
+};
+
+// A skinned vertex, in the site frame.
+struct SkinnedVertex {
+  RT_VEC4 position_u;  // xyz metres; w: texture u
+  RT_VEC4 normal_v;    // xyz unit normal; w: texture v
+};
+
+struct HandSkinParams {
+  RT_UINT vertex_count;
+};
+
+// Paper Eq. 3 statistics: per workgroup partial sums of L, alpha, beta, their squares and the count.
+#define RT_COLOR_STATS_GROUP 256
+// Each invocation first sums this many pixels on its own: fewer workgroups, fewer barriers.
+#define RT_COLOR_STATS_PIXELS_PER_THREAD 16
+// Depth agreement of the image-based and the mesh hand for the statistics (DESIGN.md section 3).
+#define RT_APPEARANCE_DEPTH_TOLERANCE_M 0.05
+
+struct ColorStatsParams {
+  RT_UINT pixel_count;      // width * height
+  RT_UINT width;
+  float depth_tolerance_m;  // |D_i - D_g| below this
+  float min_level;          // pixels with a channel at or below this are black: skipped
+  float max_level;          // ... at or above this are saturated: skipped
+};
+
+// One workgroup's sums over its valid pixels (L, alpha, beta in xyz; w unused).
+struct ColorStatsPartial {
+  RT_VEC4 count;  // x: pixels
+  RT_VEC4 image_sum;
+  RT_VEC4 image_sum_sq;
+  RT_VEC4 mesh_sum;
+  RT_VEC4 mesh_sum_sq;
+};
+
+// The smoothed statistics the texture transfer uses (L, alpha, beta in xyz).
+struct AppearanceState {
+  RT_VEC4 header;  // x: 1 once statistics exist, y: updates so far, z: pixels in the last frame
+  RT_VEC4 image_mean;
+  RT_VEC4 image_sigma;
+  RT_VEC4 mesh_mean;
+  RT_VEC4 mesh_sigma;
+};
+
+struct ColorTransferParams {
+  float sigma_floor;
+};
+
+struct ColorStatsReduceParams {
+  RT_UINT group_count;     // partial sums to add
+  float min_pixels;        // fewer pixels: keep the previous transfer
+  float smoothing;         // weight of the new statistics in the running average, (0, 1]
+  float sigma_floor;       // floor on the template's standard deviation per channel
+};
+
 #ifdef __cplusplus
 }  // namespace rt::shader_abi
 #endif

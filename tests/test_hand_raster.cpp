@@ -1,0 +1,138 @@
+// hand_raster pass: the GPU against the C++ reference on the skinned template seen from target
+// views of odd sizes, and on the hard cases (a hand across the near plane, a hand behind the
+// eye, no triangles). Tolerances away from triangle edges: mask exact, linear depth 1e-5
+// relative, colour 4e-3 absolute (the GPU's 8-bit sub-texel filter weights on a texture whose
+// nails and creases step by up to 0.2); within one pixel of an edge the GPU's tie-breaking may
+// differ.
+#include <cmath>
+#include <random>
+
+#include "geometry/target_view.h"
+#include "hand/hand_bones.h"
+#include "hand/hand_template.h"
+#include "passes/hand_raster.h"
+#include "passes/hand_skinning.h"
+#include "sim/hand_model.h"
+#include "support/gpu_test.h"
+
+using namespace rt;
+using passes::SkinnedVertex;
+
+namespace {
+
+struct GpuRaster {
+  HostImage color, depth_m, mask;
+};
+
+GpuRaster run_gpu(const std::vector<SkinnedVertex>& skinned, const std::vector<uint32_t>& indices, const HostImage& texture,
+                  const Camera& camera) {
+  vk::Context& context = test::gpu();
+  const uint32_t w = camera.intrinsics.width, h = camera.intrinsics.height;
+  vk::Buffer vertex_buffer(context, {"skinned", std::max<size_t>(1, skinned.size()) * sizeof(SkinnedVertex)});
+  vk::Buffer index_buffer(context, {"indices", std::max<size_t>(1, indices.size()) * sizeof(uint32_t)});
+  if (!skinned.empty()) vk::upload(context, vertex_buffer, std::as_bytes(std::span(skinned)));
+  if (!indices.empty()) vk::upload(context, index_buffer, std::as_bytes(std::span(indices)));
+  vk::Image texture_image(context, {"skin texture", texture.width, texture.height, PixelFormat::RGBA32F});
+  vk::upload(context, texture_image, texture);
+  const vk::Sampler sampler(context, "bilinear clamp");
+  vk::Image color(context, {"hand color", w, h, PixelFormat::RGBA32F});
+  vk::Image depth_m(context, {"hand depth", w, h, PixelFormat::R32F});
+  vk::Image mask(context, {"hand mask", w, h, PixelFormat::R32F});
+  vk::Image depth_buffer(context, {"hand depth buffer", w, h, PixelFormat::D32F});
+  const passes::HandRasterPass pass(context);
+  vk::FrameGraph graph(context, "test hand_raster");
+  const auto view = passes::raster_view(camera, 0.05, 10.0);
+  pass.add_to(graph, vertex_buffer, index_buffer, [n = uint32_t(indices.size())] { return n; }, texture_image, sampler,
+              [view] { return view; }, {&color, &depth_m, &mask, &depth_buffer});
+  graph.run();
+  return {vk::download(context, color), vk::download(context, depth_m), vk::download(context, mask)};
+}
+
+size_t require_matches(const GpuRaster& gpu, const passes::HandRasterReference& reference) {
+  REQUIRE(test::count_non_finite(gpu.color) == 0);
+  REQUIRE(test::count_non_finite(gpu.depth_m) == 0);
+  REQUIRE(test::count_non_finite(gpu.mask) == 0);
+  size_t covered = 0;
+  size_t gpu_total = 0, ref_total = 0;
+  for (size_t i = 0; i < gpu.mask.texels.size(); ++i) gpu_total += gpu.mask.texels[i] > 0, ref_total += reference.mask.texels[i] > 0;
+  INFO("hand pixels: GPU " << gpu_total << ", reference " << ref_total);
+  for (uint32_t y = 0; y < gpu.mask.height; ++y)
+    for (uint32_t x = 0; x < gpu.mask.width; ++x) {
+      const float m = gpu.mask.at(x, y);
+      REQUIRE((m == 0.0f || m == 1.0f));
+      if (reference.near_edge.at(x, y) != 0.0f) continue;
+      INFO("pixel " << x << ", " << y);
+      REQUIRE(m == reference.mask.at(x, y));
+      if (m == 0.0f) {
+        REQUIRE(gpu.depth_m.at(x, y) == 0.0f);
+        REQUIRE(gpu.color.at(x, y, 3) == 0.0f);
+        continue;
+      }
+      ++covered;
+      REQUIRE(std::abs(gpu.depth_m.at(x, y) - reference.depth_m.at(x, y)) <= 1e-5 * reference.depth_m.at(x, y));
+      for (uint32_t c = 0; c < 4; ++c) REQUIRE(std::abs(gpu.color.at(x, y, c) - reference.color.at(x, y, c)) <= 4e-3);
+    }
+  if (gpu_total > 200) CHECK(covered > gpu_total / 4);
+  return covered;
+}
+
+// The skinned template for a hand placed in the site frame.
+std::vector<SkinnedVertex> skinned_hand(const hand::HandTemplate& hand, const Eigen::Vector3d& palm, double curl) {
+  sim::HandPlacement placement;
+  placement.palm = palm;
+  placement.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.2, 1, 0.3).normalized()));
+  placement.curl = curl;
+  HandSkeleton skeleton = sim::build_hand(placement, hand.is_left, 1.0);
+  skeleton.elbow = skeleton.wrist - 0.25 * skeleton.direction;
+  const hand::BonePose pose = hand::pose_bones(skeleton, hand.rest);
+  REQUIRE(pose.ok());
+  return passes::hand_skinning_reference(hand.vertices, hand::skinning_matrices(pose.frames, hand.rest));
+}
+
+// The remote viewer's eye 0.7 m behind the screen, looking at the hand.
+Camera view_of(uint32_t width, uint32_t height) {
+  return target_view_camera(Eigen::Vector3d(0.02, 0.05, -0.7), Screen{}, width, height);
+}
+
+// A close pinhole view of the hand (the pass takes any pinhole), so that it fills the image.
+Camera close_view(uint32_t width, uint32_t height) {
+  Camera camera = view_of(width, height);
+  camera.intrinsics.fx = camera.intrinsics.fy = 1.1 * width;
+  camera.intrinsics.cx = 0.5 * width - 0.5 + 0.3;
+  camera.intrinsics.cy = 0.5 * height - 0.5 - 0.2;
+  camera.camera_from_site.translation() = -(camera.camera_from_site.linear() * Eigen::Vector3d(0.0, 0.05, -0.15));
+  return camera;
+}
+
+}  // namespace
+
+TEST_CASE("hand_raster matches the reference on the skinned template at odd sizes") {
+  test::NoValidationErrors no_errors;
+  const hand::HandTemplate hand = hand::build_hand_template(false);
+  for (auto [w, h] : std::vector<std::pair<uint32_t, uint32_t>>{{97, 55}, {160, 90}, {1, 1}, {33, 1}}) {
+    INFO(w << "x" << h);
+    // The hand fills a good part of a small view: 20 cm in front of the screen.
+    const auto skinned = skinned_hand(hand, Eigen::Vector3d(0.0, 0.05, 0.2), 0.3);
+    const Camera camera = close_view(w, h);
+    const size_t covered = require_matches(run_gpu(skinned, hand.indices, hand.texture, camera),
+                                           passes::hand_raster_reference(skinned, hand.indices, hand.texture,
+                                                                         passes::raster_view(camera, 0.05, 10.0), w, h));
+    if (w * h > 1000) CHECK(covered > w * h / 50);
+  }
+}
+
+TEST_CASE("hand_raster hard cases: across the near plane, behind the eye, nothing to draw") {
+  test::NoValidationErrors no_errors;
+  const hand::HandTemplate hand = hand::build_hand_template(true);
+  const Camera camera = view_of(61, 47);
+  const auto view = passes::raster_view(camera, 0.05, 10.0);
+  const Eigen::Vector3d eye = camera.position_in_site();
+  for (const Eigen::Vector3d& palm : {Eigen::Vector3d(eye + Eigen::Vector3d(0, 0, 0.1)),   // straddles the near plane
+                                      Eigen::Vector3d(eye - Eigen::Vector3d(0, 0, 0.4))}) {  // behind the eye
+    const auto skinned = skinned_hand(hand, palm, 0.5);
+    require_matches(run_gpu(skinned, hand.indices, hand.texture, camera),
+                    passes::hand_raster_reference(skinned, hand.indices, hand.texture, view, 61, 47));
+  }
+  const GpuRaster empty = run_gpu({}, {}, hand.texture, camera);
+  for (float m : empty.mask.texels) REQUIRE(m == 0.0f);
+}

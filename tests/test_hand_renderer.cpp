@@ -1,0 +1,119 @@
+// HandRenderer, the receiver's geometry hand: nothing before a pose, a held pose for a skeleton
+// that cannot be posed (never a broken mesh), the shape fitted once, appearance adaption only
+// beyond d_max, and its result moving the render's colour towards the portrait's.
+#include <cmath>
+#include <limits>
+
+#include "app/hand_renderer.h"
+#include "geometry/target_view.h"
+#include "sim/hand_model.h"
+#include "support/gpu_test.h"
+
+using namespace rt;
+
+namespace {
+
+const std::filesystem::path kTemplates = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "hand";
+
+HandSkeleton facing_hand(double z, double scale = 1.0) {
+  sim::HandPlacement placement;
+  placement.palm = Eigen::Vector3d(0.0, 0.02, z);
+  Eigen::Matrix3d facing;
+  facing << -Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), -Eigen::Vector3d::UnitZ();
+  placement.orientation = Eigen::Quaterniond(facing);
+  placement.curl = 0.2;
+  HandSkeleton hand = sim::build_hand(placement, false, scale);
+  hand.elbow = hand.wrist - 0.25 * hand.direction;
+  return hand;
+}
+
+double covered(const HostImage& mask) {
+  double sum = 0;
+  for (float m : mask.texels) sum += m;
+  return sum;
+}
+
+Eigen::Vector3d mean_colour(const HostImage& color, const HostImage& mask) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double n = 0;
+  for (uint32_t y = 0; y < color.height; ++y)
+    for (uint32_t x = 0; x < color.width; ++x)
+      if (mask.at(x, y) > 0.5f) sum += Eigen::Vector3d(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2)), ++n;
+  return n > 0 ? Eigen::Vector3d(sum / n) : sum;
+}
+
+}  // namespace
+
+TEST_CASE("HandRenderer draws nothing before a pose and holds the last pose for a broken skeleton") {
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  const Camera camera = target_view_camera(Eigen::Vector3d(0, 0.02, -0.7), Screen{}, 121, 67);
+  app::HandRenderer renderer(context, kTemplates, 121, 67);
+  vk::FrameGraph graph(context, "test hand renderer");
+  renderer.add_to(graph);
+  graph.run();
+  CHECK(covered(vk::download(context, renderer.mask())) == 0.0);
+
+  renderer.set_pose(facing_hand(0.15, 1.1), camera);
+  REQUIRE(renderer.has_pose());
+  CHECK(renderer.shape_adapted());
+  graph.run();
+  const HostImage good = vk::download(context, renderer.depth());
+  CHECK(covered(vk::download(context, renderer.mask())) > 50);
+  CHECK(test::count_non_finite(good) == 0);
+
+  HandSkeleton broken = facing_hand(0.3);
+  broken.wrist = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  renderer.set_pose(broken, camera);
+  CHECK_THAT(renderer.pose_error(), Catch::Contains("wrist"));
+  graph.run();
+  RT_REQUIRE_MATCHES(vk::download(context, renderer.depth()), good, 0.0, 0.0);
+
+  // A camera of another size is a clear error, not a stretched render.
+  CHECK_THROWS_WITH(renderer.set_pose(facing_hand(0.15), target_view_camera(Eigen::Vector3d(0, 0, -0.7), Screen{}, 64, 64)),
+                    Catch::Contains("64x64"));
+}
+
+TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the portrait's colours") {
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  const uint32_t w = 160, h = 90;
+  const Camera camera = target_view_camera(Eigen::Vector3d(0, 0.02, -0.7), Screen{}, w, h);
+  app::HandRenderer renderer(context, kTemplates, w, h);
+  vk::FrameGraph graph(context, "test hand appearance");
+  renderer.add_to(graph);
+  vk::Image portrait_color(context, {"portrait color", w, h, PixelFormat::RGBA32F});
+  vk::Image portrait_depth(context, {"portrait depth", w, h, PixelFormat::R32F});
+
+  renderer.set_pose(facing_hand(0.2), camera);  // inside the ramp: the cameras do not see it well
+  graph.run();
+  CHECK_FALSE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+
+  renderer.set_pose(facing_hand(0.5), camera);
+  graph.run();
+  const HostImage mask = vk::download(context, renderer.mask());
+  const Eigen::Vector3d before = mean_colour(vk::download(context, renderer.color()), mask);
+  // The portrait: the same hand, a darker and redder skin, at the same depth.
+  HostImage portrait = vk::download(context, renderer.color());
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      portrait.at(x, y, 0) *= 0.7f;
+      portrait.at(x, y, 1) *= 0.45f;
+      portrait.at(x, y, 2) *= 0.4f;
+    }
+  vk::upload(context, portrait_color, portrait);
+  vk::upload(context, portrait_depth, vk::download(context, renderer.depth()));
+  REQUIRE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  const auto state = renderer.appearance_state();
+  CHECK(state.header[0] == 1.0f);
+  CHECK(state.header[2] > 16.0f);
+  graph.run();
+  const Eigen::Vector3d after = mean_colour(vk::download(context, renderer.color()), mask);
+  const Eigen::Vector3d target = before.cwiseProduct(Eigen::Vector3d(0.7, 0.45, 0.4));
+  INFO("before " << before.transpose() << ", after " << after.transpose() << ", portrait " << target.transpose());
+  CHECK((after - target).norm() < 0.25 * (before - target).norm());
+
+  renderer.reset_appearance();
+  graph.run();
+  CHECK((mean_colour(vk::download(context, renderer.color()), mask) - before).norm() < 1e-6);
+}
