@@ -56,9 +56,10 @@ int run_cli(int argc, char** argv) {
   CLI::App* bench_command = app.add_subcommand("bench", "Print per-pass GPU times and bandwidth against a copy pass");
   bench_command->add_option("what", bench_what,
                             "Which benchmark: compositing (GPU ms per pass), touch (touch-start to motor command; "
-                            "--frames claps), simulate (one frame of all six cameras at full resolution)")
+                            "--frames claps), simulate (one frame of all six cameras at full resolution), net (portraits at 30 fps over loopback: "
+                            "bytes/s on the wire, encode/decode ms; --frames portraits per size)")
       ->required()
-      ->check(CLI::IsMember({"compositing", "touch", "simulate"}));
+      ->check(CLI::IsMember({"compositing", "touch", "simulate", "net"}));
   add_common_options(*bench_command, bench, "out/bench");
   add_frame_options(*bench_command, bench, 20);
   auto* width = bench_command->add_option("--width", bench.width, "Only this width (default: 1280x720 and 2560x1440)")
