@@ -98,12 +98,10 @@ std::vector<uint8_t> encode_color_jpeg(const HostImage& rgba, int quality) {
   cv::Mat bgr(int(rgba.height), int(rgba.width), CV_8UC3);
   for (uint32_t y = 0; y < rgba.height; ++y) {
     auto* row = bgr.ptr<uint8_t>(int(y));
-    for (uint32_t x = 0; x < rgba.width; ++x)
-      for (int c = 0; c < 3; ++c) {
-        const float v = rgba.at(x, y, uint32_t(c));
-        // NaN goes to 0: fmax picks the number.
-        row[3 * x + (2 - c)] = uint8_t(std::lround(std::fmin(std::fmax(v, 0.0f), 1.0f) * 255.0f));
-      }
+    const float* texel = &rgba.texels[rgba.index(0, y)];
+    for (uint32_t x = 0; x < rgba.width; ++x, texel += 4)
+      for (int c = 0; c < 3; ++c)  // NaN goes to 0: fmax picks the number
+        row[3 * x + (2 - c)] = uint8_t(std::fmin(std::fmax(texel[c], 0.0f), 1.0f) * 255.0f + 0.5f);
   }
   std::vector<uint8_t> out;
   if (!cv::imencode(".jpg", bgr, out, {cv::IMWRITE_JPEG_QUALITY, std::clamp(quality, 1, 100)}))
@@ -125,8 +123,9 @@ std::optional<std::string> decode_color_jpeg(std::span<const uint8_t> bytes, Hos
     return std::string("colour JPEG decodes to a different size or type than declared");
   for (uint32_t y = 0; y < rgba.height; ++y) {
     const auto* row = bgr.ptr<uint8_t>(int(y));
-    for (uint32_t x = 0; x < rgba.width; ++x)
-      for (int c = 0; c < 3; ++c) rgba.at(x, y, uint32_t(c)) = float(row[3 * x + (2 - c)]) / 255.0f;
+    float* texel = &rgba.texels[rgba.index(0, y)];
+    for (uint32_t x = 0; x < rgba.width; ++x, texel += 4)
+      for (int c = 0; c < 3; ++c) texel[c] = float(row[3 * x + (2 - c)]) / 255.0f;
   }
   return std::nullopt;
 }
@@ -134,12 +133,17 @@ std::optional<std::string> decode_color_jpeg(std::span<const uint8_t> bytes, Hos
 std::vector<uint8_t> encode_float_plane_png(const HostImage& image, uint32_t channel, int compression) {
   if (channel >= image.channels()) throw std::invalid_argument("float plane: no such channel");
   const int w = int(image.width), h = int(image.height);
+  const uint32_t stride = image.channels();
   cv::Mat planes(4 * h, w, CV_8UC1);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const uint32_t bits = std::bit_cast<uint32_t>(image.at(uint32_t(x), uint32_t(y), channel));
-      for (int p = 0; p < 4; ++p) planes.at<uint8_t>(p * h + y, x) = uint8_t(bits >> (8 * (3 - p)));
+  for (int y = 0; y < h; ++y) {
+    const float* texel = image.texels.data() + size_t(y) * size_t(w) * stride + channel;
+    uint8_t* rows[4] = {planes.ptr<uint8_t>(y), planes.ptr<uint8_t>(h + y), planes.ptr<uint8_t>(2 * h + y),
+                        planes.ptr<uint8_t>(3 * h + y)};
+    for (int x = 0; x < w; ++x, texel += stride) {
+      const uint32_t bits = std::bit_cast<uint32_t>(*texel);
+      for (int p = 0; p < 4; ++p) rows[p][x] = uint8_t(bits >> (8 * (3 - p)));
     }
+  }
   std::vector<uint8_t> out;
   if (!cv::imencode(".png", planes, out, {cv::IMWRITE_PNG_COMPRESSION, std::clamp(compression, 0, 9)}))
     throw std::runtime_error("OpenCV could not encode a float plane as PNG");
@@ -159,12 +163,17 @@ std::optional<std::string> decode_float_plane_png(std::span<const uint8_t> bytes
   if (planes.type() != CV_8UC1 || uint32_t(planes.cols) != image.width || uint32_t(planes.rows) != 4 * image.height)
     return std::string("PNG decodes to a different size or type than declared");
   const int w = int(image.width), h = int(image.height);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
+  const uint32_t stride = image.channels();
+  for (int y = 0; y < h; ++y) {
+    float* texel = image.texels.data() + size_t(y) * size_t(w) * stride + channel;
+    const uint8_t* rows[4] = {planes.ptr<uint8_t>(y), planes.ptr<uint8_t>(h + y), planes.ptr<uint8_t>(2 * h + y),
+                              planes.ptr<uint8_t>(3 * h + y)};
+    for (int x = 0; x < w; ++x, texel += stride) {
       uint32_t bits = 0;
-      for (int p = 0; p < 4; ++p) bits |= uint32_t(planes.at<uint8_t>(p * h + y, x)) << (8 * (3 - p));
-      image.at(uint32_t(x), uint32_t(y), channel) = std::bit_cast<float>(bits);
+      for (int p = 0; p < 4; ++p) bits |= uint32_t(rows[p][x]) << (8 * (3 - p));
+      *texel = std::bit_cast<float>(bits);
     }
+  }
   return std::nullopt;
 }
 

@@ -2,6 +2,7 @@
 
 #include <asio.hpp>
 #include <algorithm>
+#include <condition_variable>
 #include <deque>
 #include <iostream>
 #include <mutex>
@@ -101,6 +102,13 @@ struct Session::Impl {
   std::vector<TouchEventMessage> in_touch;
   ConnectionStatus status;
   NetCounters counters;
+
+  // Portraits are decoded on a thread of their own (tens of ms at 720p), so that touch events,
+  // eyes and skeletons behind one on the socket are not held up. Newest wins here too.
+  std::thread portrait_thread;
+  std::condition_variable portrait_wake;
+  std::optional<std::vector<uint8_t>> portrait_pending;  // under `mutex`
+  bool portrait_stop = false;                            // under `mutex`
 
   void log(const std::string& line) { options.log("[" + options.name + "] " + line); }
 
@@ -253,9 +261,37 @@ struct Session::Impl {
     c->last_rx_us = monotonic_now_us();
     if (const uint64_t gap = c->opener->records_missing() - missing_before)
       count([&](NetCounters& k) { k.records_missing += gap; });
+    DecodeError header_error;
+    const auto header = decode_header(plaintext, &header_error);
+    if (header && header->type == uint16_t(MessageType::Portrait)) {
+      {
+        std::lock_guard lock(mutex);
+        if (portrait_pending) ++counters.stale_dropped_in[size_t(message_type_index(MessageType::Portrait))];
+        portrait_pending = std::move(plaintext);
+      }
+      portrait_wake.notify_one();
+      return;
+    }
+    decode_and_deliver(plaintext);
+  }
+
+  void decode_and_deliver(std::span<const uint8_t> plaintext) {
     DecodeResult result = decode_message(plaintext);
     if (!result.ok()) return reject(decode_error_kind_name(result.error.kind), result.error.message);
     deliver(std::move(*result.message));
+  }
+
+  void decode_portraits() {
+    std::unique_lock lock(mutex);
+    while (true) {
+      portrait_wake.wait(lock, [this] { return portrait_stop || portrait_pending; });
+      if (portrait_stop) return;
+      std::vector<uint8_t> bytes = std::move(*portrait_pending);
+      portrait_pending.reset();
+      lock.unlock();
+      decode_and_deliver(bytes);
+      lock.lock();
+    }
   }
 
   void deliver(Message message) {
@@ -458,6 +494,11 @@ void Session::start() {
   }
   s.tick();
   s.work.emplace(s.io.get_executor());
+  {
+    std::lock_guard lock(s.mutex);
+    s.portrait_stop = false;
+  }
+  s.portrait_thread = std::thread([&s] { s.decode_portraits(); });
   s.thread = std::thread([&s] { s.io.run(); });
 }
 
@@ -467,6 +508,12 @@ void Session::stop() {
   asio::post(s.io, [&s] { s.shut_down(); });
   s.work.reset();
   s.thread.join();
+  {
+    std::lock_guard lock(s.mutex);
+    s.portrait_stop = true;
+  }
+  s.portrait_wake.notify_one();
+  s.portrait_thread.join();
 }
 
 uint16_t Session::local_port() const { return impl_->bound_port; }

@@ -83,7 +83,8 @@ class Session {
   std::optional<HeartbeatMessage> take_heartbeat();
   std::vector<TouchEventMessage> take_touch_events();
 
-  // Set before start(). Called on the network thread for every accepted message, heartbeats too.
+  // Set before start(). Called for every accepted message, heartbeats too: on the network thread,
+  // portraits on the session's portrait-decoding thread (so a 720p decode never delays a touch).
   void set_handler(std::function<void(const Message&)> handler);
 
   ConnectionStatus status() const;
