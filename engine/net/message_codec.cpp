@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <stdexcept>
 
 #include "net/byte_io.h"
@@ -127,9 +128,12 @@ void encode_payload(ByteWriter& w, const Message& message, const EncodeOptions& 
           for (double v : {m.fx, m.fy, m.cx, m.cy}) w.put<double>(v);
           for (int row = 0; row < 4; ++row)
             for (int col = 0; col < 4; ++col) w.put<double>(m.camera_from_site(row, col));
+          // The three images are independent: encode them side by side.
+          auto alpha = std::async(std::launch::async, [&] { return encode_float_plane_png(m.color, 3, options.png_compression); });
+          auto depth = std::async(std::launch::async, [&] { return encode_float_plane_png(m.depth, 0, options.png_compression); });
           put_blob(w, encode_color_jpeg(m.color, options.jpeg_quality));
-          put_blob(w, encode_float_plane_png(m.color, 3, options.png_compression));
-          put_blob(w, encode_float_plane_png(m.depth, 0, options.png_compression));
+          put_blob(w, alpha.get());
+          put_blob(w, depth.get());
         } else if constexpr (std::is_same_v<T, SkeletonMessage>) {
           if (m.hands.size() > kMaxHands) invalid(std::to_string(m.hands.size()) + " hands, at most 2");
           w.put<uint64_t>(m.timestamp_us);
@@ -242,11 +246,17 @@ Message decode_payload(MessageType type, ByteReader& r) {
                                                 "x" + std::to_string(m.height) + " (x4 byte planes)");
       }
       m.depth = HostImage(m.width, m.height, PixelFormat::R32F);
-      if (auto e = decode_float_plane_png(depth, m.depth, 0)) reject(DecodeErrorKind::BadImage, "depth: " + *e);
       m.color = HostImage(m.width, m.height, PixelFormat::RGBA32F);
-      if (auto e = decode_float_plane_png(alpha, m.color, 3)) reject(DecodeErrorKind::BadImage, "alpha: " + *e);
+      // Side by side: depth, alpha (channel 3) and colour (channels 0..2) write disjoint floats.
+      auto depth_error = std::async(std::launch::async, [&] { return decode_float_plane_png(depth, m.depth, 0); });
+      auto alpha_error = std::async(std::launch::async, [&] { return decode_float_plane_png(alpha, m.color, 3); });
+      const auto color_error = decode_color_jpeg(jpeg, m.color);
+      const auto depth_result = depth_error.get();
+      const auto alpha_result = alpha_error.get();
+      if (depth_result) reject(DecodeErrorKind::BadImage, "depth: " + *depth_result);
+      if (alpha_result) reject(DecodeErrorKind::BadImage, "alpha: " + *alpha_result);
       if (auto e = check_portrait_images(m); !e.empty()) reject(DecodeErrorKind::BadValue, e);
-      if (auto e = decode_color_jpeg(jpeg, m.color)) reject(DecodeErrorKind::BadImage, "colour: " + *e);
+      if (color_error) reject(DecodeErrorKind::BadImage, "colour: " + *color_error);
       return m;
     }
   }
