@@ -66,6 +66,7 @@ class Session {
   Session& operator=(const Session&) = delete;
 
   // Binds (listener; throws if it cannot) or starts connecting, and starts the network thread.
+  // A session starts once; after stop(), make a new one.
   void start();
   void stop();
   uint16_t local_port() const;
