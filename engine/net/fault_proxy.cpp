@@ -15,7 +15,8 @@ namespace rt::net {
 
 nlohmann::json FaultCounts::to_json() const {
   return {{"connections", connections},   {"records_forwarded", records_forwarded}, {"records_dropped", records_dropped},
-          {"garbage_injections", garbage_injections}, {"garbage_bytes", garbage_bytes}, {"disconnects", disconnects}};
+          {"garbage_injections", garbage_injections}, {"garbage_bytes", garbage_bytes}, {"disconnects", disconnects},
+          {"bytes_swallowed", bytes_swallowed}};
 }
 
 namespace {
@@ -64,6 +65,7 @@ struct FaultProxy::Impl {
   std::set<PairPtr> pairs;
   std::mt19937 random;
   bool closing = false;
+  bool blackhole = false;
   uint16_t bound_port = 0;
   mutable std::mutex mutex;
   FaultCounts counts;
@@ -152,6 +154,11 @@ struct FaultProxy::Impl {
   }
 
   void enqueue(const PairPtr& p, Pipe& pipe, std::vector<uint8_t> bytes, bool is_record) {
+    if (blackhole) {
+      std::lock_guard lock(mutex);
+      counts.bytes_swallowed += bytes.size();
+      return;
+    }
     if (is_record && options.loss > 0 && std::uniform_real_distribution<double>(0, 1)(random) < options.loss) {
       std::lock_guard lock(mutex);
       ++counts.records_dropped;
@@ -262,6 +269,10 @@ void FaultProxy::disconnect_now() {
 
 void FaultProxy::inject_garbage_now(size_t bytes) {
   asio::post(impl_->io, [this, bytes] { impl_->garbage(bytes); });
+}
+
+void FaultProxy::set_blackhole(bool on) {
+  asio::post(impl_->io, [this, on] { impl_->blackhole = on; });
 }
 
 FaultCounts FaultProxy::counts() const {

@@ -29,6 +29,7 @@ struct FaultCounts {
   uint64_t records_forwarded = 0, records_dropped = 0;
   uint64_t garbage_injections = 0, garbage_bytes = 0;
   uint64_t disconnects = 0;
+  uint64_t bytes_swallowed = 0;  // by the blackhole
   nlohmann::json to_json() const;
 };
 
@@ -47,6 +48,9 @@ class FaultProxy {
   void disconnect_now();
   // Random bytes into the connector-to-listener stream, between two records.
   void inject_garbage_now(size_t bytes);
+  // While on, every byte in both directions is swallowed, handshakes too: a link that has gone
+  // silent without closing, which only the sessions' heartbeat timeouts can notice.
+  void set_blackhole(bool on);
   FaultCounts counts() const;
 
  private:

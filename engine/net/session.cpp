@@ -114,8 +114,8 @@ struct Session::Impl {
 
   void set_status(ConnectionState state, std::string reason, std::string peer) {
     std::lock_guard lock(mutex);
+    if (status.state != state) status.since_us = monotonic_now_us();  // "lost since T" survives retries
     status.state = state;
-    status.since_us = monotonic_now_us();
     status.reason = std::move(reason);
     if (!peer.empty()) status.peer = std::move(peer);
   }
@@ -149,12 +149,12 @@ struct Session::Impl {
     pump(c);
     c->handshake_timer.expires_after(options.handshake_timeout);
     c->handshake_timer.async_wait([this, c](std::error_code e) {
-      if (!e && !c->closed && !c->handshake->complete()) refuse(c, "handshake timed out");
+      if (!e && !c->closed && !c->handshake->complete()) refuse(c, "handshake timed out", false);
     });
     asio::async_read(c->socket, asio::buffer(c->hello_in), [this, c](std::error_code e, size_t n) {
       count([&](NetCounters& k) { k.bytes_in += n; });
       if (c->closed) return;
-      if (e) return refuse(c, "peer closed during the handshake (" + e.message() + ")");
+      if (e) return refuse(c, "peer closed during the handshake (" + e.message() + ")", false);
       if (auto error = c->handshake->receive_hello(c->hello_in)) return refuse(c, *error);
       const auto proof = c->handshake->proof();
       c->handshake_out.emplace_back(proof.begin(), proof.end());
@@ -164,15 +164,17 @@ struct Session::Impl {
         count([&](NetCounters& k) { k.bytes_in += n2; });
         if (c->closed) return;
         if (e2)
-          return refuse(c, "handshake refused: the peer closed before proving the session key (" + e2.message() +
-                               "; wrong key on one side?)");
+          return refuse(c,
+                        "handshake refused: the peer closed before proving the session key (" + e2.message() +
+                            "; wrong key on one side?)",
+                        false);
         if (auto error = c->handshake->verify_proof(c->proof_in)) return refuse(c, *error);
         activate(c);
       });
     });
   }
 
-  void close(const ConnectionPtr& c) {
+  void close(ConnectionPtr c) {  // by value: callers pass `active`, which this may reset
     if (c->closed) return;
     c->closed = true;
     std::error_code ignored;
@@ -182,12 +184,22 @@ struct Session::Impl {
     connections.erase(c);
   }
 
-  void refuse(const ConnectionPtr& c, const std::string& reason) {
+  // `definite`: the peer said something unacceptable (wrong key, not our protocol): status
+  // Refused. Otherwise (timeout, closed) the remote is just not there: status stays Lost or
+  // Connecting, with this reason.
+  void refuse(ConnectionPtr c, const std::string& reason, bool definite = true) {
     if (c->closed) return;
     log("connection with " + c->peer + " refused: " + reason);
     close(c);
     count([](NetCounters& k) { ++k.handshakes_refused; });
-    if (!active) set_status(ConnectionState::Refused, reason, c->peer);
+    if (!active) {
+      ConnectionState state = ConnectionState::Refused;
+      if (!definite) {
+        std::lock_guard lock(mutex);
+        state = status.state == ConnectionState::Lost ? ConnectionState::Lost : ConnectionState::Connecting;
+      }
+      set_status(state, reason, c->peer);
+    }
     if (options.role == Role::Connector && !active) schedule_connect();
   }
 
@@ -214,7 +226,7 @@ struct Session::Impl {
     pump(c);
   }
 
-  void drop(const ConnectionPtr& c, const std::string& reason) {
+  void drop(ConnectionPtr c, const std::string& reason) {
     if (c->closed) return;
     const bool was_active = c == active;
     close(c);
@@ -368,7 +380,7 @@ struct Session::Impl {
         if (!e && touch_id && !out_touch.empty() && out_touch.front().first == touch_id) out_touch.pop_front();
       }
       if (c->closed) return;
-      if (e) return c == active ? drop(c, "write failed: " + e.message()) : refuse(c, "write failed: " + e.message());
+      if (e) return c == active ? drop(c, "write failed: " + e.message()) : refuse(c, "write failed: " + e.message(), false);
       pump(c);
     });
   }

@@ -7,7 +7,9 @@
 // message replaces an older unsent one (counted as stale). Touch events queue and are never
 // dropped: one leaves the queue only once written; after a drop it goes again on the next
 // connection. Received messages land in mailboxes the receiver polls (newest wins; touch events
-// queue), and optionally in a handler called on the network thread.
+// queue), and optionally in a handler called on the network thread. There are no application
+// acknowledgements: a message already handed to a connection that then dies is lost (touch
+// events included, once their write completed).
 //
 // A dropped connection (socket error, no data for `lost_after`, a record that breaks the stream)
 // is retried with exponential backoff by the connecting side; the listener keeps accepting, and
