@@ -228,6 +228,21 @@ TEST_CASE("portraits: only the newest unsent one goes, only the newest received 
   for (uint64_t i = 0; i < 50; ++i) CHECK(touches[i].timestamp_us == i);
 }
 
+TEST_CASE("a portrait larger than one read piece (256 KiB) arrives intact") {
+  Link link;
+  link.connector->start();
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  const PortraitMessage portrait = test::test_portrait(640, 480, 77, 5);
+  const auto bytes = encode_message(portrait);
+  REQUIRE(bytes.size() > 256 * 1024);
+  link.connector->send_encoded(MessageType::Portrait, bytes);
+  std::optional<PortraitMessage> got;
+  REQUIRE(eventually([&] { return (got = link.listener.take_portrait()).has_value(); }));
+  CHECK(got->frame_index == 77);
+  CHECK(std::memcmp(got->depth.texels.data(), portrait.depth.texels.data(), portrait.depth.texels.size() * 4) == 0);
+  CHECK(link.listener.counters().bytes_in > bytes.size());
+}
+
 TEST_CASE("sending an invalid message throws on the sender's thread") {
   Link link;
   CHECK_THROWS_AS(link.connector->send(EyeMessage{1, {std::nan(""), 0, 0}, true}), std::invalid_argument);

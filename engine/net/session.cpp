@@ -250,13 +250,23 @@ struct Session::Impl {
         return drop(c, reason);
       }
       c->body_in.resize(header.ciphertext_length);
-      asio::async_read(c->socket, asio::buffer(c->body_in), [this, c](std::error_code e2, size_t n2) {
-        count([&](NetCounters& k) { k.bytes_in += n2; });
-        if (c->closed) return;
-        if (e2) return drop(c, e2 == asio::error::eof ? "the peer closed the connection" : e2.message());
-        on_record(c);
-        if (!c->closed) read_record(c);
-      });
+      read_body(c, 0);
+    });
+  }
+
+  // In pieces, each one proof of life: a big portrait on a slow link takes longer than
+  // `lost_after`, and the peer is not lost while its bytes keep coming.
+  void read_body(const ConnectionPtr& c, size_t done) {
+    constexpr size_t kPiece = 256 * 1024;
+    const size_t piece = std::min(kPiece, c->body_in.size() - done);
+    asio::async_read(c->socket, asio::buffer(c->body_in.data() + done, piece), [this, c, done](std::error_code e, size_t n) {
+      count([&](NetCounters& k) { k.bytes_in += n; });
+      if (c->closed) return;
+      if (e) return drop(c, e == asio::error::eof ? "the peer closed the connection" : e.message());
+      c->last_rx_us = monotonic_now_us();
+      if (done + n < c->body_in.size()) return read_body(c, done + n);
+      on_record(c);
+      if (!c->closed) read_record(c);
     });
   }
 
@@ -270,7 +280,6 @@ struct Session::Impl {
       reject(record_error_name(error), reason);
       return drop(c, reason);
     }
-    c->last_rx_us = monotonic_now_us();
     if (const uint64_t gap = c->opener->records_missing() - missing_before)
       count([&](NetCounters& k) { k.records_missing += gap; });
     DecodeError header_error;

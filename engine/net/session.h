@@ -38,7 +38,7 @@ struct SessionOptions {
   SessionKey key;
   EncodeOptions encode;
   std::chrono::milliseconds heartbeat_period{200};
-  std::chrono::milliseconds lost_after{1000};        // no complete record for this long: connection lost
+  std::chrono::milliseconds lost_after{1000};        // nothing received for this long: connection lost
   std::chrono::milliseconds handshake_timeout{2000};
   std::chrono::milliseconds reconnect_min{50}, reconnect_max{2000};
   size_t incoming_touch_capacity = 1024;  // beyond this, unpolled touch events are dropped (counted)
