@@ -65,10 +65,12 @@ int run_bench_touch(const RunOptions& options);
 int run_bench_simulate(GpuSession& session, const RunOptions& options);
 int run_bench_ibr(GpuSession& session, const RunOptions& options);
 int run_bench_hand(const RunOptions& options);
+int run_bench_net(const RunOptions& options);
 
 int run_bench(const std::string& what, const RunOptions& options) {
   if (what == "touch") return run_bench_touch(options);
   if (what == "hand") return run_bench_hand(options);
+  if (what == "net") return run_bench_net(options);
   if (what == "simulate") {
     GpuSession session(options);
     return run_bench_simulate(session, options);
@@ -78,7 +80,7 @@ int run_bench(const std::string& what, const RunOptions& options) {
     return run_bench_ibr(session, options);
   }
   if (what != "compositing")
-    throw std::invalid_argument("unknown benchmark '" + what + "' (known: compositing, touch, simulate, ibr, hand)");
+    throw std::invalid_argument("unknown benchmark '" + what + "' (known: compositing, touch, simulate, ibr, hand, net)");
   GpuSession session(options);
   std::vector<std::pair<uint32_t, uint32_t>> sizes = {{1280, 720}, {2560, 1440}};
   if (options.width > 0) sizes = {{options.width, options.height}};

@@ -59,9 +59,10 @@ int run_cli(int argc, char** argv) {
   bench_command->add_option("what", bench_what,
                             "Which benchmark: compositing (GPU ms per pass), touch (touch-start to motor command; "
                             "--frames claps), simulate (one frame of all six cameras at full resolution), ibr (the image-based "
-                            "model's passes for 2, 4, 6 views), hand (skinning and rasterization of the geometry hand)")
+                            "model's passes for 2, 4, 6 views), hand (skinning and rasterization of the geometry hand), net "
+                            "(portraits at 30 fps over loopback: bytes/s on the wire, encode/decode ms; --frames portraits per size)")
       ->required()
-      ->check(CLI::IsMember({"compositing", "touch", "simulate", "ibr", "hand"}));
+      ->check(CLI::IsMember({"compositing", "touch", "simulate", "ibr", "hand", "net"}));
   add_common_options(*bench_command, bench, "out/bench");
   add_frame_options(*bench_command, bench, 20);
   auto* width = bench_command->add_option("--width", bench.width, "Only this width (default: 1280x720 and 2560x1440)")

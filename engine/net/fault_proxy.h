@@ -1,0 +1,61 @@
+#pragma once
+// A loopback TCP proxy that injects faults between the two sessions, for the tests and the demo's
+// fault options: the connector connects to the proxy, the proxy to the listener. It understands
+// only the framing (the two handshake messages, then record headers), never the contents, so it
+// can delay, jitter and drop whole records the way a lossy network would hurt a real stream,
+// cut the connection, or inject garbage bytes. Costs nothing when not used: sessions talk
+// directly when no proxy is set up.
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+namespace rt::net {
+
+struct FaultOptions {
+  std::chrono::microseconds delay{0};   // every record and handshake message, each direction
+  std::chrono::microseconds jitter{0};  // plus uniform 0..jitter per record; order is kept (TCP)
+  double loss = 0.0;                    // probability that a record is dropped (never the handshake)
+  std::optional<std::chrono::milliseconds> disconnect_after;  // cut the connections once, this long after start()
+  std::optional<std::chrono::milliseconds> garbage_after;     // inject garbage once, this long after start()
+  size_t garbage_bytes = 64;
+  uint32_t seed = 1;  // loss, jitter and garbage are reproducible
+};
+
+struct FaultCounts {
+  uint64_t connections = 0;
+  uint64_t records_forwarded = 0, records_dropped = 0;
+  uint64_t garbage_injections = 0, garbage_bytes = 0;
+  uint64_t disconnects = 0;
+  uint64_t bytes_swallowed = 0;  // by the blackhole
+  nlohmann::json to_json() const;
+};
+
+class FaultProxy {
+ public:
+  FaultProxy(std::string target_host, uint16_t target_port, FaultOptions options);
+  ~FaultProxy();
+  FaultProxy(const FaultProxy&) = delete;
+  FaultProxy& operator=(const FaultProxy&) = delete;
+
+  void start();  // listens on 127.0.0.1, a free port
+  void stop();
+  uint16_t port() const;
+
+  // Closes every proxied connection now (both sessions see the peer go); new ones are accepted.
+  void disconnect_now();
+  // Random bytes into the connector-to-listener stream, between two records.
+  void inject_garbage_now(size_t bytes);
+  // While on, every byte in both directions is swallowed, handshakes too: a link that has gone
+  // silent without closing, which only the sessions' heartbeat timeouts can notice.
+  void set_blackhole(bool on);
+  FaultCounts counts() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rt::net

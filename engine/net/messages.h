@@ -1,0 +1,65 @@
+#pragma once
+// What the two sites exchange (issue 7): one message type per stream. Coordinates are metres in
+// the SENDER's site frame (the receiver maps them with geometry/site_frames.h); timestamps are
+// microseconds of the sender's monotonic clock (engine/time/monotonic_clock.h): the two machines'
+// clocks are unrelated, so a receiver restamps on arrival where it needs its own clock.
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "image/host_image.h"
+#include "tracking/hand_skeleton.h"
+
+namespace rt::net {
+
+// Wire values: never renumber, only append (and bump kProtocolVersion if the meaning changes).
+enum class MessageType : uint16_t { Eye = 1, Portrait = 2, Skeleton = 3, TouchEvent = 4, Heartbeat = 5 };
+inline constexpr int kMessageTypeCount = 5;
+const char* message_type_name(MessageType type);
+// 0..4 for counters indexed by type.
+inline int message_type_index(MessageType type) { return int(type) - 1; }
+
+// The remote viewer's eye: the sender renders its portrait for it.
+struct EyeMessage {
+  uint64_t timestamp_us = 0;
+  Eigen::Vector3d eye = Eigen::Vector3d::Zero();  // sender's site frame, metres
+  bool valid = false;                             // false: the viewer's eye is not tracked now
+};
+
+// One rendered portrait for the receiver's eye: colour RGBA32F straight alpha, depth R32F metres
+// of camera z (0 = nothing). The target camera says which eye it was rendered for.
+struct PortraitMessage {
+  uint64_t frame_index = 0;
+  uint64_t capture_timestamp_us = 0;
+  uint32_t width = 0, height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  Eigen::Matrix4d camera_from_site = Eigen::Matrix4d::Identity();
+  HostImage color;  // RGBA32F, width x height; RGB goes over the wire as JPEG, alpha losslessly
+  HostImage depth;  // R32F, width x height; lossless (bit-exact)
+};
+
+struct SkeletonMessage {
+  uint64_t timestamp_us = 0;
+  std::vector<HandSkeleton> hands;  // at most kMaxHands, sender's site frame
+};
+
+struct TouchEventMessage {
+  enum class Kind : uint8_t { Start = 0, End = 1 };
+  uint64_t timestamp_us = 0;
+  Kind kind = Kind::Start;
+  uint8_t site = 0;  // the site that detected the touch: 0 = A, 1 = B
+};
+
+struct HeartbeatMessage {
+  uint64_t timestamp_us = 0;
+  uint64_t sequence = 0;
+};
+
+using Message = std::variant<EyeMessage, PortraitMessage, SkeletonMessage, TouchEventMessage, HeartbeatMessage>;
+
+MessageType message_type(const Message& message);
+
+}  // namespace rt::net

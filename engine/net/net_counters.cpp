@@ -1,0 +1,27 @@
+#include "net/net_counters.h"
+
+namespace rt::net {
+
+nlohmann::json NetCounters::to_json() const {
+  auto per_type = [](const std::array<uint64_t, kMessageTypeCount>& values) {
+    nlohmann::json out = nlohmann::json::object();
+    for (int i = 0; i < kMessageTypeCount; ++i) out[message_type_name(MessageType(i + 1))] = values[size_t(i)];
+    return out;
+  };
+  return {{"bytes_in", bytes_in},
+          {"bytes_out", bytes_out},
+          {"messages_in", per_type(messages_in)},
+          {"messages_out", per_type(messages_out)},
+          {"stale_dropped_out", per_type(stale_dropped_out)},
+          {"stale_dropped_in", per_type(stale_dropped_in)},
+          {"rejected", rejected},
+          {"rejected_by_reason", rejected_by_reason},
+          {"last_rejection", last_rejection},
+          {"records_missing", records_missing},
+          {"handshakes_ok", handshakes_ok},
+          {"handshakes_refused", handshakes_refused},
+          {"connections_lost", connections_lost},
+          {"reconnects", reconnects}};
+}
+
+}  // namespace rt::net

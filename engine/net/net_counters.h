@@ -1,0 +1,30 @@
+#pragma once
+// What a session has done, readable at any time as a struct and printable as JSON.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "net/messages.h"
+
+namespace rt::net {
+
+struct NetCounters {
+  uint64_t bytes_in = 0, bytes_out = 0;  // on the wire: handshakes, record headers, tags, payloads
+  std::array<uint64_t, kMessageTypeCount> messages_in{}, messages_out{};  // indexed by message_type_index
+  // Newest-wins streams: an unsent message replaced by a newer one (outgoing), or a received one
+  // replaced before the receiver took it (incoming).
+  std::array<uint64_t, kMessageTypeCount> stale_dropped_out{}, stale_dropped_in{};
+  uint64_t rejected = 0;                              // messages and records refused
+  std::map<std::string, uint64_t> rejected_by_reason;  // decode_error_kind_name / record_error_name
+  std::string last_rejection;                          // the log line of the latest one
+  uint64_t records_missing = 0;                        // counter gaps: records lost on the way
+  uint64_t handshakes_ok = 0, handshakes_refused = 0;
+  uint64_t connections_lost = 0;
+  uint64_t reconnects = 0;  // sessions established after the first
+
+  nlohmann::json to_json() const;
+};
+
+}  // namespace rt::net

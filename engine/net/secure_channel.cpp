@@ -1,0 +1,219 @@
+#include "net/secure_channel.h"
+
+#include <sodium.h>
+
+#include <cctype>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace rt::net {
+namespace {
+
+constexpr uint8_t kHelloMagic[4] = {'R', 'T', 'H', 'S'};
+constexpr uint16_t kHandshakeVersion = 1;
+
+// BLAKE2b-256 keyed with `key` over the concatenation of `parts`.
+std::array<uint8_t, 32> keyed_hash(const std::array<uint8_t, 32>& key, std::initializer_list<std::span<const uint8_t>> parts) {
+  crypto_generichash_state state;
+  crypto_generichash_init(&state, key.data(), key.size(), 32);
+  for (auto part : parts) crypto_generichash_update(&state, part.data(), part.size());
+  std::array<uint8_t, 32> out{};
+  crypto_generichash_final(&state, out.data(), out.size());
+  return out;
+}
+
+std::span<const uint8_t> text(const char* label) { return {reinterpret_cast<const uint8_t*>(label), std::strlen(label)}; }
+
+std::array<uint8_t, crypto_aead_xchacha20poly1305_ietf_NPUBBYTES> nonce_of(uint64_t counter) {
+  std::array<uint8_t, crypto_aead_xchacha20poly1305_ietf_NPUBBYTES> nonce{};
+  std::memcpy(nonce.data(), &counter, sizeof counter);
+  return nonce;
+}
+
+}  // namespace
+
+void ensure_sodium() {
+  static const int result = sodium_init();  // thread-safe, idempotent
+  if (result < 0) throw std::runtime_error("libsodium failed to initialise");
+}
+
+SessionKey session_key_from_hex(const std::string& hex_in) {
+  size_t first = 0, last = hex_in.size();
+  while (first < last && std::isspace(uint8_t(hex_in[first]))) ++first;
+  while (last > first && std::isspace(uint8_t(hex_in[last - 1]))) --last;
+  const std::string hex = hex_in.substr(first, last - first);
+  if (hex.size() != 64)
+    throw std::invalid_argument("session key: expected 64 hex digits (32 bytes), got " + std::to_string(hex.size()) +
+                                " characters");
+  SessionKey key;
+  for (size_t i = 0; i < 32; ++i) {
+    auto digit = [&](char c) -> int {
+      if (c >= '0' && c <= '9') return c - '0';
+      if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+      if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+      throw std::invalid_argument(std::string("session key: '") + c + "' is not a hex digit");
+    };
+    key.bytes[i] = uint8_t(digit(hex[2 * i]) << 4 | digit(hex[2 * i + 1]));
+  }
+  return key;
+}
+
+SessionKey load_session_key_file(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  if (!file) throw std::invalid_argument("session key file " + path.string() + " cannot be opened");
+  std::stringstream contents;
+  contents << file.rdbuf();
+  try {
+    return session_key_from_hex(contents.str());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path.string() + ": " + e.what());
+  }
+}
+
+SessionKey random_session_key() {
+  ensure_sodium();
+  SessionKey key;
+  randombytes_buf(key.bytes.data(), key.bytes.size());
+  return key;
+}
+
+std::string to_hex(const SessionKey& key) {
+  char out[65];
+  sodium_bin2hex(out, sizeof out, key.bytes.data(), key.bytes.size());
+  return out;
+}
+
+const char* role_name(Role role) { return role == Role::Connector ? "connector" : "listener"; }
+
+Handshake::Handshake(const SessionKey& key, Role role) : key_(key.bytes), role_(role) {
+  ensure_sodium();
+  randombytes_buf(own_nonce_.data(), own_nonce_.size());
+}
+
+Handshake::~Handshake() { sodium_memzero(key_.data(), key_.size()); }
+
+std::array<uint8_t, kHelloSize> Handshake::hello() const {
+  std::array<uint8_t, kHelloSize> out{};
+  std::memcpy(out.data(), kHelloMagic, 4);
+  std::memcpy(out.data() + 4, &kHandshakeVersion, 2);
+  out[6] = uint8_t(role_);
+  std::memcpy(out.data() + 8, own_nonce_.data(), 32);
+  return out;
+}
+
+std::optional<std::string> Handshake::receive_hello(std::span<const uint8_t> hello) {
+  if (hello.size() != kHelloSize) return "handshake: hello of " + std::to_string(hello.size()) + " bytes, expected 40";
+  if (std::memcmp(hello.data(), kHelloMagic, 4) != 0) return std::string("handshake: the peer does not speak RemoteTouch (bad hello magic)");
+  uint16_t version = 0;
+  std::memcpy(&version, hello.data() + 4, 2);
+  if (version != kHandshakeVersion)
+    return "handshake: peer speaks version " + std::to_string(version) + ", this build " + std::to_string(kHandshakeVersion);
+  const Role expected = role_ == Role::Connector ? Role::Listener : Role::Connector;
+  if (hello[6] != uint8_t(expected) || hello[7] != 0)
+    return std::string("handshake: peer claims the wrong role (a reflected hello?)");
+  std::memcpy(peer_nonce_.data(), hello.data() + 8, 32);
+  if (sodium_memcmp(peer_nonce_.data(), own_nonce_.data(), 32) == 0)
+    return std::string("handshake: peer echoed our nonce (a reflected hello)");
+  have_peer_ = true;
+  return std::nullopt;
+}
+
+std::array<uint8_t, kProofSize> Handshake::proof_of(Role role) const {
+  const uint8_t role_byte = uint8_t(role);
+  const auto& connector = role_ == Role::Connector ? own_nonce_ : peer_nonce_;
+  const auto& listener = role_ == Role::Connector ? peer_nonce_ : own_nonce_;
+  return keyed_hash(key_, {text("RemoteTouch/1 proof"), {&role_byte, 1}, connector, listener});
+}
+
+std::array<uint8_t, kProofSize> Handshake::proof() const {
+  if (!have_peer_) throw std::logic_error("handshake: proof before the peer's hello");
+  return proof_of(role_);
+}
+
+std::optional<std::string> Handshake::verify_proof(std::span<const uint8_t> proof) {
+  if (!have_peer_) return std::string("handshake: proof before hello");
+  if (proof.size() != kProofSize) return std::string("handshake: proof of the wrong size");
+  const auto expected = proof_of(role_ == Role::Connector ? Role::Listener : Role::Connector);
+  if (sodium_memcmp(expected.data(), proof.data(), kProofSize) != 0)
+    return std::string("handshake refused: the peer did not prove knowledge of the session key (wrong key?)");
+  verified_ = true;
+  return std::nullopt;
+}
+
+TrafficKeys Handshake::keys() const {
+  if (!verified_) throw std::logic_error("handshake: keys before the peer's proof was verified");
+  const auto& connector = role_ == Role::Connector ? own_nonce_ : peer_nonce_;
+  const auto& listener = role_ == Role::Connector ? peer_nonce_ : own_nonce_;
+  const auto to_listener = keyed_hash(key_, {text("RemoteTouch/1 key connector->listener"), connector, listener});
+  const auto to_connector = keyed_hash(key_, {text("RemoteTouch/1 key listener->connector"), connector, listener});
+  TrafficKeys keys;
+  keys.send = role_ == Role::Connector ? to_listener : to_connector;
+  keys.receive = role_ == Role::Connector ? to_connector : to_listener;
+  return keys;
+}
+
+std::vector<uint8_t> RecordSealer::seal(std::span<const uint8_t> plaintext) {
+  std::vector<uint8_t> record(kRecordHeaderSize + plaintext.size() + kRecordTagSize);
+  const uint32_t length = uint32_t(plaintext.size() + kRecordTagSize);
+  const uint64_t counter = counter_++;
+  std::memcpy(record.data(), &length, 4);
+  std::memcpy(record.data() + 4, &counter, 8);
+  const auto nonce = nonce_of(counter);
+  unsigned long long written = 0;
+  crypto_aead_xchacha20poly1305_ietf_encrypt(record.data() + kRecordHeaderSize, &written, plaintext.data(),
+                                             plaintext.size(), record.data(), kRecordHeaderSize, nullptr, nonce.data(),
+                                             key_.data());
+  return record;
+}
+
+const char* record_error_name(RecordError error) {
+  switch (error) {
+    case RecordError::None: return "none";
+    case RecordError::Oversize: return "record_oversize";
+    case RecordError::AuthFailed: return "auth_failed";
+    case RecordError::Replay: return "replay";
+  }
+  return "unknown";
+}
+
+RecordError RecordOpener::check_header(std::span<const uint8_t> header, RecordHeader* out, std::string* reason) const {
+  std::memcpy(&out->ciphertext_length, header.data(), 4);
+  std::memcpy(&out->counter, header.data() + 4, 8);
+  if (out->ciphertext_length < kRecordTagSize || out->ciphertext_length > max_plaintext_ + kRecordTagSize) {
+    *reason = "record length " + std::to_string(out->ciphertext_length) + " outside " + std::to_string(kRecordTagSize) +
+              ".." + std::to_string(max_plaintext_ + kRecordTagSize) + ": the stream is out of step";
+    return RecordError::Oversize;
+  }
+  return RecordError::None;
+}
+
+RecordError RecordOpener::open(std::span<const uint8_t> header, std::span<const uint8_t> ciphertext,
+                               std::vector<uint8_t>* plaintext, std::string* reason) {
+  RecordHeader h;
+  if (auto e = check_header(header, &h, reason); e != RecordError::None) return e;
+  if (ciphertext.size() != h.ciphertext_length) {
+    *reason = "record body of " + std::to_string(ciphertext.size()) + " bytes, header says " + std::to_string(h.ciphertext_length);
+    return RecordError::AuthFailed;
+  }
+  plaintext->resize(ciphertext.size() - kRecordTagSize);
+  const auto nonce = nonce_of(h.counter);
+  unsigned long long written = 0;
+  if (crypto_aead_xchacha20poly1305_ietf_decrypt(plaintext->data(), &written, nullptr, ciphertext.data(), ciphertext.size(),
+                                                 header.data(), kRecordHeaderSize, nonce.data(), key_.data()) != 0) {
+    plaintext->clear();
+    *reason = "record " + std::to_string(h.counter) + " failed authentication (tampered, forged or out of step)";
+    return RecordError::AuthFailed;
+  }
+  if (h.counter <= last_) {
+    plaintext->clear();
+    *reason = "record " + std::to_string(h.counter) + " replayed or reordered (last accepted " + std::to_string(last_) + ")";
+    return RecordError::Replay;
+  }
+  missing_ += h.counter - last_ - 1;
+  last_ = h.counter;
+  return RecordError::None;
+}
+
+}  // namespace rt::net

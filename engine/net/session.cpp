@@ -1,0 +1,606 @@
+#include "net/session.h"
+
+#include <asio.hpp>
+#include <algorithm>
+#include <condition_variable>
+#include <deque>
+#include <iostream>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "time/monotonic_clock.h"
+
+namespace rt::net {
+
+std::pair<std::string, uint16_t> parse_host_port(const std::string& text) {
+  const size_t colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size())
+    throw std::invalid_argument("'" + text + "' is not HOST:PORT");
+  std::string host = text.substr(0, colon);
+  if (host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+  const std::string port_text = text.substr(colon + 1);
+  if (port_text.size() > 5 || !std::all_of(port_text.begin(), port_text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    throw std::invalid_argument("'" + text + "': port '" + port_text + "' is not a number");
+  const unsigned long port = std::stoul(port_text);
+  if (port == 0 || port > 65535) throw std::invalid_argument("'" + text + "': port must be 1..65535");
+  return {host, uint16_t(port)};
+}
+
+const char* connection_state_name(ConnectionState state) {
+  switch (state) {
+    case ConnectionState::Idle: return "idle";
+    case ConnectionState::Connecting: return "connecting";
+    case ConnectionState::Connected: return "connected";
+    case ConnectionState::Lost: return "lost";
+    case ConnectionState::Refused: return "refused";
+  }
+  return "unknown";
+}
+
+namespace {
+
+using asio::ip::tcp;
+
+struct Connection {
+  explicit Connection(asio::io_context& io) : socket(io), handshake_timer(io) {}
+  tcp::socket socket;
+  asio::steady_timer handshake_timer;
+  std::unique_ptr<Handshake> handshake;
+  std::optional<RecordSealer> sealer;
+  std::optional<RecordOpener> opener;
+  std::array<uint8_t, kHelloSize> hello_in{};
+  std::array<uint8_t, kProofSize> proof_in{};
+  std::array<uint8_t, kRecordHeaderSize> header_in{};
+  std::vector<uint8_t> body_in;
+  std::deque<std::vector<uint8_t>> handshake_out;
+  std::vector<uint8_t> writing_buffer;
+  bool writing = false, closed = false, sent_proof = false;
+  uint64_t last_rx_us = 0;
+  std::string peer;
+};
+using ConnectionPtr = std::shared_ptr<Connection>;
+
+// What leaves next, chosen under the queue lock.
+struct Outgoing {
+  MessageType type;
+  std::vector<uint8_t> bytes;
+  uint64_t touch_id = 0;  // nonzero: pop the touch queue once written
+};
+
+}  // namespace
+
+struct Session::Impl {
+  explicit Impl(SessionOptions o) : options(std::move(o)), acceptor(io), connect_timer(io), tick_timer(io) {
+    ensure_sodium();
+    if (!options.log) options.log = [](const std::string& line) { std::cerr << line << "\n"; };
+  }
+
+  SessionOptions options;
+  asio::io_context io;  // first: destroyed last
+  tcp::acceptor acceptor;
+  asio::steady_timer connect_timer, tick_timer;
+  std::optional<asio::executor_work_guard<asio::io_context::executor_type>> work;
+  std::thread thread;
+  bool closing = false;  // network thread only
+  std::set<ConnectionPtr> connections;
+  ConnectionPtr active;
+  int backoff_attempt = 0;
+  bool ever_connected = false;
+  uint64_t heartbeat_sequence = 0;
+  uint16_t bound_port = 0;
+  std::function<void(const Message&)> handler;
+
+  mutable std::mutex mutex;  // everything below
+  std::optional<std::vector<uint8_t>> out_eye, out_skeleton, out_portrait, out_heartbeat;
+  std::deque<std::pair<uint64_t, std::vector<uint8_t>>> out_touch;
+  uint64_t next_touch_id = 1;
+  std::optional<EyeMessage> in_eye;
+  std::optional<PortraitMessage> in_portrait;
+  std::optional<SkeletonMessage> in_skeleton;
+  std::optional<HeartbeatMessage> in_heartbeat;
+  std::vector<TouchEventMessage> in_touch;
+  ConnectionStatus status;
+  NetCounters counters;
+
+  // Portraits are decoded on a thread of their own (tens of ms at 720p), so that touch events,
+  // eyes and skeletons behind one on the socket are not held up. Newest wins here too.
+  std::thread portrait_thread;
+  std::condition_variable portrait_wake;
+  std::optional<std::vector<uint8_t>> portrait_pending;  // under `mutex`
+  bool portrait_stop = false;                            // under `mutex`
+
+  void log(const std::string& line) { options.log("[" + options.name + "] " + line); }
+
+  void set_status(ConnectionState state, std::string reason, std::string peer) {
+    std::lock_guard lock(mutex);
+    if (status.state != state) status.since_us = monotonic_now_us();  // "lost since T" survives retries
+    status.state = state;
+    status.reason = std::move(reason);
+    if (!peer.empty()) status.peer = std::move(peer);
+  }
+
+  template <typename F>
+  void count(F&& f) {
+    std::lock_guard lock(mutex);
+    f(counters);
+  }
+
+  void reject(const std::string& reason_key, const std::string& line) {
+    log("rejected: " + line);
+    count([&](NetCounters& c) {
+      ++c.rejected;
+      ++c.rejected_by_reason[reason_key];
+      c.last_rejection = line;
+    });
+  }
+
+  // ---- connection lifecycle (network thread) ----
+
+  void begin(const ConnectionPtr& c) {
+    connections.insert(c);
+    std::error_code ec;
+    c->socket.set_option(tcp::no_delay(true), ec);
+    const auto endpoint = c->socket.remote_endpoint(ec);
+    c->peer = ec ? "?" : endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
+    c->handshake = std::make_unique<Handshake>(options.key, options.role);
+    const auto hello = c->handshake->hello();
+    c->handshake_out.emplace_back(hello.begin(), hello.end());
+    pump(c);
+    c->handshake_timer.expires_after(options.handshake_timeout);
+    c->handshake_timer.async_wait([this, c](std::error_code e) {
+      if (!e && !c->closed && !c->handshake->complete()) refuse(c, "handshake timed out", false);
+    });
+    asio::async_read(c->socket, asio::buffer(c->hello_in), [this, c](std::error_code e, size_t n) {
+      count([&](NetCounters& k) { k.bytes_in += n; });
+      if (c->closed) return;
+      if (e) return refuse(c, "peer closed during the handshake (" + e.message() + ")", false);
+      if (auto error = c->handshake->receive_hello(c->hello_in)) return refuse(c, *error);
+      const auto proof = c->handshake->proof();
+      c->handshake_out.emplace_back(proof.begin(), proof.end());
+      c->sent_proof = true;
+      pump(c);
+      asio::async_read(c->socket, asio::buffer(c->proof_in), [this, c](std::error_code e2, size_t n2) {
+        count([&](NetCounters& k) { k.bytes_in += n2; });
+        if (c->closed) return;
+        if (e2)
+          return refuse(c,
+                        "handshake refused: the peer closed before proving the session key (" + e2.message() +
+                            "; wrong key on one side?)",
+                        false);
+        if (auto error = c->handshake->verify_proof(c->proof_in)) return refuse(c, *error);
+        activate(c);
+      });
+    });
+  }
+
+  void close(ConnectionPtr c) {  // by value: callers pass `active`, which this may reset
+    if (c->closed) return;
+    c->closed = true;
+    std::error_code ignored;
+    c->socket.shutdown(tcp::socket::shutdown_both, ignored);
+    c->socket.close(ignored);
+    c->handshake_timer.cancel();
+    connections.erase(c);
+  }
+
+  // `definite`: the peer said something unacceptable (wrong key, not our protocol): status
+  // Refused. Otherwise (timeout, closed) the remote is just not there: status stays Lost or
+  // Connecting, with this reason.
+  void refuse(ConnectionPtr c, const std::string& reason, bool definite = true) {
+    if (c->closed) return;
+    log("connection with " + c->peer + " refused: " + reason);
+    close(c);
+    count([](NetCounters& k) { ++k.handshakes_refused; });
+    if (!active) {
+      ConnectionState state = ConnectionState::Refused;
+      if (!definite) {
+        std::lock_guard lock(mutex);
+        state = status.state == ConnectionState::Lost ? ConnectionState::Lost : ConnectionState::Connecting;
+      }
+      set_status(state, reason, c->peer);
+    }
+    if (options.role == Role::Connector && !active) schedule_connect();
+  }
+
+  void activate(const ConnectionPtr& c) {
+    c->handshake_timer.cancel();
+    const TrafficKeys keys = c->handshake->keys();
+    c->sealer.emplace(keys.send);
+    c->opener.emplace(keys.receive, kMaxMessageSize);
+    c->last_rx_us = monotonic_now_us();
+    if (active) {
+      log("a new authenticated connection from " + c->peer + " replaces the one with " + active->peer);
+      close(active);
+    }
+    active = c;
+    backoff_attempt = 0;
+    count([&](NetCounters& k) {
+      ++k.handshakes_ok;
+      if (ever_connected) ++k.reconnects;
+    });
+    ever_connected = true;
+    set_status(ConnectionState::Connected, "", c->peer);
+    log("session established with " + c->peer + " (" + role_name(options.role) + ")");
+    read_record(c);
+    pump(c);
+  }
+
+  void drop(ConnectionPtr c, const std::string& reason) {
+    if (c->closed) return;
+    const bool was_active = c == active;
+    close(c);
+    if (!was_active) return;
+    active.reset();
+    log("connection with " + c->peer + " lost: " + reason);
+    count([](NetCounters& k) { ++k.connections_lost; });
+    set_status(ConnectionState::Lost, reason, c->peer);
+    if (options.role == Role::Connector) schedule_connect();
+  }
+
+  void read_record(const ConnectionPtr& c) {
+    asio::async_read(c->socket, asio::buffer(c->header_in), [this, c](std::error_code e, size_t n) {
+      count([&](NetCounters& k) { k.bytes_in += n; });
+      if (c->closed) return;
+      if (e) return drop(c, e == asio::error::eof ? "the peer closed the connection" : e.message());
+      RecordHeader header;
+      std::string reason;
+      if (c->opener->check_header(c->header_in, &header, &reason) != RecordError::None) {
+        reject(record_error_name(RecordError::Oversize), reason);
+        return drop(c, reason);
+      }
+      c->body_in.resize(header.ciphertext_length);
+      read_body(c, 0);
+    });
+  }
+
+  // In pieces, each one proof of life: a big portrait on a slow link takes longer than
+  // `lost_after`, and the peer is not lost while its bytes keep coming.
+  void read_body(const ConnectionPtr& c, size_t done) {
+    constexpr size_t kPiece = 256 * 1024;
+    const size_t piece = std::min(kPiece, c->body_in.size() - done);
+    asio::async_read(c->socket, asio::buffer(c->body_in.data() + done, piece), [this, c, done](std::error_code e, size_t n) {
+      count([&](NetCounters& k) { k.bytes_in += n; });
+      if (c->closed) return;
+      if (e) return drop(c, e == asio::error::eof ? "the peer closed the connection" : e.message());
+      c->last_rx_us = monotonic_now_us();
+      if (done + n < c->body_in.size()) return read_body(c, done + n);
+      on_record(c);
+      if (!c->closed) read_record(c);
+    });
+  }
+
+  void on_record(const ConnectionPtr& c) {
+    std::vector<uint8_t> plaintext;
+    std::string reason;
+    const uint64_t missing_before = c->opener->records_missing();
+    const RecordError error = c->opener->open(c->header_in, c->body_in, &plaintext, &reason);
+    if (error == RecordError::Replay) return reject(record_error_name(error), reason);
+    if (error != RecordError::None) {
+      reject(record_error_name(error), reason);
+      return drop(c, reason);
+    }
+    if (const uint64_t gap = c->opener->records_missing() - missing_before)
+      count([&](NetCounters& k) { k.records_missing += gap; });
+    DecodeError header_error;
+    const auto header = decode_header(plaintext, &header_error);
+    if (header && header->type == uint16_t(MessageType::Portrait)) {
+      {
+        std::lock_guard lock(mutex);
+        if (portrait_pending) ++counters.stale_dropped_in[size_t(message_type_index(MessageType::Portrait))];
+        portrait_pending = std::move(plaintext);
+      }
+      portrait_wake.notify_one();
+      return;
+    }
+    decode_and_deliver(plaintext);
+  }
+
+  void decode_and_deliver(std::span<const uint8_t> plaintext) {
+    DecodeResult result = decode_message(plaintext);
+    if (!result.ok()) return reject(decode_error_kind_name(result.error.kind), result.error.message);
+    deliver(std::move(*result.message));
+  }
+
+  void decode_portraits() {
+    std::unique_lock lock(mutex);
+    while (true) {
+      portrait_wake.wait(lock, [this] { return portrait_stop || portrait_pending; });
+      if (portrait_stop) return;
+      std::vector<uint8_t> bytes = std::move(*portrait_pending);
+      portrait_pending.reset();
+      lock.unlock();
+      decode_and_deliver(bytes);
+      lock.lock();
+    }
+  }
+
+  void deliver(Message message) {
+    const int index = message_type_index(message_type(message));
+    // The mailbox takes the message (moved: a 720p portrait is 18 MB of floats); the handler, if
+    // any, gets a copy afterwards, so that a handler seeing a message can already take() it.
+    std::optional<Message> for_handler;
+    if (handler) for_handler = message;
+    {
+      std::lock_guard lock(mutex);
+      ++counters.messages_in[size_t(index)];
+      auto put = [&](auto& slot, auto& value) {
+        if (slot) ++counters.stale_dropped_in[size_t(index)];
+        slot = std::move(value);
+      };
+      std::visit(
+          [&](auto& m) {
+            using T = std::decay_t<decltype(m)>;
+            if constexpr (std::is_same_v<T, EyeMessage>) put(in_eye, m);
+            if constexpr (std::is_same_v<T, PortraitMessage>) put(in_portrait, m);
+            if constexpr (std::is_same_v<T, SkeletonMessage>) put(in_skeleton, m);
+            if constexpr (std::is_same_v<T, HeartbeatMessage>) put(in_heartbeat, m);
+            if constexpr (std::is_same_v<T, TouchEventMessage>) {
+              if (in_touch.size() >= options.incoming_touch_capacity) {
+                ++counters.stale_dropped_in[size_t(index)];
+                in_touch.erase(in_touch.begin());
+              }
+              in_touch.push_back(m);
+            }
+          },
+          message);
+    }
+    if (for_handler) handler(*for_handler);
+  }
+
+  // ---- writing (network thread) ----
+
+  std::optional<Outgoing> next_outgoing() {
+    std::lock_guard lock(mutex);
+    if (!out_touch.empty()) return Outgoing{MessageType::TouchEvent, out_touch.front().second, out_touch.front().first};
+    for (auto [slot, type] : {std::pair{&out_heartbeat, MessageType::Heartbeat}, {&out_eye, MessageType::Eye},
+                              {&out_skeleton, MessageType::Skeleton}, {&out_portrait, MessageType::Portrait}})
+      if (*slot) {
+        Outgoing o{type, std::move(**slot), 0};
+        slot->reset();
+        return o;
+      }
+    return std::nullopt;
+  }
+
+  void pump(const ConnectionPtr& c) {
+    if (c->writing || c->closed) return;
+    std::optional<MessageType> type;
+    uint64_t touch_id = 0;
+    if (!c->handshake_out.empty()) {
+      c->writing_buffer = std::move(c->handshake_out.front());
+      c->handshake_out.pop_front();
+    } else if (c == active) {
+      auto next = next_outgoing();
+      if (!next) return;
+      type = next->type;
+      touch_id = next->touch_id;
+      c->writing_buffer = c->sealer->seal(next->bytes);
+    } else {
+      return;
+    }
+    c->writing = true;
+    asio::async_write(c->socket, asio::buffer(c->writing_buffer), [this, c, type, touch_id](std::error_code e, size_t n) {
+      c->writing = false;
+      {
+        std::lock_guard lock(mutex);
+        counters.bytes_out += n;
+        if (!e && type) ++counters.messages_out[size_t(message_type_index(*type))];
+        if (!e && touch_id && !out_touch.empty() && out_touch.front().first == touch_id) out_touch.pop_front();
+      }
+      if (c->closed) return;
+      if (e) return c == active ? drop(c, "write failed: " + e.message()) : refuse(c, "write failed: " + e.message(), false);
+      pump(c);
+    });
+  }
+
+  void wake() {
+    asio::post(io, [this] {
+      if (active && !closing) pump(active);
+    });
+  }
+
+  // ---- connecting, accepting, ticking (network thread) ----
+
+  void schedule_connect() {
+    if (closing) return;
+    const auto delay = std::min<std::chrono::milliseconds>(options.reconnect_max,
+                                                           options.reconnect_min * (1 << std::min(backoff_attempt, 16)));
+    ++backoff_attempt;
+    connect_timer.expires_after(delay);
+    connect_timer.async_wait([this](std::error_code e) {
+      if (!e && !closing) connect();
+    });
+  }
+
+  void connect() {
+    {
+      std::lock_guard lock(mutex);
+      if (status.state == ConnectionState::Idle) {
+        status.state = ConnectionState::Connecting;
+        status.since_us = monotonic_now_us();
+      }
+    }
+    auto c = std::make_shared<Connection>(io);
+    connections.insert(c);  // so that stop() closes it while it is still connecting
+    std::error_code ec;
+    tcp::resolver resolver(io);
+    const auto endpoints = resolver.resolve(options.host, std::to_string(options.port), ec);
+    if (ec) {
+      log("cannot resolve " + options.host + ": " + ec.message());
+      close(c);
+      return schedule_connect();
+    }
+    asio::async_connect(c->socket, endpoints, [this, c](std::error_code e, const tcp::endpoint&) {
+      if (closing || c->closed) return;
+      if (e) {
+        close(c);
+        const std::string reason = "connect to " + options.host + ":" + std::to_string(options.port) + " failed: " + e.message();
+        {
+          std::lock_guard lock(mutex);
+          if (status.reason != reason) options.log("[" + options.name + "] " + reason);
+          if (status.state != ConnectionState::Connected) status.reason = reason;
+        }
+        return schedule_connect();
+      }
+      begin(c);
+    });
+  }
+
+  void accept() {
+    acceptor.async_accept([this](std::error_code e, tcp::socket socket) {
+      if (closing) return;
+      if (!e) {
+        auto c = std::make_shared<Connection>(io);
+        c->socket = std::move(socket);
+        begin(c);
+      } else {
+        log("accept failed: " + e.message());
+      }
+      accept();
+    });
+  }
+
+  void tick() {
+    tick_timer.expires_after(options.heartbeat_period);
+    tick_timer.async_wait([this](std::error_code e) {
+      if (e || closing) return;
+      if (active) {
+        const uint64_t now = monotonic_now_us();
+        const uint64_t silent_us = now - active->last_rx_us;
+        if (silent_us > uint64_t(options.lost_after.count()) * 1000) {
+          drop(active, "no data from the peer for " + std::to_string(silent_us / 1000) + " ms");
+        } else {
+          auto bytes = encode_message(HeartbeatMessage{now, ++heartbeat_sequence});
+          {
+            std::lock_guard lock(mutex);
+            out_heartbeat = std::move(bytes);
+          }
+          pump(active);
+        }
+      }
+      tick();
+    });
+  }
+
+  void shut_down() {
+    closing = true;
+    std::error_code ignored;
+    acceptor.close(ignored);
+    connect_timer.cancel();
+    tick_timer.cancel();
+    for (auto c : std::vector<ConnectionPtr>(connections.begin(), connections.end())) close(c);
+    active.reset();
+  }
+};
+
+Session::Session(SessionOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+
+Session::~Session() { stop(); }
+
+void Session::start() {
+  Impl& s = *impl_;
+  if (s.thread.joinable()) return;
+  if (s.options.role == Role::Listener) {
+    const tcp::endpoint endpoint(asio::ip::make_address(s.options.host), s.options.port);
+    s.acceptor.open(endpoint.protocol());
+    s.acceptor.set_option(tcp::acceptor::reuse_address(true));
+    std::error_code ec;
+    s.acceptor.bind(endpoint, ec);
+    if (ec)
+      throw std::runtime_error("cannot listen on " + s.options.host + ":" + std::to_string(s.options.port) + ": " + ec.message());
+    s.acceptor.listen();
+    s.bound_port = s.acceptor.local_endpoint().port();
+    s.set_status(ConnectionState::Connecting, "waiting for the peer", "");
+    s.log("listening on " + s.options.host + ":" + std::to_string(s.bound_port));
+    s.accept();
+  } else {
+    asio::post(s.io, [&s] { s.connect(); });
+  }
+  s.tick();
+  s.work.emplace(s.io.get_executor());
+  {
+    std::lock_guard lock(s.mutex);
+    s.portrait_stop = false;
+  }
+  s.portrait_thread = std::thread([&s] { s.decode_portraits(); });
+  s.thread = std::thread([&s] { s.io.run(); });
+}
+
+void Session::stop() {
+  Impl& s = *impl_;
+  if (!s.thread.joinable()) return;
+  asio::post(s.io, [&s] { s.shut_down(); });
+  s.work.reset();
+  s.thread.join();
+  {
+    std::lock_guard lock(s.mutex);
+    s.portrait_stop = true;
+  }
+  s.portrait_wake.notify_one();
+  s.portrait_thread.join();
+}
+
+uint16_t Session::local_port() const { return impl_->bound_port; }
+
+void Session::send(const Message& message) { send_encoded(message_type(message), encode_message(message, impl_->options.encode)); }
+
+void Session::send_encoded(MessageType stream, std::vector<uint8_t> bytes) {
+  Impl& s = *impl_;
+  {
+    std::lock_guard lock(s.mutex);
+    auto replace = [&](std::optional<std::vector<uint8_t>>& slot) {
+      if (slot) ++s.counters.stale_dropped_out[size_t(message_type_index(stream))];
+      slot = std::move(bytes);
+    };
+    switch (stream) {
+      case MessageType::Eye: replace(s.out_eye); break;
+      case MessageType::Skeleton: replace(s.out_skeleton); break;
+      case MessageType::Portrait: replace(s.out_portrait); break;
+      case MessageType::Heartbeat: replace(s.out_heartbeat); break;
+      case MessageType::TouchEvent: s.out_touch.emplace_back(s.next_touch_id++, std::move(bytes)); break;
+    }
+  }
+  s.wake();
+}
+
+template <typename T>
+static std::optional<T> take(std::mutex& mutex, std::optional<T>& slot) {
+  std::lock_guard lock(mutex);
+  std::optional<T> out = std::move(slot);
+  slot.reset();
+  return out;
+}
+
+std::optional<EyeMessage> Session::take_eye() { return take(impl_->mutex, impl_->in_eye); }
+std::optional<PortraitMessage> Session::take_portrait() { return take(impl_->mutex, impl_->in_portrait); }
+std::optional<SkeletonMessage> Session::take_skeleton() { return take(impl_->mutex, impl_->in_skeleton); }
+std::optional<HeartbeatMessage> Session::take_heartbeat() { return take(impl_->mutex, impl_->in_heartbeat); }
+
+std::vector<TouchEventMessage> Session::take_touch_events() {
+  std::lock_guard lock(impl_->mutex);
+  return std::exchange(impl_->in_touch, {});
+}
+
+void Session::set_handler(std::function<void(const Message&)> handler) { impl_->handler = std::move(handler); }
+
+ConnectionStatus Session::status() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->status;
+}
+
+NetCounters Session::counters() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->counters;
+}
+
+bool Session::wait_connected(std::chrono::milliseconds timeout) const {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!status().connected()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
+}
+
+}  // namespace rt::net

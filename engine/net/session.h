@@ -1,0 +1,103 @@
+#pragma once
+// One end of the two-site link: an Asio io_context in its own thread, one side listening and the
+// other connecting (HOST:PORT), the handshake and sealed records of secure_channel.h, the
+// messages of message_codec.h.
+//
+// Sending never blocks on the network. Eye, skeleton and portrait are newest-wins streams: a newer
+// message replaces an older unsent one (counted as stale). Touch events queue and are never
+// dropped: one leaves the queue only once written; after a drop it goes again on the next
+// connection. Received messages land in mailboxes the receiver polls (newest wins; touch events
+// queue), and optionally in a handler called on the network thread. There are no application
+// acknowledgements: a message already handed to a connection that then dies is lost (touch
+// events included, once their write completed).
+//
+// A dropped connection (socket error, no data for `lost_after`, a record that breaks the stream)
+// is retried with exponential backoff by the connecting side; the listener keeps accepting, and
+// a newly authenticated connection replaces the old one. status() says whether the remote side
+// is there, so the display can keep running and show "remote lost".
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "net/message_codec.h"
+#include "net/messages.h"
+#include "net/net_counters.h"
+#include "net/secure_channel.h"
+
+namespace rt::net {
+
+struct SessionOptions {
+  Role role = Role::Listener;
+  std::string host = "127.0.0.1";  // listener: address to bind ("0.0.0.0" for all); connector: the peer
+  uint16_t port = 0;               // listener: 0 picks a free port (local_port() says which)
+  SessionKey key;
+  EncodeOptions encode;
+  std::chrono::milliseconds heartbeat_period{200};
+  std::chrono::milliseconds lost_after{1000};        // nothing received for this long: connection lost
+  std::chrono::milliseconds handshake_timeout{2000};
+  std::chrono::milliseconds reconnect_min{50}, reconnect_max{2000};
+  size_t incoming_touch_capacity = 1024;  // beyond this, unpolled touch events are dropped (counted)
+  std::string name = "net";               // log prefix, e.g. "site A"
+  std::function<void(const std::string&)> log;  // one line per event; default: stderr
+};
+
+// "HOST:PORT" ("[::1]:7000" for IPv6). Throws std::invalid_argument saying what is wrong.
+std::pair<std::string, uint16_t> parse_host_port(const std::string& text);
+
+enum class ConnectionState { Idle, Connecting, Connected, Lost, Refused };
+const char* connection_state_name(ConnectionState state);
+
+struct ConnectionStatus {
+  ConnectionState state = ConnectionState::Idle;
+  uint64_t since_us = 0;  // monotonic clock: when this state began
+  std::string reason;     // why lost or refused
+  std::string peer;       // address of the current or last peer
+  bool connected() const { return state == ConnectionState::Connected; }
+};
+
+class Session {
+ public:
+  explicit Session(SessionOptions options);
+  ~Session();  // stops
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // Binds (listener; throws if it cannot) or starts connecting, and starts the network thread.
+  // A session starts once; after stop(), make a new one.
+  void start();
+  void stop();
+  uint16_t local_port() const;
+
+  // Thread-safe. Encodes on the calling thread (a portrait's JPEG too); throws
+  // std::invalid_argument for a message the peer would reject.
+  void send(const Message& message);
+  // Bytes already encoded (the benchmark times encoding apart), sent as they are on `stream`'s
+  // queue: tests use it to play a peer that holds the key but sends malformed messages.
+  void send_encoded(MessageType stream, std::vector<uint8_t> bytes);
+
+  std::optional<EyeMessage> take_eye();
+  std::optional<PortraitMessage> take_portrait();
+  std::optional<SkeletonMessage> take_skeleton();
+  std::optional<HeartbeatMessage> take_heartbeat();
+  std::vector<TouchEventMessage> take_touch_events();
+
+  // Set before start(). Called for every accepted message, heartbeats too: on the network thread,
+  // portraits on the session's portrait-decoding thread (so a 720p decode never delays a touch).
+  void set_handler(std::function<void(const Message&)> handler);
+
+  ConnectionStatus status() const;
+  NetCounters counters() const;
+  // Polls status() until connected or the timeout passes.
+  bool wait_connected(std::chrono::milliseconds timeout) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rt::net

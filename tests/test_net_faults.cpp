@@ -1,0 +1,220 @@
+// Fault injection through the loopback proxy: delay, jitter, loss, a disconnect in the middle,
+// garbage in the stream. The session goes on (or reconnects), nothing crashes, and the counts
+// add up; they are printed as JSON for the record.
+#include <catch2/catch.hpp>
+
+#include <iostream>
+
+#include "net_test_messages.h"
+#include "net_test_sessions.h"
+#include "time/monotonic_clock.h"
+
+using namespace rt;
+using namespace rt::net;
+using rt::test::eventually;
+
+namespace {
+
+constexpr size_t kTouch = size_t(MessageType::TouchEvent) - 1;
+
+struct ProxiedLink {
+  test::LogLines log;
+  SessionKey key = random_session_key();
+  Session listener;
+  std::unique_ptr<FaultProxy> proxy;
+  std::unique_ptr<Session> connector;
+  explicit ProxiedLink(const FaultOptions& faults, std::chrono::milliseconds reconnect_min = std::chrono::milliseconds(20),
+                       std::chrono::milliseconds lost_after = std::chrono::milliseconds(1500))
+      : listener(listener_options(lost_after)) {
+    listener.start();
+    proxy = std::make_unique<FaultProxy>("127.0.0.1", listener.local_port(), faults);
+    proxy->start();
+    auto options = test::test_session_options(Role::Connector, key, log, "A");
+    options.port = proxy->port();
+    options.reconnect_min = reconnect_min;
+    options.lost_after = lost_after;
+    options.handshake_timeout = lost_after;
+    connector = std::make_unique<Session>(options);
+    connector->start();
+  }
+  SessionOptions listener_options(std::chrono::milliseconds lost_after) {
+    auto options = test::test_session_options(Role::Listener, key, log, "B");
+    options.lost_after = lost_after;
+    options.handshake_timeout = lost_after;
+    return options;
+  }
+  void report(const std::string& what) {
+    std::cout << what << ":\n  proxy " << proxy->counts().to_json().dump() << "\n  connector "
+              << connector->counters().to_json().dump() << "\n  listener " << listener.counters().to_json().dump() << "\n";
+  }
+};
+
+}  // namespace
+
+TEST_CASE("delay and jitter: everything arrives, in order, late by at least the delay") {
+  FaultOptions faults;
+  faults.delay = std::chrono::milliseconds(30);
+  faults.jitter = std::chrono::milliseconds(20);
+  ProxiedLink link(faults);
+  std::mutex mutex;
+  std::vector<std::pair<uint64_t, uint64_t>> arrivals;  // sent at, received at (one process: one clock)
+  link.listener.set_handler([&](const Message& m) {
+    if (const auto* touch = std::get_if<TouchEventMessage>(&m)) {
+      std::lock_guard lock(mutex);
+      arrivals.emplace_back(touch->timestamp_us, monotonic_now_us());
+    }
+  });
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  for (int i = 0; i < 20; ++i) {
+    link.connector->send(TouchEventMessage{monotonic_now_us(), TouchEventMessage::Kind::Start, 0});
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  REQUIRE(eventually([&] {
+    std::lock_guard lock(mutex);
+    return arrivals.size() == 20;
+  }));
+  uint64_t max_latency = 0;
+  for (size_t i = 0; i < arrivals.size(); ++i) {
+    CHECK(arrivals[i].second - arrivals[i].first >= 30'000);
+    if (i > 0) CHECK(arrivals[i].first > arrivals[i - 1].first);  // in order
+    max_latency = std::max(max_latency, arrivals[i].second - arrivals[i].first);
+  }
+  CHECK(max_latency < 500'000);
+  CHECK(link.proxy->counts().records_dropped == 0);
+  CHECK(link.listener.counters().rejected == 0);
+  CHECK(link.connector->status().connected());
+  link.report("delay 30 ms + jitter 20 ms");
+}
+
+TEST_CASE("loss: records go missing, the gaps are counted, the session stays up") {
+  FaultOptions faults;
+  faults.loss = 0.25;
+  faults.seed = 3;
+  ProxiedLink link(faults);
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  for (int i = 0; i < 200; ++i) {
+    link.connector->send(TouchEventMessage{uint64_t(i), TouchEventMessage::Kind::Start, 0});
+    if (i % 20 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  // Heartbeats keep flowing, so every lost touch record shows up as a gap sooner or later.
+  REQUIRE(eventually([&] {
+    const auto c = link.listener.counters();
+    return c.messages_out[kTouch] == 0 && link.connector->counters().messages_out[kTouch] == 200 &&
+           c.messages_in[kTouch] + c.records_missing >= 200;
+  }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const NetCounters in = link.listener.counters(), out = link.connector->counters();
+  const FaultCounts proxy = link.proxy->counts();
+  INFO(proxy.to_json().dump());
+  CHECK(in.messages_in[kTouch] < 200);
+  CHECK(in.messages_in[kTouch] > 100);
+  CHECK(in.rejected == 0);
+  // Every record the proxy dropped is a gap at one receiver, but for the last one per direction
+  // (no later record has revealed it yet).
+  const uint64_t gaps = in.records_missing + out.records_missing;
+  CHECK(gaps <= proxy.records_dropped);
+  CHECK(gaps + 2 >= proxy.records_dropped);
+  CHECK(link.connector->status().connected());
+  CHECK(link.listener.status().connected());
+  CHECK(in.connections_lost == 0);
+  link.report("loss 25%");
+}
+
+TEST_CASE("a disconnect in the middle: both sides see the remote lost, reconnect, and go on") {
+  ProxiedLink link(FaultOptions{}, std::chrono::milliseconds(300));
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  link.connector->send(EyeMessage{1, {0, 0, -0.7}, true});
+  REQUIRE(eventually([&] { return link.listener.take_eye().has_value(); }));
+
+  const uint64_t cut = monotonic_now_us();
+  link.proxy->disconnect_now();
+  REQUIRE(eventually([&] { return link.connector->status().state == ConnectionState::Lost; }, std::chrono::milliseconds(1000)));
+  const ConnectionStatus lost = link.connector->status();
+  CHECK(lost.since_us >= cut);
+  CHECK_FALSE(lost.reason.empty());
+  // Meanwhile the local side keeps going: sending does not block and nothing is thrown.
+  link.connector->send(EyeMessage{2, {0, 0, -0.71}, true});
+  link.connector->send(TouchEventMessage{3, TouchEventMessage::Kind::Start, 0});
+
+  REQUIRE(eventually([&] { return link.connector->status().connected() && link.listener.status().connected(); }));
+  REQUIRE(eventually([&] { return link.listener.take_touch_events().size() == 1; }));
+  const auto eye = link.listener.take_eye();
+  REQUIRE(eye);
+  CHECK(eye->timestamp_us == 2);
+  const NetCounters a = link.connector->counters(), b = link.listener.counters();
+  CHECK(a.connections_lost == 1);
+  CHECK(a.reconnects == 1);
+  CHECK(b.reconnects == 1);
+  CHECK(b.handshakes_ok == 2);
+  CHECK(link.proxy->counts().disconnects == 1);
+  CHECK(link.log.contains("[A] connection with"));
+  link.report("disconnect and reconnect");
+}
+
+TEST_CASE("garbage in the stream: rejected, the connection is rebuilt, the session goes on") {
+  ProxiedLink link(FaultOptions{});
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  link.proxy->inject_garbage_now(64);
+  REQUIRE(eventually([&] { return link.listener.counters().connections_lost >= 1; }));
+  const NetCounters b = link.listener.counters();
+  CHECK(b.rejected >= 1);
+  CHECK(b.rejected_by_reason.count("record_oversize") + b.rejected_by_reason.count("auth_failed") >= 1);
+  // The connector learns of it when the listener closes, and comes back on a new connection.
+  REQUIRE(eventually([&] { return link.connector->counters().reconnects == 1 && link.connector->status().connected(); }));
+  link.connector->send(TouchEventMessage{9, TouchEventMessage::Kind::End, 0});
+  REQUIRE(eventually([&] { return link.listener.take_touch_events().size() == 1; }));
+  CHECK(link.listener.counters().reconnects == 1);
+  CHECK(link.proxy->counts().garbage_injections == 1);
+  link.report("64 garbage bytes");
+}
+
+TEST_CASE("fault options on a timer, as the demo will use them") {
+  FaultOptions faults;
+  faults.disconnect_after = std::chrono::milliseconds(300);
+  faults.garbage_after = std::chrono::milliseconds(900);
+  ProxiedLink link(faults);
+  REQUIRE(eventually([&] { return link.proxy->counts().disconnects == 1 && link.proxy->counts().garbage_injections == 1; }));
+  // The session goes on: an eye sent now and then gets through. (An eye written into a connection
+  // that is already dying is gone: newest wins, nothing is resent but touch events.)
+  REQUIRE(eventually([&] {
+    link.connector->send(EyeMessage{5, {0, 0, -0.6}, true});
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return link.listener.take_eye().has_value();
+  }));
+  const NetCounters b = link.listener.counters();
+  // The garbage broke either the session (rejected) or, had it landed in a reconnect's handshake,
+  // that handshake (refused).
+  CHECK(b.rejected + b.handshakes_refused >= 1);
+  CHECK(b.connections_lost >= 1);
+  CHECK(link.connector->counters().reconnects >= 1);
+  link.report("timed disconnect and garbage");
+}
+
+TEST_CASE("a link gone silent: heartbeats time out on both sides, handshakes time out, then it recovers") {
+  ProxiedLink link(FaultOptions{}, std::chrono::milliseconds(20), std::chrono::milliseconds(300));
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  link.proxy->set_blackhole(true);
+  REQUIRE(eventually([&] {
+    return link.connector->counters().connections_lost == 1 && link.listener.counters().connections_lost == 1;
+  }));
+  // Whichever side's heartbeat timer fires first notices the silence; the other may then see the
+  // proxy close its side.
+  CHECK(link.log.contains("lost: no data from the peer for"));
+  const uint64_t lost_since = link.connector->status().since_us;
+  // The connector keeps trying; its handshakes vanish into the blackhole and time out. It is
+  // still "lost since" the same moment: a timeout is not a refusal.
+  REQUIRE(eventually([&] { return link.connector->counters().handshakes_refused >= 1; }));
+  CHECK(link.log.contains("handshake timed out"));
+  const ConnectionStatus status = link.connector->status();
+  CHECK(status.state == ConnectionState::Lost);
+  CHECK(status.since_us == lost_since);
+  link.proxy->set_blackhole(false);
+  REQUIRE(eventually([&] { return link.connector->status().connected() && link.listener.status().connected(); }));
+  link.connector->send(TouchEventMessage{4, TouchEventMessage::Kind::Start, 0});
+  REQUIRE(eventually([&] { return link.listener.take_touch_events().size() == 1; }));
+  CHECK(link.proxy->counts().bytes_swallowed > 0);
+  link.report("blackhole");
+}

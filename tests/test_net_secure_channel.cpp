@@ -1,0 +1,136 @@
+// Keys, handshake and sealed records (libsodium), without sockets: right and wrong key, reflected
+// hellos, tampered ciphertext and headers, replayed and missing records.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include "net/message_codec.h"
+#include "net/secure_channel.h"
+
+using namespace rt::net;
+
+namespace {
+
+struct Pair {
+  Handshake connector, listener;
+  Pair(const SessionKey& a, const SessionKey& b) : connector(a, Role::Connector), listener(b, Role::Listener) {}
+  // Both hellos, then both proofs; returns {connector's verdict, listener's verdict}.
+  std::pair<std::optional<std::string>, std::optional<std::string>> run() {
+    REQUIRE_FALSE(connector.receive_hello(listener.hello()));
+    REQUIRE_FALSE(listener.receive_hello(connector.hello()));
+    return {connector.verify_proof(listener.proof()), listener.verify_proof(connector.proof())};
+  }
+};
+
+}  // namespace
+
+TEST_CASE("session keys from hex and key files, with clear errors") {
+  const SessionKey key = random_session_key();
+  CHECK(session_key_from_hex(to_hex(key)).bytes == key.bytes);
+  CHECK(session_key_from_hex("  " + to_hex(key) + "\n").bytes == key.bytes);
+  CHECK_THROWS_WITH(session_key_from_hex("abcd"), Catch::Contains("64 hex digits") && Catch::Contains("got 4"));
+  CHECK_THROWS_WITH(session_key_from_hex(std::string(63, '0') + "g"), Catch::Contains("'g' is not a hex digit"));
+  const auto dir = std::filesystem::temp_directory_path() / "rt_net_key_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "good.key") << to_hex(key) << "\n";
+  CHECK(load_session_key_file(dir / "good.key").bytes == key.bytes);
+  std::ofstream(dir / "bad.key") << "not a key\n";
+  CHECK_THROWS_WITH(load_session_key_file(dir / "bad.key"), Catch::Contains("bad.key") && Catch::Contains("64 hex"));
+  CHECK_THROWS_WITH(load_session_key_file(dir / "missing.key"), Catch::Contains("cannot be opened"));
+}
+
+TEST_CASE("handshake with the same key: both verify and derive crosswise traffic keys") {
+  const SessionKey key = random_session_key();
+  Pair pair(key, key);
+  const auto [connector, listener] = pair.run();
+  CHECK_FALSE(connector);
+  CHECK_FALSE(listener);
+  const TrafficKeys c = pair.connector.keys(), l = pair.listener.keys();
+  CHECK(c.send == l.receive);
+  CHECK(c.receive == l.send);
+  CHECK(c.send != c.receive);
+  // Fresh nonces: a second handshake with the same key gives other traffic keys.
+  Pair again(key, key);
+  again.run();
+  CHECK(again.connector.keys().send != c.send);
+}
+
+TEST_CASE("handshake with a wrong key is refused on both sides") {
+  Pair pair(random_session_key(), random_session_key());
+  const auto [connector, listener] = pair.run();
+  REQUIRE(connector);
+  REQUIRE(listener);
+  CHECK_THAT(*connector, Catch::Contains("did not prove knowledge of the session key"));
+  CHECK_THAT(*listener, Catch::Contains("did not prove knowledge of the session key"));
+  CHECK_THROWS(pair.connector.keys());
+}
+
+TEST_CASE("bad hellos: wrong magic, reflected hello, wrong size") {
+  const SessionKey key = random_session_key();
+  Handshake listener(key, Role::Listener);
+  auto hello = Handshake(key, Role::Connector).hello();
+  hello[0] = 'X';
+  CHECK_THAT(*listener.receive_hello(hello), Catch::Contains("bad hello magic"));
+  CHECK_THAT(*listener.receive_hello(listener.hello()), Catch::Contains("wrong role"));
+  CHECK_THAT(*listener.receive_hello(std::vector<uint8_t>(12)), Catch::Contains("12 bytes"));
+  CHECK_THROWS(listener.proof());  // no proof before a valid hello
+}
+
+TEST_CASE("records: round trip, tampering, replay, gaps, oversize") {
+  const SessionKey key = random_session_key();
+  Pair pair(key, key);
+  pair.run();
+  RecordSealer sealer(pair.connector.keys().send);
+  RecordOpener opener(pair.listener.keys().receive, kMaxMessageSize);
+  auto open = [&](const std::vector<uint8_t>& record, std::vector<uint8_t>* plaintext, std::string* reason) {
+    return opener.open(std::span(record).first(kRecordHeaderSize), std::span(record).subspan(kRecordHeaderSize), plaintext,
+                       reason);
+  };
+  const std::vector<uint8_t> message = encode_message(HeartbeatMessage{1, 2});
+  std::vector<uint8_t> plaintext;
+  std::string reason;
+
+  const auto first = sealer.seal(message);
+  CHECK(first.size() == kRecordHeaderSize + message.size() + kRecordTagSize);
+  REQUIRE(open(first, &plaintext, &reason) == RecordError::None);
+  CHECK(plaintext == message);
+
+  SECTION("the same record again is a replay") {
+    CHECK(open(first, &plaintext, &reason) == RecordError::Replay);
+    CHECK_THAT(reason, Catch::Contains("replayed"));
+    CHECK(plaintext.empty());
+  }
+  SECTION("a tampered ciphertext byte fails authentication") {
+    auto record = sealer.seal(message);
+    record[kRecordHeaderSize + 3] ^= 1;
+    CHECK(open(record, &plaintext, &reason) == RecordError::AuthFailed);
+    CHECK_THAT(reason, Catch::Contains("failed authentication"));
+  }
+  SECTION("a tampered counter fails authentication (the header is authenticated)") {
+    auto record = sealer.seal(message);
+    record[4] ^= 2;
+    CHECK(open(record, &plaintext, &reason) == RecordError::AuthFailed);
+  }
+  SECTION("the other direction's key does not open it") {
+    RecordOpener wrong(pair.listener.keys().send, kMaxMessageSize);
+    auto record = sealer.seal(message);
+    CHECK(wrong.open(std::span(record).first(kRecordHeaderSize), std::span(record).subspan(kRecordHeaderSize), &plaintext,
+                     &reason) == RecordError::AuthFailed);
+  }
+  SECTION("a skipped record counts as missing, an older one after it as a replay") {
+    const auto second = sealer.seal(message);
+    const auto third = sealer.seal(message);
+    REQUIRE(open(third, &plaintext, &reason) == RecordError::None);
+    CHECK(opener.records_missing() == 1);
+    CHECK(open(second, &plaintext, &reason) == RecordError::Replay);
+  }
+  SECTION("a length over the limit means the stream is out of step") {
+    auto record = sealer.seal(message);
+    const uint32_t huge = uint32_t(kMaxMessageSize + kRecordTagSize + 1);
+    std::memcpy(record.data(), &huge, 4);
+    RecordHeader header;
+    CHECK(opener.check_header(std::span(record).first(kRecordHeaderSize), &header, &reason) == RecordError::Oversize);
+    CHECK_THAT(reason, Catch::Contains("out of step"));
+  }
+}

@@ -1,0 +1,249 @@
+// Two sessions over loopback: all five message types both ways, the wrong key refused on both
+// sides, garbage from a stranger, malformed messages from a peer that holds the key, newest-wins
+// portraits, touch events never dropped, counters as JSON.
+#include <catch2/catch.hpp>
+
+#include <asio.hpp>
+#include <cstring>
+#include <set>
+
+#include "net_test_messages.h"
+#include "net_test_sessions.h"
+#include "time/monotonic_clock.h"
+
+using namespace rt;
+using namespace rt::net;
+using rt::test::eventually;
+
+namespace {
+
+struct Received {
+  std::mutex mutex;
+  std::vector<Message> messages;
+  std::set<MessageType> types() {
+    std::lock_guard lock(mutex);
+    std::set<MessageType> out;
+    for (const auto& m : messages) out.insert(message_type(m));
+    return out;
+  }
+  size_t count(MessageType type) {
+    std::lock_guard lock(mutex);
+    size_t n = 0;
+    for (const auto& m : messages) n += message_type(m) == type;
+    return n;
+  }
+};
+
+struct Link {
+  test::LogLines log;
+  SessionKey key = random_session_key();
+  Session listener{test::test_session_options(Role::Listener, key, log, "B")};
+  std::unique_ptr<Session> connector;
+  explicit Link(std::optional<SessionKey> connector_key = std::nullopt) {
+    listener.start();
+    auto options = test::test_session_options(Role::Connector, connector_key.value_or(key), log, "A");
+    options.port = listener.local_port();
+    connector = std::make_unique<Session>(options);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("parse_host_port") {
+  CHECK(parse_host_port("127.0.0.1:7000") == std::pair<std::string, uint16_t>{"127.0.0.1", 7000});
+  CHECK(parse_host_port("[::1]:9") == std::pair<std::string, uint16_t>{"::1", 9});
+  CHECK_THROWS_WITH(parse_host_port("localhost"), Catch::Contains("not HOST:PORT"));
+  CHECK_THROWS_WITH(parse_host_port("h:70000"), Catch::Contains("1..65535"));
+  CHECK_THROWS_WITH(parse_host_port("h:x1"), Catch::Contains("not a number"));
+}
+
+TEST_CASE("a session delivers all five message types both ways") {
+  Link link;
+  Received at_listener, at_connector;
+  link.listener.set_handler([&](const Message& m) {
+    std::lock_guard lock(at_listener.mutex);
+    at_listener.messages.push_back(m);
+  });
+  link.connector->set_handler([&](const Message& m) {
+    std::lock_guard lock(at_connector.mutex);
+    at_connector.messages.push_back(m);
+  });
+  link.connector->start();
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  CHECK(link.log.contains("session established"));
+
+  const PortraitMessage portrait = test::test_portrait(33, 17, 5);
+  for (Session* s : {&link.listener, link.connector.get()}) {
+    s->send(EyeMessage{monotonic_now_us(), {0.01, 0.02, -0.65}, true});
+    s->send(portrait);
+    s->send(test::test_skeleton(monotonic_now_us()));
+    s->send(TouchEventMessage{monotonic_now_us(), TouchEventMessage::Kind::Start, s == &link.listener ? uint8_t(1) : uint8_t(0)});
+  }
+  const std::set<MessageType> all = {MessageType::Eye, MessageType::Portrait, MessageType::Skeleton,
+                                     MessageType::TouchEvent, MessageType::Heartbeat};
+  REQUIRE(eventually([&] { return at_listener.types() == all && at_connector.types() == all; }));
+
+  // The mailboxes hold the same: the newest of each stream, touch events all.
+  for (Session* s : {&link.listener, link.connector.get()}) {
+    const auto eye = s->take_eye();
+    REQUIRE(eye);
+    CHECK(eye->eye == Eigen::Vector3d(0.01, 0.02, -0.65));
+    const auto got = s->take_portrait();
+    REQUIRE(got);
+    CHECK(got->frame_index == 5);
+    CHECK(std::memcmp(got->depth.texels.data(), portrait.depth.texels.data(), portrait.depth.texels.size() * 4) == 0);
+    CHECK(s->take_skeleton()->hands.size() == 2);
+    CHECK(s->take_heartbeat());
+    const auto touches = s->take_touch_events();
+    REQUIRE(touches.size() == 1);
+    CHECK(touches[0].site == (s == &link.listener ? 0 : 1));
+    CHECK_FALSE(s->take_portrait());  // taken
+    const NetCounters c = s->counters();
+    CHECK(c.rejected == 0);
+    CHECK(c.handshakes_ok == 1);
+    CHECK(c.messages_out[size_t(message_type_index(MessageType::Portrait))] == 1);
+    CHECK(c.bytes_out > 1000);
+    CHECK(c.bytes_in > 1000);
+    const auto json = c.to_json();
+    CHECK(json["messages_in"]["portrait"] == 1);
+    CHECK(json["messages_in"]["touch"] == 1);
+  }
+}
+
+TEST_CASE("a peer with the wrong key is refused on both sides and nothing is delivered") {
+  Link link(random_session_key());
+  link.listener.set_handler([](const Message&) { FAIL("a message passed a failed handshake"); });
+  link.connector->start();
+  link.connector->send(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
+  REQUIRE(eventually([&] {
+    return link.connector->status().state == ConnectionState::Refused && link.listener.status().state == ConnectionState::Refused;
+  }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // a few retries
+  for (Session* s : {&link.listener, link.connector.get()}) {
+    const ConnectionStatus status = s->status();
+    CHECK_FALSE(status.connected());
+    CHECK_THAT(status.reason, Catch::Contains("did not prove knowledge of the session key"));
+    const NetCounters c = s->counters();
+    CHECK(c.handshakes_ok == 0);
+    CHECK(c.handshakes_refused >= 1);
+    for (auto n : c.messages_in) CHECK(n == 0);
+  }
+  CHECK(link.log.contains("[A] connection with"));
+  CHECK(link.log.contains("[B] connection with"));
+}
+
+TEST_CASE("garbage from a stranger is refused while the real session goes on") {
+  Link link;
+  link.connector->start();
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  asio::io_context io;
+  asio::ip::tcp::socket stranger(io);
+  stranger.connect({asio::ip::make_address("127.0.0.1"), link.listener.local_port()});
+  std::vector<uint8_t> garbage(200);
+  for (size_t i = 0; i < garbage.size(); ++i) garbage[i] = uint8_t(i * 37 + 11);
+  asio::write(stranger, asio::buffer(garbage));
+  REQUIRE(eventually([&] { return link.listener.counters().handshakes_refused == 1; }));
+  CHECK(link.log.contains("bad hello magic"));
+  CHECK(link.listener.status().connected());
+  link.connector->send(EyeMessage{7, {0, 0, -1}, true});
+  REQUIRE(eventually([&] { return link.listener.take_eye().has_value(); }));
+}
+
+TEST_CASE("malformed messages from a peer holding the key are rejected, counted, and the session goes on") {
+  Link link;
+  link.connector->start();
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  const auto good = encode_message(TouchEventMessage{5, TouchEventMessage::Kind::End, 0});
+  std::vector<std::vector<uint8_t>> bad;
+  bad.push_back({1, 2, 3});                       // truncated
+  bad.push_back(good), bad.back()[0] = 'x';       // bad magic
+  bad.push_back(good), bad.back()[6] = 42;        // unknown type
+  bad.push_back(good), bad.back().push_back(0);   // trailing bytes
+  bad.push_back(encode_message(EyeMessage{1, {0, 0, 0}, true}));
+  const double nan = std::nan("");
+  std::memcpy(bad.back().data() + kHeaderSize + 8, &nan, 8);  // NaN eye
+  for (auto& bytes : bad) link.connector->send_encoded(MessageType::TouchEvent, bytes);
+  link.connector->send_encoded(MessageType::TouchEvent, good);
+  REQUIRE(eventually([&] { return link.listener.counters().messages_in[size_t(message_type_index(MessageType::TouchEvent))] == 1; }));
+  const NetCounters c = link.listener.counters();
+  CHECK(c.rejected == 5);
+  CHECK(c.rejected_by_reason.at("truncated") == 1);
+  CHECK(c.rejected_by_reason.at("bad_magic") == 1);
+  CHECK(c.rejected_by_reason.at("unknown_type") == 1);
+  CHECK(c.rejected_by_reason.at("trailing_bytes") == 1);
+  CHECK(c.rejected_by_reason.at("bad_value") == 1);
+  CHECK(link.log.contains("rejected: eye: eye position is not finite"));
+  CHECK(link.listener.status().connected());
+  CHECK(link.listener.take_touch_events().size() == 1);
+}
+
+TEST_CASE("portraits: only the newest unsent one goes, only the newest received one is kept") {
+  Link link;
+  constexpr size_t kPortrait = size_t(MessageType::Portrait) - 1;
+  std::mutex mutex;
+  std::vector<uint64_t> delivered;
+  link.listener.set_handler([&](const Message& m) {
+    if (const auto* p = std::get_if<PortraitMessage>(&m)) {
+      std::lock_guard lock(mutex);
+      delivered.push_back(p->frame_index);
+    }
+  });
+  auto last_delivered = [&] {
+    std::lock_guard lock(mutex);
+    return delivered.empty() ? uint64_t(-1) : delivered.back();
+  };
+  const PortraitMessage first = test::test_portrait(20, 10, 0);
+  // Not connected yet: each newer portrait replaces the unsent one.
+  for (uint64_t frame = 0; frame < 5; ++frame) {
+    PortraitMessage p = first;
+    p.frame_index = frame;
+    link.connector->send(p);
+  }
+  // Touch events queue instead: all arrive, in order.
+  for (uint64_t i = 0; i < 50; ++i) link.connector->send(TouchEventMessage{i, TouchEventMessage::Kind(i % 2), 0});
+  CHECK(link.connector->counters().stale_dropped_out[kPortrait] == 4);
+  link.connector->start();
+  REQUIRE(eventually([&] { return last_delivered() == 4; }));
+  CHECK(link.listener.counters().messages_in[kPortrait] == 1);
+  // Connected: the receiver does not poll while more arrive; it then finds only the newest.
+  for (uint64_t frame = 5; frame < 12; ++frame) {
+    PortraitMessage p = first;
+    p.frame_index = frame;
+    link.connector->send(p);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  REQUIRE(eventually([&] { return last_delivered() == 11; }));
+  const auto newest = link.listener.take_portrait();
+  REQUIRE(newest);
+  CHECK(newest->frame_index == 11);
+  CHECK_FALSE(link.listener.take_portrait());
+  const NetCounters in = link.listener.counters();
+  CHECK(in.messages_in[kPortrait] == delivered.size());
+  CHECK(in.stale_dropped_in[kPortrait] >= delivered.size() - 1);  // every delivered one but the newest, at least
+  for (size_t i = 1; i < delivered.size(); ++i) CHECK(delivered[i] > delivered[i - 1]);
+  REQUIRE(eventually([&] { return link.listener.counters().messages_in[size_t(message_type_index(MessageType::TouchEvent))] == 50; }));
+  const auto touches = link.listener.take_touch_events();
+  REQUIRE(touches.size() == 50);
+  for (uint64_t i = 0; i < 50; ++i) CHECK(touches[i].timestamp_us == i);
+}
+
+TEST_CASE("a portrait larger than one read piece (256 KiB) arrives intact") {
+  Link link;
+  link.connector->start();
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  const PortraitMessage portrait = test::test_portrait(640, 480, 77, 5);
+  const auto bytes = encode_message(portrait);
+  REQUIRE(bytes.size() > 256 * 1024);
+  link.connector->send_encoded(MessageType::Portrait, bytes);
+  std::optional<PortraitMessage> got;
+  REQUIRE(eventually([&] { return (got = link.listener.take_portrait()).has_value(); }));
+  CHECK(got->frame_index == 77);
+  CHECK(std::memcmp(got->depth.texels.data(), portrait.depth.texels.data(), portrait.depth.texels.size() * 4) == 0);
+  CHECK(link.listener.counters().bytes_in > bytes.size());
+}
+
+TEST_CASE("sending an invalid message throws on the sender's thread") {
+  Link link;
+  CHECK_THROWS_AS(link.connector->send(EyeMessage{1, {std::nan(""), 0, 0}, true}), std::invalid_argument);
+}
