@@ -7,6 +7,7 @@
 #include "passes/copy.h"
 #include "passes/hand_alpha.h"
 #include "passes/overlay.h"
+#include "passes/person_raster.h"
 #include "support/gpu_test.h"
 #include "vulkan/frame_graph.h"
 #include "vulkan/vk_struct.h"
@@ -160,4 +161,51 @@ TEST_CASE("a resource released while the GPU still uses it is destroyed later", 
     // validation layer would report a destroyed in-use object if destruction were immediate.
   }
   context.wait(in_flight);
+}
+
+namespace {
+
+// Big copy between two tiny ones: whatever the driver does with timestamps, the big pass must
+// take the most time.
+void require_big_pass_timed_as_biggest(vk::Context& context) {
+  const passes::CopyPass copy(context);
+  vk::Image tiny_in(context, {"tiny in", 1, 1}), tiny_out(context, {"tiny out", 1, 1});
+  vk::Image tiny_out2(context, {"tiny out 2", 1, 1});
+  vk::Image big_in(context, {"big in", 1024, 1024}), big_out(context, {"big out", 1024, 1024});
+  vk::FrameGraph graph(context, "test timing attribution");
+  copy.add_to(graph, tiny_in, tiny_out, "tiny before");
+  copy.add_to(graph, big_in, big_out, "big");
+  copy.add_to(graph, tiny_out, tiny_out2, "tiny after");
+  for (int frame = 0; frame < 3; ++frame) graph.run();
+  const auto timings = graph.timings();
+  REQUIRE(timings.size() == 3);
+  INFO(vk::format_profile(timings));
+  CHECK(timings[1].median_ms > timings[0].median_ms);
+  CHECK(timings[1].median_ms > timings[2].median_ms);
+}
+
+}  // namespace
+
+TEST_CASE("each pass's time holds its own work, before and after the context has drawn", "[frame_graph][gpu]") {
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  require_big_pass_timed_as_biggest(context);
+  // llvmpipe defers its timestamps once anything was drawn: draw a triangle, then time again.
+  const passes::PersonRasterPass raster(context);
+  std::vector<passes::MeshVertex> triangle(3);
+  triangle[0].position_part = {-0.1f, -0.1f, 1.0f, 1.0f};
+  triangle[1].position_part = {0.1f, -0.1f, 1.0f, 1.0f};
+  triangle[2].position_part = {0.0f, 0.1f, 1.0f, 1.0f};
+  vk::Buffer mesh(context, {.name = "triangle", .size = sizeof(passes::MeshVertex) * 3,
+                            .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT});
+  vk::upload(context, mesh, std::as_bytes(std::span(triangle)));
+  vk::Image color(context, {"color", 16, 16, PixelFormat::RGBA8}), depth_m(context, {"depth m", 16, 16, PixelFormat::R32F});
+  vk::Image part(context, {"part", 16, 16, PixelFormat::R32F}), depth(context, {"depth buffer", 16, 16, PixelFormat::D32F});
+  Camera camera;
+  camera.intrinsics = {16, 16, 16, 16, 7.5, 7.5, {}};
+  vk::FrameGraph draw(context, "test draw");
+  raster.add_to(draw, mesh, [] { return 3u; }, [&] { return passes::raster_view(camera, 0.1, 10.0); },
+                {&color, &depth_m, &part, &depth});
+  draw.run();
+  require_big_pass_timed_as_biggest(context);
 }

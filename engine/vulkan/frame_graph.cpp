@@ -337,13 +337,17 @@ void FrameGraph::compile() {
   if (count > 0 && valid_bits > 0) {
     auto info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
     info.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    info.queryCount = uint32_t(2 * count);
+    info.queryCount = uint32_t(2 * count + 1);  // + one at the start of the frame
     VkQueryPool pool = VK_NULL_HANDLE;
     RT_VK_CHECK(vkCreateQueryPool(context_.device(), &info, nullptr, &pool));
     queries_ = Handle<VkQueryPool>(context_, pool);
     context_.set_name(VK_OBJECT_TYPE_QUERY_POOL, uint64_t(pool), name_ + " pass timestamps");
     timestamp_period_ns_ = context_.properties().limits.timestampPeriod;
     timestamp_mask_ = valid_bits >= 64 ? ~0ull : ((1ull << valid_bits) - 1);
+    auto driver = vk_struct<VkPhysicalDeviceDriverProperties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES);
+    auto properties = vk_struct<VkPhysicalDeviceProperties2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver);
+    vkGetPhysicalDeviceProperties2(context_.physical_device(), &properties);
+    cpu_timestamps_ = driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE;
   }
   compiled_ = true;
 }
@@ -361,7 +365,10 @@ void FrameGraph::run() {
   auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   RT_VK_CHECK(vkBeginCommandBuffer(commands, &begin));
-  if (queries_) vkCmdResetQueryPool(commands, queries_.get(), 0, uint32_t(2 * passes_.size()));
+  if (queries_) {
+    vkCmdResetQueryPool(commands, queries_.get(), 0, uint32_t(2 * passes_.size() + 1));
+    context_.write_timestamp(commands, queries_.get(), uint32_t(2 * passes_.size()));
+  }
   context_.begin_label(commands, name_);
   for (size_t slot = 0; slot < order_.size(); ++slot) {
     Pass& pass = *passes_[order_[slot]];
@@ -396,15 +403,25 @@ void FrameGraph::run() {
   ++frames_run_;
 
   if (!queries_) return;
-  std::vector<uint64_t> stamps(2 * passes_.size());
+  std::vector<uint64_t> stamps(2 * passes_.size() + 1);
   RT_VK_CHECK(vkGetQueryPoolResults(context_.device(), queries_.get(), 0, uint32_t(stamps.size()),
                                     stamps.size() * sizeof(uint64_t), stamps.data(), sizeof(uint64_t),
                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  const uint64_t frame_start = stamps[2 * passes_.size()];
   for (size_t slot = 0; slot < order_.size(); ++slot) {
-    const uint64_t start = stamps[2 * slot] & timestamp_mask_;
-    const uint64_t end = stamps[2 * slot + 1] & timestamp_mask_;
-    const uint64_t ticks = (end - start) & timestamp_mask_;  // survives a counter wrap
     Pass& pass = *passes_[order_[slot]];
+    uint64_t start = stamps[2 * slot] & timestamp_mask_;
+    uint64_t end = stamps[2 * slot + 1] & timestamp_mask_;
+    if (cpu_timestamps_) {
+      // llvmpipe takes a timestamp either when the command runs or, once the context has drawn
+      // anything, when its rasterizer runs the binned query at the next flush (every timestamp
+      // command flushes first; compute work and transfers run synchronously, draws are binned).
+      // Either way the stretch from one pass's end stamp to the next one's holds that pass's
+      // work, plus a flush: so a pass's time on llvmpipe is the gap between consecutive end
+      // stamps, the first measured from a stamp at the start of the frame.
+      start = (slot == 0 ? frame_start : stamps[2 * slot - 1]) & timestamp_mask_;
+    }
+    const uint64_t ticks = (end - start) & timestamp_mask_;  // survives a counter wrap
     if (pass.gpu_ms.size() == kMaxTimedFrames) pass.gpu_ms.erase(pass.gpu_ms.begin());
     pass.gpu_ms.push_back(double(ticks) * timestamp_period_ns_ * 1e-6);
   }

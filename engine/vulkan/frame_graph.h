@@ -132,6 +132,7 @@ class FrameGraph {
   Handle<VkQueryPool> queries_;
   double timestamp_period_ns_ = 0.0;
   uint64_t timestamp_mask_ = 0;
+  bool cpu_timestamps_ = false;  // llvmpipe: a pass's time is the gap between end stamps (run())
   size_t frames_run_ = 0;
 };
 
