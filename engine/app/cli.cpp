@@ -107,6 +107,9 @@ int run_cli(int argc, char** argv) {
   eval_ibr_command->add_option("--refine", eval_ibr_options.refine_hypotheses,
                                "Plane-sweep refinement with this many depth hypotheses (0 = off)")
       ->check(CLI::Range(0, 64))->capture_default_str();
+  eval_ibr_command->add_option("--supersample", eval_ibr_options.supersample,
+                               "Simulated colour and ground truth rendered at N x N samples per pixel, box-filtered (odd)")
+      ->check(CLI::IsMember({1u, 3u, 5u, 7u}))->capture_default_str();
   eval_ibr_command->add_option("--site", eval_ibr_options.site, "Whose user is rendered")
       ->check(CLI::IsMember({"A", "B"}))->capture_default_str();
   add_common_options(*eval_ibr_command, eval_ibr, "out/eval-ibr");

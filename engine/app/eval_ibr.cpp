@@ -51,6 +51,7 @@ HostImage as_png(const HostImage& portrait) {
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   sim::Scene scene = sim::load_scene(resolve_scene(eval.scene));
   if (eval.frames_given) scene.frame_count = options.frames;
+  scene.colour_supersampling = eval.supersample;
   const Site site = eval.site == "B" ? Site::B : Site::A;
   GpuSession session(options);
   vk::Context& context = session.context();
@@ -76,9 +77,10 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   std::filesystem::create_directories(images_dir);
   const uint32_t frames = scene.frame_count;
   const uint32_t save_every = std::max(1u, frames / 4);
-  std::printf("eval ibr: scene %s, site %s's user for the other site's eye, %ux%u, %u of %zu cameras, %u frames, on %s\n",
+  std::printf("eval ibr: scene %s, site %s's user for the other site's eye, %ux%u, %u of %zu cameras, %u frames, "
+              "colour supersampled %ux%u, on %s\n",
               eval.scene.c_str(), eval.site.c_str(), options.width, options.height, eval.views, positions.size(), frames,
-              context.device_name().c_str());
+              eval.supersample, eval.supersample, context.device_name().c_str());
   for (uint32_t index = 0; index < frames; ++index) {
     const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
     if (!frame) break;
@@ -114,9 +116,11 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"height", options.height},
                            {"views", eval.views},
                            {"refine_hypotheses", eval.refine_hypotheses},
+                           {"colour_supersampling", eval.supersample},
                            {"frames", frames},
                            {"device", context.device_name()},
-                           {"ground_truth", "the simulator's render of the same target view (no sensor effects)"},
+                           {"ground_truth", "the simulator's render of the same target view (no sensor effects), colour box-filtered "
+                                            "over colour_supersampling^2 samples per pixel like the cameras' images"},
                            {"colour_error", "RGB in [0, 1], portrait premultiplied by its alpha against the truth"}};
   std::printf("\n%-6s %11s %13s %18s %10s %14s %14s\n", "fusion", "psnr_fg_db", "psnr_hand_db", "depth_mae_edge_mm",
               "alpha_iou", "depth_bias_mm", "GPU ms/frame");

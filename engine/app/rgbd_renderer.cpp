@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "app/site_simulator.h"
+
 namespace rt::app {
 
 // The targets one person_raster draw fills.
@@ -13,13 +15,25 @@ struct RgbdRenderer::View {
         part(context, {name + " part", k.width, k.height, PixelFormat::R32F}),
         depth_buffer(context, {name + " depth buffer", k.width, k.height, PixelFormat::D32F}) {}
   passes::RasterTargets targets() { return {&color, &depth_m, &part, &depth_buffer}; }
+  passes::ResolveImages resolve_images() { return {&color, &depth_m, &part}; }
+};
+
+// A view as the renderer outputs it, and the supersampled view it resolves from (if any).
+struct RgbdRenderer::SampledView {
+  View view;
+  std::unique_ptr<View> fine;
+  SampledView(vk::Context& context, const std::string& name, const CameraIntrinsics& k, uint32_t factor)
+      : view(context, name, k),
+        fine(factor > 1 ? std::make_unique<View>(context, name + " x" + std::to_string(factor), scaled_intrinsics(k, factor))
+                        : nullptr) {}
 };
 
 struct RgbdRenderer::CameraImages {
-  View colour_view, depth_view;
+  SampledView colour;
+  View depth_view;
   vk::Image sensed_colour, depth_mm;
-  CameraImages(vk::Context& context, const RgbdCameraSpec& spec)
-      : colour_view(context, spec.name + " colour view", spec.colour.intrinsics),
+  CameraImages(vk::Context& context, const RgbdCameraSpec& spec, uint32_t factor)
+      : colour(context, spec.name + " colour view", spec.colour.intrinsics, factor),
         depth_view(context, spec.name + " depth view", spec.depth.intrinsics),
         sensed_colour(context, {spec.name + " sensed colour", spec.colour.intrinsics.width,
                                 spec.colour.intrinsics.height, PixelFormat::RGBA8}),
@@ -35,17 +49,23 @@ constexpr double kNearM = 0.01, kFarM = 10.0;
 
 }  // namespace
 
-RgbdRenderer::RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view)
-    : context_(context), cameras_(std::move(cameras)), target_view_(std::move(target_view)), raster_(context) {
+RgbdRenderer::RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view,
+                           uint32_t colour_supersampling)
+    : context_(context),
+      cameras_(std::move(cameras)),
+      target_view_(std::move(target_view)),
+      raster_(context),
+      resolve_(context, colour_supersampling) {
   for (const auto& spec : cameras_) {
     // A colour effect that is off costs nothing: without one there is no colour_sensor pass.
     const passes::ColorSensorModel& model = spec.colour_model;
     const bool identity = model.gain == 1.0f && model.balance_r == 1.0f && model.balance_g == 1.0f && model.balance_b == 1.0f;
     colour_sensors_.push_back(identity ? nullptr : std::make_unique<passes::ColorSensorPass>(context, model));
     depth_sensors_.push_back(std::make_unique<passes::DepthSensorPass>(context, spec.depth_model));
-    images_.push_back(std::make_unique<CameraImages>(context, spec));
+    images_.push_back(std::make_unique<CameraImages>(context, spec, colour_supersampling));
   }
-  if (target_view_) target_ = std::make_unique<View>(context, "target view", target_view_->intrinsics);
+  if (target_view_)
+    target_ = std::make_unique<SampledView>(context, "target view", target_view_->intrinsics, colour_supersampling);
 }
 
 RgbdRenderer::~RgbdRenderer() = default;
@@ -59,12 +79,10 @@ void RgbdRenderer::build_graph(size_t mesh_capacity) {
   for (size_t i = 0; i < cameras_.size(); ++i) {
     const RgbdCameraSpec& spec = cameras_[i];
     CameraImages& images = *images_[i];
-    const auto colour_view = passes::raster_view(spec.colour, kNearM, kFarM);
     const auto depth_view = passes::raster_view(spec.depth, kNearM, kFarM);
-    raster_.add_to(*graph_, *mesh_, count, [colour_view] { return colour_view; }, images.colour_view.targets(),
-                   "raster colour " + spec.name);
+    add_sampled_view(spec.colour, images.colour, "colour " + spec.name);
     if (colour_sensors_[i])
-      colour_sensors_[i]->add_to(*graph_, images.colour_view.color, images.sensed_colour, "color_sensor " + spec.name);
+      colour_sensors_[i]->add_to(*graph_, images.colour.view.color, images.sensed_colour, "color_sensor " + spec.name);
     raster_.add_to(*graph_, *mesh_, count, [depth_view] { return depth_view; }, images.depth_view.targets(),
                    "raster depth " + spec.name);
     // Each camera draws its own noise: mix the camera's index into the frame's seed.
@@ -72,10 +90,18 @@ void RgbdRenderer::build_graph(size_t mesh_capacity) {
                               [this, i] { return seed_ * 2654435761u + uint32_t(i) * 40503u + 1u; },
                               "depth_sensor " + spec.name);
   }
-  if (target_) {
-    const auto view = passes::raster_view(*target_view_, kNearM, kFarM);
-    raster_.add_to(*graph_, *mesh_, count, [view] { return view; }, target_->targets(), "raster target view");
-  }
+  if (target_) add_sampled_view(*target_view_, *target_, "target view");
+}
+
+void RgbdRenderer::add_sampled_view(const Camera& camera, SampledView& sampled, const std::string& name) {
+  auto count = [this] { return vertex_count_; };
+  Camera drawn = camera;
+  if (sampled.fine) drawn.intrinsics = scaled_intrinsics(camera.intrinsics, resolve_.factor());
+  const auto view = passes::raster_view(drawn, kNearM, kFarM);
+  View& target = sampled.fine ? *sampled.fine : sampled.view;
+  raster_.add_to(*graph_, *mesh_, count, [view] { return view; }, target.targets(), "raster " + name);
+  if (sampled.fine)
+    resolve_.add_to(*graph_, sampled.fine->resolve_images(), sampled.view.resolve_images(), "resolve " + name);
 }
 
 void RgbdRenderer::render(std::span<const passes::MeshVertex> mesh, uint32_t seed) {
@@ -89,10 +115,10 @@ void RgbdRenderer::render(std::span<const passes::MeshVertex> mesh, uint32_t see
 
 HostImage RgbdRenderer::colour(size_t camera) const {
   CameraImages& images = *images_.at(camera);
-  return vk::download(context_, colour_sensors_[camera] ? images.sensed_colour : images.colour_view.color);
+  return vk::download(context_, colour_sensors_[camera] ? images.sensed_colour : images.colour.view.color);
 }
 HostImage RgbdRenderer::depth_mm(size_t camera) const { return vk::download(context_, images_.at(camera)->depth_mm); }
-HostImage RgbdRenderer::foreground(size_t camera) const { return vk::download(context_, images_.at(camera)->colour_view.part); }
+HostImage RgbdRenderer::foreground(size_t camera) const { return vk::download(context_, images_.at(camera)->colour.view.part); }
 HostImage RgbdRenderer::depth_view_truth(size_t camera) const {
   return vk::download(context_, images_.at(camera)->depth_view.depth_m);
 }
@@ -101,15 +127,15 @@ bool RgbdRenderer::has_target_view() const { return target_ != nullptr; }
 
 HostImage RgbdRenderer::target_colour() const {
   if (!target_) throw std::logic_error("this renderer has no target view");
-  return vk::download(context_, target_->color);
+  return vk::download(context_, target_->view.color);
 }
 HostImage RgbdRenderer::target_depth_m() const {
   if (!target_) throw std::logic_error("this renderer has no target view");
-  return vk::download(context_, target_->depth_m);
+  return vk::download(context_, target_->view.depth_m);
 }
 HostImage RgbdRenderer::target_part() const {
   if (!target_) throw std::logic_error("this renderer has no target view");
-  return vk::download(context_, target_->part);
+  return vk::download(context_, target_->view.part);
 }
 
 }  // namespace rt::app

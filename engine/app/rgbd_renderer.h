@@ -12,6 +12,7 @@
 #include "passes/color_sensor.h"
 #include "passes/depth_sensor.h"
 #include "passes/person_raster.h"
+#include "passes/supersample_resolve.h"
 #include "vulkan/frame_graph.h"
 
 namespace rt::app {
@@ -26,7 +27,11 @@ struct RgbdCameraSpec {
 
 class RgbdRenderer {
  public:
-  RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view = {});
+  // colour_supersampling (odd): colour views and the target view render at that many times the
+  // resolution per axis and resolve to it (box-filtered colour, centre-sampled depth and part),
+  // as a sensor integrates over its pixels; 1 renders point samples.
+  RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view = {},
+               uint32_t colour_supersampling = 1);
   ~RgbdRenderer();
 
   // Uploads the mesh and renders every view; `seed` drives the sensor noise of this frame.
@@ -49,17 +54,20 @@ class RgbdRenderer {
 
  private:
   struct View;
+  struct SampledView;
   struct CameraImages;
   void build_graph(size_t mesh_capacity);
+  void add_sampled_view(const Camera& camera, SampledView& sampled, const std::string& name);
 
   vk::Context& context_;
   std::vector<RgbdCameraSpec> cameras_;
   std::optional<Camera> target_view_;
   passes::PersonRasterPass raster_;
+  passes::SupersampleResolvePass resolve_;
   std::vector<std::unique_ptr<passes::ColorSensorPass>> colour_sensors_;
   std::vector<std::unique_ptr<passes::DepthSensorPass>> depth_sensors_;
   std::vector<std::unique_ptr<CameraImages>> images_;
-  std::unique_ptr<View> target_;
+  std::unique_ptr<SampledView> target_;
   std::unique_ptr<vk::Buffer> mesh_;
   size_t mesh_capacity_ = 0;
   uint32_t vertex_count_ = 0;

@@ -83,7 +83,7 @@ SiteSimulator::SiteSimulator(vk::Context& context, const sim::Scene& scene, Site
                     specs.push_back(camera_spec(camera, scene.effects, scene.resolution_scale));
                   return specs;
                 }(),
-                ground_truth_view(scene, site, target_width, target_height)),
+                ground_truth_view(scene, site, target_width, target_height), scene.colour_supersampling),
       timing_random_(scene.seed * 2 + (site == Site::A ? 0 : 1)) {}
 
 std::optional<sim::RgbdFrame> SiteSimulator::next_frame() {
