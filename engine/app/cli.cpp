@@ -107,6 +107,9 @@ int run_cli(int argc, char** argv) {
   eval_ibr_command->add_option("--refine", eval_ibr_options.refine_hypotheses,
                                "Plane-sweep refinement with this many depth hypotheses (0 = off)")
       ->check(CLI::Range(0, 64))->capture_default_str();
+  eval_ibr_command->add_option("--average-tolerance", eval_ibr_options.average_tolerance_m,
+                               "avg fusion: depths up to this many metres behind the nearest join the mean (large = plain mean)")
+      ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();
   eval_ibr_command->add_option("--supersample", eval_ibr_options.supersample,
                                "Simulated colour and ground truth rendered at N x N samples per pixel, box-filtered (odd)")
       ->check(CLI::IsMember({1u, 3u, 5u, 7u}))->capture_default_str();

@@ -63,6 +63,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   settings.height = options.height;
   settings.views = eval.views;
   settings.refine = eval.refine_hypotheses > 0;
+  settings.splat.average_tolerance_m = eval.average_tolerance_m;
   if (settings.refine) settings.refinement.hypotheses = eval.refine_hypotheses;
   std::vector<FusionRun> runs;
   for (const std::string& name : {std::string("min"), std::string("avg")}) {
@@ -117,6 +118,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"views", eval.views},
                            {"refine_hypotheses", eval.refine_hypotheses},
                            {"colour_supersampling", eval.supersample},
+                           {"average_tolerance_m", eval.average_tolerance_m},
                            {"frames", frames},
                            {"device", context.device_name()},
                            {"ground_truth", "the simulator's render of the same target view (no sensor effects), colour box-filtered "
