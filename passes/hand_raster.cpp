@@ -7,6 +7,8 @@
 #include <map>
 #include <vector>
 
+#include "passes/reference_raster.h"
+
 #include "hand_raster.frag.h"
 #include "hand_raster.vert.h"
 
@@ -21,26 +23,6 @@ struct ClipVertex {
 ClipVertex lerp(const ClipVertex& a, const ClipVertex& b, double t) {
   return {a.clip + t * (b.clip - a.clip), a.u + t * (b.u - a.u), a.v + t * (b.v - a.v),
           a.camera_z + t * (b.camera_z - a.camera_z)};
-}
-
-template <typename Distance>
-std::vector<ClipVertex> clip_polygon(const std::vector<ClipVertex>& polygon, Distance distance) {
-  std::vector<ClipVertex> out;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const ClipVertex& a = polygon[i];
-    const ClipVertex& b = polygon[(i + 1) % polygon.size()];
-    const double da = distance(a), db = distance(b);
-    if (da >= 0) out.push_back(a);
-    if ((da >= 0) != (db >= 0)) out.push_back(lerp(a, b, da / (da - db)));
-  }
-  return out;
-}
-
-double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
 }
 
 }  // namespace

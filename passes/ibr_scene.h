@@ -10,7 +10,7 @@
 
 #include "geometry/camera.h"
 #include "image/host_image.h"
-#include "shared/ibr.h"
+#include "shared/config.h"
 #include "vulkan/resources.h"
 
 namespace rt::passes {

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "passes/reference_raster.h"
+
 #include "person_raster.frag.h"
 #include "person_raster.vert.h"
 
@@ -28,27 +30,6 @@ ClipVertex lerp(const ClipVertex& a, const ClipVertex& b, double t) {
   for (size_t i = 0; i < a.attributes.size(); ++i) out.attributes[i] = a.attributes[i] + t * (b.attributes[i] - a.attributes[i]);
   out.camera_z = a.camera_z + t * (b.camera_z - a.camera_z);
   return out;
-}
-
-// Sutherland-Hodgman against one clip plane, given as distance(v) >= 0.
-template <typename Distance>
-std::vector<ClipVertex> clip_polygon(const std::vector<ClipVertex>& polygon, Distance distance) {
-  std::vector<ClipVertex> out;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const ClipVertex& a = polygon[i];
-    const ClipVertex& b = polygon[(i + 1) % polygon.size()];
-    const double da = distance(a), db = distance(b);
-    if (da >= 0) out.push_back(a);
-    if ((da >= 0) != (db >= 0)) out.push_back(lerp(a, b, da / (da - db)));
-  }
-  return out;
-}
-
-double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
 }
 
 }  // namespace

@@ -7,7 +7,6 @@
 // visible views the threshold is just above the largest penalty. Alpha is the coverage: 0 where
 // no view sees the surface point (never a NaN), 1 where one does; the feather only shapes weights.
 #include "shared/config.h"
-#include "shared/ibr.h"
 #include "common/numeric.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;

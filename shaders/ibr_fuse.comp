@@ -5,7 +5,6 @@
 // when most of them are set (a crack, not the outside of a silhouette) and they agree in depth
 // (one surface, not a depth edge), so filling never bleeds across edges.
 #include "shared/config.h"
-#include "shared/ibr.h"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
 layout(constant_id = 0) const bool average_fusion = false;

@@ -2,7 +2,7 @@
 // C++ references use that copy, so GPU and reference round the same way).
 #ifndef REMOTETOUCH_IBR_CAMERA_GLSL
 #define REMOTETOUCH_IBR_CAMERA_GLSL
-#include "shared/ibr.h"
+#include "shared/config.h"
 
 layout(std430, binding = 15) readonly buffer IbrSceneTable {
   IbrTarget target;

@@ -3,22 +3,10 @@
 #include <cmath>
 
 #include "geometry/target_view.h"
+#include "sim/default_site.h"
 
 namespace rt::test {
 namespace {
-
-// OpenCV camera axes looking from `position` at `target`, +y of the site roughly up in the image.
-Eigen::Isometry3d camera_from_site_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d forward = (target - position).normalized();
-  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitY()).normalized();
-  const Eigen::Vector3d down = forward.cross(right);
-  Eigen::Matrix3d site_from_camera;
-  site_from_camera << right, down, forward;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = site_from_camera.transpose();
-  pose.translation() = -site_from_camera.transpose() * position;
-  return pose;
-}
 
 CameraIntrinsics intrinsics(uint32_t w, uint32_t h, double horizontal_fov_deg, bool distortion) {
   CameraIntrinsics k;
@@ -44,7 +32,7 @@ IbrRig ibr_rig(uint32_t views, uint32_t colour_w, uint32_t colour_h, uint32_t de
     passes::IbrCameraModel camera;
     camera.colour.name = "camera " + std::to_string(v);
     camera.colour.intrinsics = intrinsics(colour_w, colour_h, 90.0, distortion);
-    camera.colour.camera_from_site = camera_from_site_looking_at(mounts[v % RT_IBR_MAX_VIEWS], chest);
+    camera.colour.camera_from_site = sim::camera_from_site_looking_at(mounts[v % RT_IBR_MAX_VIEWS], chest);
     camera.depth = camera.colour;
     camera.depth.intrinsics = intrinsics(depth_w, depth_h, 100.0, distortion);
     rig.cameras.push_back(camera);
