@@ -179,6 +179,9 @@ class SiteRun {
   std::atomic<uint64_t> last_portrait_arrival_us_{0};
   session::LatencyStats capture_to_sent_, portrait_on_screen_, portrait_network_, hand_on_screen_, touch_to_motor_,
       detect_to_motor_;
+  // Wall time of each stage's GPU turn (upload, graph run, download), next to the frame graph's
+  // per-pass timestamps.
+  session::LatencyStats simulator_wall_, ibr_wall_, receiver_wall_;
   nlohmann::json gpu_ms_;
   std::mutex gpu_ms_mutex_;
 };
@@ -315,6 +318,7 @@ void SiteRun::capture_loop() {
     HostImage truth;
     {
       std::lock_guard turn(gpu_turn_);
+      const uint64_t start = monotonic_now_us();
       simulator_->seek(index);
       std::optional<sim::RgbdFrame> frame = simulator_->next_frame();
       if (!frame) break;
@@ -322,6 +326,7 @@ void SiteRun::capture_loop() {
       captured.frame = std::move(*frame);
       captured.pose = simulator_->last_pose();
       if (options_.write_truth) truth = simulator_->renderer().target_colour();
+      simulator_wall_.add(double(monotonic_now_us() - start) / 1000.0);
     }
     ++frames_captured_;
     captured_.put(std::move(captured));
@@ -353,9 +358,11 @@ void SiteRun::ibr_loop() {
     net::PortraitMessage message;
     {
       std::lock_guard turn(gpu_turn_);
+      const uint64_t start = monotonic_now_us();
       ibr_->render(captured->frame.cameras, selection, target);
       message.color = vk::download(context_, ibr_->portrait());
       message.depth = vk::download(context_, ibr_->portrait_depth());
+      ibr_wall_.add(double(monotonic_now_us() - start) / 1000.0);
     }
     message.frame_index = captured->index;
     message.capture_timestamp_us = captured->capture_us;
@@ -454,8 +461,10 @@ void SiteRun::display_loop() {
       // The skeleton as sent is in the sender's frame, like the portrait's camera: they line up.
       if (drawn) hand.set_pose(*drawn, camera);
       hand_distance_m = drawn && hand.has_pose() ? float(hand.hand_distance_m()) : NAN;
+      const uint64_t start = monotonic_now_us();
       graph.run();
       shown = vk::download(context_, display);
+      receiver_wall_.add(double(monotonic_now_us() - start) / 1000.0);
       if (drawn && hand.has_pose()) (void)hand.adapt_appearance_from(portrait, portrait_depth);
     }
     const uint64_t on_screen = monotonic_now_us();
@@ -494,6 +503,9 @@ nlohmann::json SiteRun::metrics(double elapsed_s) {
   }
   m["gpu_ms"]["simulator"] = timings_json(simulator_->renderer().graph());
   m["gpu_ms"]["ibr"] = timings_json(ibr_->graph());
+  m["stage_wall_ms"] = {{"simulator_render_and_readback", simulator_wall_.to_json()},
+                        {"ibr_render_and_readback", ibr_wall_.to_json()},
+                        {"receiver_render_and_readback", receiver_wall_.to_json()}};
   m["latency_ms"] = {{"capture_to_portrait_sent", capture_to_sent_.to_json()},
                      {"capture_to_portrait_received", portrait_network_.to_json()},
                      {"capture_to_portrait_on_screen", portrait_on_screen_.to_json()},
@@ -516,7 +528,6 @@ nlohmann::json SiteRun::metrics(double elapsed_s) {
                  {"dropped_without_remote_eye", frames_without_eye_.load()},
                  {"dropped_before_display", portraits_.dropped()},
                  {"portraits_stale_on_wire_out", counters.stale_dropped_out[net::message_type_index(net::MessageType::Portrait)]},
-                 {"portraits_stale_on_wire_in", counters.stale_dropped_in[net::message_type_index(net::MessageType::Portrait)]},
                  {"portraits_wrong_size", portraits_wrong_size_.load()},
                  {"scene_frames_not_captured", scene_.frame_count - std::min<uint64_t>(scene_.frame_count, frames_captured_)}};
   m["bytes_per_s"] = {{"out", double(counters.bytes_out) / wall}, {"in", double(counters.bytes_in) / wall}};

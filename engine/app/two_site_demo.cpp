@@ -205,9 +205,15 @@ void print_summary(const nlohmann::json& metrics) {
       cell(b["frames"]["dropped_before_ibr"], "%.0f") + " / " + cell(b["frames"]["dropped_before_display"], "%.0f"));
   row("wire kB/s out", cell(nlohmann::json(a["bytes_per_s"]["out"].get<double>() / 1000.0)),
       cell(nlohmann::json(b["bytes_per_s"]["out"].get<double>() / 1000.0)));
-  row("GPU ms ibr / receiver (median per frame)",
-      cell(a["gpu_ms"]["ibr"]["total"]) + " / " + cell(a["gpu_ms"]["receiver"]["total"]),
-      cell(b["gpu_ms"]["ibr"]["total"]) + " / " + cell(b["gpu_ms"]["receiver"]["total"]));
+  row("GPU ms sim / ibr / receiver (pass sums)",
+      cell(a["gpu_ms"]["simulator"]["total"], "%.0f") + "/" + cell(a["gpu_ms"]["ibr"]["total"]) + "/" + cell(a["gpu_ms"]["receiver"]["total"], "%.0f"),
+      cell(b["gpu_ms"]["simulator"]["total"], "%.0f") + "/" + cell(b["gpu_ms"]["ibr"]["total"]) + "/" + cell(b["gpu_ms"]["receiver"]["total"], "%.0f"));
+  auto wall = [](const nlohmann::json& site, const char* stage) { return site["stage_wall_ms"][stage]["median_ms"]; };
+  row("wall ms sim / ibr / receiver (median turn)",
+      cell(wall(a, "simulator_render_and_readback"), "%.0f") + "/" + cell(wall(a, "ibr_render_and_readback"), "%.0f") + "/" +
+          cell(wall(a, "receiver_render_and_readback"), "%.0f"),
+      cell(wall(b, "simulator_render_and_readback"), "%.0f") + "/" + cell(wall(b, "ibr_render_and_readback"), "%.0f") + "/" +
+          cell(wall(b, "receiver_render_and_readback"), "%.0f"));
   row("touch starts / motor pulses", cell(a["touch"]["starts"], "%.0f") + " / " + cell(a["touch"]["motor_pulses"], "%.0f"),
       cell(b["touch"]["starts"], "%.0f") + " / " + cell(b["touch"]["motor_pulses"], "%.0f"));
   row("connections lost / reconnects", cell(a["net"]["connections_lost"], "%.0f") + " / " + cell(a["net"]["reconnects"], "%.0f"),
@@ -397,6 +403,8 @@ SiteCommand::SiteCommand(CLI::App& app) {
   command_->add_option("--height", options_.run.height, "Portrait and display height")->check(CLI::Range(16u, 4096u))->capture_default_str();
   command_->add_option("--time-scale", options_.time_scale, "Scene seconds per wall-clock second")->check(CLI::Range(0.01, 10.0));
   command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale")->check(CLI::Range(0.01, 1.0));
+  command_->add_option("--connect-timeout", options_.connect_timeout_s, "Seconds to wait for the other site")
+      ->check(CLI::Range(0.1, 3600.0))->capture_default_str();
 }
 
 int SiteCommand::run() {
