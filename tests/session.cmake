@@ -10,13 +10,17 @@ add_test(NAME session_demo_wave COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR
 # run finishes, the clap still gives one touch per site.
 add_test(NAME session_demo_disconnect
          COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-disconnect clap 115 1 --disconnect-after-ms 1200)
+# A slow, lossy link (40 ms delay, 20 ms jitter, 5 % of records lost): still one touch per site.
+add_test(NAME session_demo_lossy
+         COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-lossy clap 115 1 --delay-ms 40 --jitter-ms 20 --loss 0.05)
 # A wrong key: both sites refuse the handshake and give up cleanly, saying why.
 add_test(NAME session_site_wrong_key
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_wrong_key.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-wrong-key)
 add_test(NAME session_site_bad_config
          COMMAND ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
 set_tests_properties(session_site_bad_config PROPERTIES PASS_REGULAR_EXPRESSION "unknown field 'peers'")
-set_tests_properties(session_demo_clap session_demo_miss session_demo_wave session_demo_disconnect session_site_wrong_key
+set_tests_properties(session_demo_clap session_demo_miss session_demo_wave session_demo_disconnect session_demo_lossy
+                     session_site_wrong_key
                      PROPERTIES TIMEOUT 300)
 add_test(NAME session_demo_unknown_device
          COMMAND ${rt} demo --frames 2 --width 32 --height 18 --device no-such-gpu --out ${CMAKE_BINARY_DIR}/test-out/session-no-device)

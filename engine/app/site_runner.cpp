@@ -423,6 +423,7 @@ void SiteRun::display_loop() {
                         cv::Size(int(width_), int(height_)));
   if (!video.isOpened()) events_.write("warning", monotonic_now_us(), {{"message", "OpenCV cannot write site.mp4 here"}});
   std::ofstream frames_log(out_ / "frames.jsonl");
+  std::optional<uint64_t> last_video_frame;
 
   while (true) {
     std::optional<ReceivedPortrait> received = portraits_.wait_take(std::chrono::milliseconds(50));
@@ -472,7 +473,13 @@ void SiteRun::display_loop() {
     if (skeleton) hand_on_screen_.add(double(int64_t(on_screen) - int64_t(skeleton->timestamp_us)) / 1000.0);
     const uint64_t display_index = frames_displayed_++;
     write_image(out_ / "frames" / frame_name(display_index), shown);
-    if (video.isOpened()) video.write(to_bgr8(shown));
+    if (video.isOpened()) {
+      // The video plays in scene time: each displayed frame stays up until the next one's scene frame.
+      const uint64_t repeat = last_video_frame ? std::clamp<uint64_t>(message.frame_index - *last_video_frame, 1, 90) : 1;
+      const cv::Mat bgr = to_bgr8(shown);
+      for (uint64_t i = 0; i < repeat; ++i) video.write(bgr);
+      last_video_frame = message.frame_index;
+    }
     frames_log << nlohmann::json{{"display", display_index},
                                  {"portrait_frame", message.frame_index},
                                  {"t_us", on_screen},

@@ -200,9 +200,11 @@ void print_summary(const nlohmann::json& metrics) {
   for (const char* stage : {"capture", "portraits_sent", "display", "tracker", "touch_loop"})
     row(std::string("fps ") + stage, cell(a["fps"][stage]), cell(b["fps"][stage]));
   row("frames displayed", cell(a["frames"]["displayed"], "%.0f"), cell(b["frames"]["displayed"], "%.0f"));
-  row("frames dropped (before ibr / before display)",
-      cell(a["frames"]["dropped_before_ibr"], "%.0f") + " / " + cell(a["frames"]["dropped_before_display"], "%.0f"),
-      cell(b["frames"]["dropped_before_ibr"], "%.0f") + " / " + cell(b["frames"]["dropped_before_display"], "%.0f"));
+  auto dropped = [](const nlohmann::json& site) {
+    return cell(site["frames"]["scene_frames_not_captured"], "%.0f") + "/" + cell(site["frames"]["dropped_before_ibr"], "%.0f") +
+           "/" + cell(site["frames"]["dropped_before_display"], "%.0f");
+  };
+  row("frames dropped (capture / before ibr / display)", dropped(a), dropped(b));
   row("wire kB/s out", cell(nlohmann::json(a["bytes_per_s"]["out"].get<double>() / 1000.0)),
       cell(nlohmann::json(b["bytes_per_s"]["out"].get<double>() / 1000.0)));
   row("GPU ms sim / ibr / receiver (pass sums)",

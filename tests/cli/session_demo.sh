@@ -24,6 +24,12 @@ done
 grep -q '"psnr_db"' "$out/metrics.json" || fail "no PSNR in metrics.json"
 grep -q '"capture_to_portrait_on_screen"' "$out/metrics.json" || fail "no portrait latency in metrics.json"
 grep -q "touch_to_motor_command median ms" "$out.log" || fail "no summary table"
+if [ $# -gt 0 ]; then
+  grep -q '"fault_proxy"' "$out/metrics.json" || fail "fault options given, but no fault proxy counts in metrics.json"
+fi
+if [[ " $* " == *" --loss "* ]]; then
+  grep -q '"records_dropped": [1-9]' "$out/metrics.json" || fail "--loss given, but the proxy dropped no record"
+fi
 if [[ " $* " == *" --disconnect-after-ms "* ]]; then
   grep -q '"event":"connection_lost".*"phase":"run"' "$out/events.jsonl" || fail "no connection_lost during the run"
   grep -q '"event":"connection_restored".*"phase":"run"' "$out/events.jsonl" || fail "no connection_restored during the run"
