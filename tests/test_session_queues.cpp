@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "session/closest_in_time.h"
 #include "session/event_log.h"
 #include "session/fair_mutex.h"
 #include "session/latency_stats.h"
@@ -125,4 +126,19 @@ TEST_CASE("latency stats: median, p90, max; empty gives nulls; NaN ignored") {
   REQUIRE(json["p90_ms"].get<double>() == Approx(10.0));
   REQUIRE(json["max_ms"].get<double>() == Approx(11.0));
   REQUIRE(json["mean_ms"].get<double>() == Approx(6.0));
+}
+
+TEST_CASE("closest in time: nearest timestamp either side, earlier on a tie, end when empty") {
+  const std::vector<uint64_t> stamps = {100, 120, 140, 160};
+  auto at = [&](uint64_t target) {
+    const auto it = closest_in_time(stamps.begin(), stamps.end(), target, [](uint64_t t) { return t; });
+    return it == stamps.end() ? uint64_t(0) : *it;
+  };
+  REQUIRE(at(0) == 100);
+  REQUIRE(at(129) == 120);
+  REQUIRE(at(131) == 140);
+  REQUIRE(at(130) == 120);
+  REQUIRE(at(1'000'000) == 160);
+  const std::vector<uint64_t> none;
+  REQUIRE(closest_in_time(none.begin(), none.end(), 5, [](uint64_t t) { return t; }) == none.end());
 }

@@ -26,6 +26,7 @@
 #include "passes/composite.h"
 #include "passes/hand_alpha.h"
 #include "passes/overlay.h"
+#include "session/closest_in_time.h"
 #include "session/event_log.h"
 #include "session/fair_mutex.h"
 #include "session/latency_stats.h"
@@ -447,10 +448,10 @@ void SiteRun::display_loop() {
     std::optional<net::SkeletonMessage> skeleton;
     {
       std::lock_guard lock(skeleton_mutex_);
-      for (const auto& candidate : remote_skeletons_)
-        if (!skeleton || std::llabs(int64_t(candidate.timestamp_us) - int64_t(message.capture_timestamp_us)) <
-                             std::llabs(int64_t(skeleton->timestamp_us) - int64_t(message.capture_timestamp_us)))
-          skeleton = candidate;
+      const auto closest = session::closest_in_time(remote_skeletons_.begin(), remote_skeletons_.end(),
+                                                    message.capture_timestamp_us,
+                                                    [](const net::SkeletonMessage& s) { return s.timestamp_us; });
+      if (closest != remote_skeletons_.end()) skeleton = *closest;
     }
     const Camera camera = portrait_camera(message);
     HostImage shown;
