@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -81,11 +82,34 @@ TEST_CASE("fair mutex: waiting threads are served in arrival order") {
       std::lock_guard lock(mutex);
       order.push_back(i);
     });
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));  // thread i is queued before i+1
+    while (mutex.waiting() != uint64_t(i + 1)) std::this_thread::yield();  // thread i is queued before i+1
   }
   mutex.unlock();
   for (auto& t : threads) t.join();
   REQUIRE(order == std::vector<int>{0, 1, 2, 3});
+}
+
+TEST_CASE("fair mutex: an urgent waiter goes before the queued ones, after the turn in progress") {
+  FairMutex mutex;
+  std::vector<std::string> order;
+  mutex.lock();
+  std::vector<std::thread> threads;
+  for (int i = 0; i < 2; ++i) {
+    threads.emplace_back([&, i] {
+      std::lock_guard lock(mutex);
+      order.push_back("normal" + std::to_string(i));
+    });
+    while (mutex.waiting() != uint64_t(i + 1)) std::this_thread::yield();
+  }
+  threads.emplace_back([&] {
+    UrgentTurn turn(mutex);
+    order.push_back("urgent");
+  });
+  while (mutex.waiting() != 3) std::this_thread::yield();
+  order.push_back("holder");
+  mutex.unlock();
+  for (auto& t : threads) t.join();
+  REQUIRE(order == std::vector<std::string>{"holder", "urgent", "normal0", "normal1"});
 }
 
 TEST_CASE("event log: one JSON object per line with event, site and time; read back") {

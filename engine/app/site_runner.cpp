@@ -456,7 +456,7 @@ void SiteRun::display_loop() {
     const Camera camera = portrait_camera(message);
     HostImage shown;
     {
-      std::lock_guard turn(gpu_turn_);
+      session::UrgentTurn turn(gpu_turn_);
       vk::upload(context_, portrait, message.color);
       vk::upload(context_, portrait_depth, message.depth);
       const HandSkeleton* drawn = skeleton ? touching(skeleton->hands) : nullptr;
