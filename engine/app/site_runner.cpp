@@ -172,6 +172,7 @@ class SiteRun {
   std::optional<Eigen::Vector3d> remote_eye_;  // the remote viewer's eye, in this site's frame
   std::mutex skeleton_mutex_;
   std::deque<net::SkeletonMessage> remote_skeletons_;  // sender's frame and clock, newest last
+  std::deque<std::pair<uint64_t, uint64_t>> remote_capture_of_arrival_;  // (arrival, sender's capture) µs
 
   uint64_t epoch_us_ = 0, end_us_ = 0;
   std::atomic<bool> stopping_{false}, capture_done_{false}, ibr_done_{false};
@@ -214,7 +215,11 @@ SiteRun::SiteRun(const SiteRunOptions& options)
   ibr_ = std::make_unique<IbrRenderer>(context_, camera_models(simulator_->renderer()), settings);
   for (const auto& camera : simulator_->site().cameras) camera_positions_.push_back(camera.colour_camera().position_in_site());
 
-  touch_ = std::make_unique<TouchLoop>(TouchParameters{}, [this](const TouchEvent& event) { on_touch(event); });
+  // A skeleton counts as lost after 200 ms rather than 100: the tracker thread shares two CPU cores
+  // with a CPU Vulkan driver here, and a late tick is not a hand the tracker lost.
+  TouchParameters touch_parameters;
+  touch_parameters.max_skeleton_age_us = 200'000;
+  touch_ = std::make_unique<TouchLoop>(touch_parameters, [this](const TouchEvent& event) { on_touch(event); });
 
   net::SessionOptions net_options;
   net_options.key = net::load_session_key_file(options_.key_file);
@@ -248,13 +253,19 @@ void SiteRun::on_message(const net::Message& message) {
     std::lock_guard lock(eye_mutex_);
     remote_eye_ = map_point(remote_, options_.site, eye->eye);
   } else if (const auto* skeleton = std::get_if<net::SkeletonMessage>(&message)) {
+    // The detector's "lost tracking" age is measured from arrival: the link's delay is not the
+    // tracker losing the hand (and two machines' clocks are unrelated anyway). The capture time
+    // is kept aside for the touch-to-motor latency.
     std::vector<HandSkeleton> hands;
     for (const auto& hand : skeleton->hands) {
       HandSkeleton local = map_skeleton(remote_, options_.site, hand);
-      // Two machines' monotonic clocks are unrelated: a timestamp that cannot be this machine's
-      // (in the future, or older than a second) is restamped on arrival for the detector.
-      if (local.timestamp_us > now || now - local.timestamp_us > 1'000'000) local.timestamp_us = now;
+      local.timestamp_us = now;
       hands.push_back(local);
+    }
+    {
+      std::lock_guard lock(skeleton_mutex_);
+      remote_capture_of_arrival_.emplace_back(now, skeleton->timestamp_us);
+      while (remote_capture_of_arrival_.size() > 200) remote_capture_of_arrival_.pop_front();
     }
     touch_->set_remote_hands(std::move(hands));
     std::lock_guard lock(skeleton_mutex_);
@@ -290,7 +301,13 @@ void SiteRun::on_touch(const TouchEvent& event) {
     return;
   }
   // The hands met when the later of the two skeletons that showed it was captured.
-  const uint64_t met_us = std::max(event.local_capture_us, event.remote_capture_us);
+  uint64_t remote_capture_us = 0;
+  {
+    std::lock_guard lock(skeleton_mutex_);
+    for (const auto& [arrival, capture] : remote_capture_of_arrival_)
+      if (arrival == event.remote_capture_us) remote_capture_us = capture;
+  }
+  const uint64_t met_us = remote_capture_us ? std::max(event.local_capture_us, remote_capture_us) : 0;
   const double met_to_motor_ms = met_us ? double(int64_t(command_us) - int64_t(met_us)) / 1000.0 : NAN;
   touch_to_motor_.add(met_to_motor_ms);
   detect_to_motor_.add(double(int64_t(command_us) - int64_t(event.timestamp_us)) / 1000.0);
@@ -400,6 +417,8 @@ void SiteRun::tracker_loop() {
 }
 
 void SiteRun::display_loop() {
+  // Declared first, so destroyed last: the receiver's Vulkan objects go while this holds the turn.
+  std::unique_lock<session::FairMutex> final_turn(gpu_turn_, std::defer_lock);
   vk::Image portrait(context_, {"portrait", width_, height_, PixelFormat::RGBA32F});
   vk::Image portrait_depth(context_, {"portrait depth", width_, height_, PixelFormat::R32F});
   vk::Image background(context_, {"background", width_, height_, PixelFormat::RGBA32F});
@@ -488,9 +507,12 @@ void SiteRun::display_loop() {
                       .dump()
                << "\n";
   }
-  std::lock_guard lock(gpu_ms_mutex_);
-  gpu_ms_["receiver"] = timings_json(graph);
-  if (hand.appearance_graph()) gpu_ms_["appearance"] = timings_json(*hand.appearance_graph());
+  {
+    std::lock_guard lock(gpu_ms_mutex_);
+    gpu_ms_["receiver"] = timings_json(graph);
+    if (hand.appearance_graph()) gpu_ms_["appearance"] = timings_json(*hand.appearance_graph());
+  }
+  final_turn.lock();
 }
 
 nlohmann::json SiteRun::metrics(double elapsed_s) {

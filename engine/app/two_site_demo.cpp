@@ -40,6 +40,7 @@ struct Child {
   std::string buffer;
   uint64_t progress = 0, total = 0;
   bool eof = false;
+  bool done = false;  // said "done": its outputs are written
   int exit_code = -1;
 };
 
@@ -295,6 +296,7 @@ int run_two_site_demo(const DemoOptions& options) {
       if (poll(&fd, 1, 0) <= 0) continue;
       for (const std::string& line : read_lines(*child)) {
         if (line == "connected" && !connected_at) connected_at = monotonic_now_us();
+        if (line == "done") child->done = true;
         handle_line(*child, line);
       }
     }
@@ -316,8 +318,19 @@ int run_two_site_demo(const DemoOptions& options) {
     fault_counts = proxy->counts().to_json();
     proxy->stop();
   }
+  // Known issue: lavapipe (Mesa 22.3) now and then crashes inside vkDestroyDevice when a site
+  // process tears its context down (about 1 run in 20 under load; backtrace: Context::release ->
+  // libvulkan_lvp.so). A site that crashed after saying "done" has written everything, so the run
+  // counts, with a warning here and in metrics.json; any other failure fails the demo.
+  nlohmann::json teardown_crashes = nlohmann::json::object();
   for (Child* child : children)
     if (child->exit_code != 0) {
+      if (child->done && child->exit_code > 128) {
+        std::cerr << "demo: warning: site " << child->site << " crashed during its Vulkan teardown (signal "
+                  << child->exit_code - 128 << ") after writing its outputs\n";
+        teardown_crashes[child->site] = child->exit_code - 128;
+        continue;
+      }
       std::cerr << "demo: site " << child->site << " failed (exit status " << child->exit_code << ")\n";
       return 1;
     }
@@ -347,6 +360,7 @@ int run_two_site_demo(const DemoOptions& options) {
       "each site's displayed composite against the simulator's ground truth of the other site's user for the same "
       "captured frame, over the same background (the truth has no sensor effects)";
   if (proxy) metrics["fault_proxy"] = fault_counts;
+  if (!teardown_crashes.empty()) metrics["teardown_crash_signal"] = teardown_crashes;
   std::ofstream(out / "metrics.json") << metrics.dump(2) << "\n";
   print_summary(metrics);
   std::printf("written to %s: site_A/ and site_B/ (frames/*.png, site.mp4, truth/), events.jsonl, metrics.json\n",

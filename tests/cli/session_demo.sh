@@ -21,7 +21,16 @@ for site in A B; do
   [ "$starts" -eq "$touches" ] || fail "site $site: $starts touch starts, expected $touches"
   [ "$pulses" -eq "$touches" ] || fail "site $site: $pulses motor pulses, expected $touches"
 done
-grep -q '"psnr_db"' "$out/metrics.json" || fail "no PSNR in metrics.json"
+# Each site's composite must look like the other site's user: a misplaced portrait or hand
+# drops the PSNR against the ground truth far below this (about 20 dB at this tiny size).
+/usr/bin/python3 - "$out/metrics.json" <<'PY' || fail "PSNR against the ground truth too low or missing"
+import json, sys
+m = json.load(open(sys.argv[1]))
+for site in "AB":
+    final, mean = m["psnr_db"][site]["final_db"], m["psnr_db"][site]["mean_db"]
+    print(f"site {site}: PSNR final {final} dB, mean {mean} dB over {m['psnr_db'][site]['frames']} frames")
+    assert final is not None and final > 15 and mean > 15
+PY
 grep -q '"capture_to_portrait_on_screen"' "$out/metrics.json" || fail "no portrait latency in metrics.json"
 grep -q "touch_to_motor_command median ms" "$out.log" || fail "no summary table"
 if [ $# -gt 0 ]; then

@@ -8,7 +8,12 @@ mkdir -p "$out"
 printf '%064d\n' 1 > "$out/a.key"
 printf '%064d\n' 2 > "$out/b.key"
 common=(--scene clap --frames 10 --width 32 --height 18 --resolution-scale 0.05 --connect-timeout 4)
-"$binary" site --site A --listen 127.0.0.1:0 --key-file "$out/a.key" --out "$out/A" "${common[@]}" > "$out/a.out" 2> "$out/a.err" &
+# Site A from a config file (its key file named relative to the config), B from flags.
+cat > "$out/a.json" <<JSON
+{"scene": "clap", "site": "A", "listen": "127.0.0.1:0", "key_file": "a.key", "frames": 10, "width": 32, "height": 18,
+ "resolution_scale": 0.05}
+JSON
+"$binary" site --config "$out/a.json" --connect-timeout 4 --out "$out/A" > "$out/a.out" 2> "$out/a.err" &
 a=$!
 for _ in $(seq 1 600); do grep -q "listening on" "$out/a.out" && break; sleep 0.1; done
 port=$(sed -n 's/^listening on //p' "$out/a.out")
