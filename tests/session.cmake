@@ -25,3 +25,9 @@ set_tests_properties(session_demo_clap session_demo_miss session_demo_wave sessi
 add_test(NAME session_demo_unknown_device
          COMMAND ${rt} demo --frames 2 --width 32 --height 18 --device no-such-gpu --out ${CMAKE_BINARY_DIR}/test-out/session-no-device)
 set_tests_properties(session_demo_unknown_device PROPERTIES PASS_REGULAR_EXPRESSION "no Vulkan device fits.*site A ended")
+add_test(NAME session_site_needs_key COMMAND ${rt} site --site A --out ${CMAKE_BINARY_DIR}/test-out/site-no-key)
+set_tests_properties(session_site_needs_key PROPERTIES PASS_REGULAR_EXPRESSION "needs --key-file")
+add_test(NAME session_site_bad_key_file
+         COMMAND ${rt} site --site A --key-file ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json
+                 --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-bad-key)
+set_tests_properties(session_site_bad_key_file PROPERTIES PASS_REGULAR_EXPRESSION "site_config_bad.json")
