@@ -8,6 +8,7 @@
 #include "app/eval_hand.h"
 #include "app/options.h"
 #include "app/simulate.h"
+#include "app/two_site_demo.h"
 
 namespace rt::app {
 namespace {
@@ -43,15 +44,7 @@ int run_cli(int argc, char** argv) {
   CLI::App app{"RemoteTouch: two people clap hands through their screens (Vulkan engine)", "remotetouch"};
   app.require_subcommand(1);
 
-  RunOptions demo;
-  CLI::App* demo_command = app.add_subcommand("demo", "Run the main job on its built-in default scene");
-  add_common_options(*demo_command, demo, "out/demo");
-  add_frame_options(*demo_command, demo, 30);
-  demo.width = 640;
-  demo.height = 360;
-  demo_command->add_option("--width", demo.width, "Frame width in pixels")->check(CLI::Range(1u, 16384u))->capture_default_str();
-  demo_command->add_option("--height", demo.height, "Frame height in pixels")->check(CLI::Range(1u, 16384u))->capture_default_str();
-  demo_command->add_flag("--dump-passes", demo.dump_passes, "Write every pass output of the last frame (EXR and PNG)");
+  DemoCommand demo(app);
 
   RunOptions bench;
   std::string bench_what;
@@ -72,6 +65,18 @@ int run_cli(int argc, char** argv) {
   height->needs(width);
 
   CalibrateCommand calibrate(app);
+  SiteCommand site(app);
+
+  RunOptions compose;
+  CLI::App* compose_command = app.add_subcommand("compose", "The compositing passes alone on generated layers (pass dumps, RenderDoc captures)");
+  add_common_options(*compose_command, compose, "out/compose");
+  add_frame_options(*compose_command, compose, 30);
+  compose.width = 640;
+  compose.height = 360;
+  compose_command->add_option("--width", compose.width, "Frame width in pixels")->check(CLI::Range(1u, 16384u))->capture_default_str();
+  compose_command->add_option("--height", compose.height, "Frame height in pixels")->check(CLI::Range(1u, 16384u))->capture_default_str();
+  compose_command->add_flag("--dump-passes", compose.dump_passes, "Write every pass output of the last frame (EXR and PNG)");
+
 
   CLI::App* eval_command = app.add_subcommand("eval", "Measure a part of the system against the simulator's ground truth");
   eval_command->require_subcommand(1);
@@ -127,7 +132,7 @@ int run_cli(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-    if (demo_command->parsed()) check_capture_frame(demo);
+    if (compose_command->parsed()) check_capture_frame(compose);
     if (bench_command->parsed()) check_capture_frame(bench);
     if (eval_ibr_command->parsed()) {
       eval_ibr_options.frames_given = eval_ibr_command->count("--frames") > 0;
@@ -143,7 +148,9 @@ int run_cli(int argc, char** argv) {
   }
 
   try {
-    if (demo_command->parsed()) return run_demo(demo);
+    if (demo.parsed()) return demo.run();
+    if (site.parsed()) return site.run();
+    if (compose_command->parsed()) return run_compose(compose);
     if (bench_command->parsed()) return run_bench(bench_what, bench);
     if (simulate_command->parsed()) return run_simulate(simulate, simulate_options);
     if (eval_ibr_command->parsed()) return run_eval_ibr(eval_ibr, eval_ibr_options);

@@ -18,7 +18,7 @@ struct RunOptions {
   bool dump_passes = false;  // write every pass output of the last frame as EXR and PNG
 };
 
-int run_demo(const RunOptions& options);
+int run_compose(const RunOptions& options);
 int run_bench(const std::string& what, const RunOptions& options);
 
 }  // namespace rt::app

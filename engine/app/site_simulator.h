@@ -26,6 +26,8 @@ class SiteSimulator : public sim::RgbdSource {
 
   std::optional<sim::RgbdFrame> next_frame() override;  // renders the next frame
   uint64_t frames_done() const { return next_; }
+  // The next next_frame() renders frame `index` (a live site skips the frames it could not keep up with).
+  void seek(uint64_t index) { next_ = index; }
   const sim::PersonPose& last_pose() const { return pose_; }
   RgbdRenderer& renderer() { return renderer_; }
   const sim::SiteDescription& site() const { return scene_.at(site_).site; }

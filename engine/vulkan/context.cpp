@@ -1,5 +1,7 @@
 #include "vulkan/context.h"
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -300,7 +302,10 @@ void Context::save_pipeline_cache() {
   std::error_code error;
   const std::filesystem::path path(pipeline_cache_path_);
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), error);
-  const std::string temporary = pipeline_cache_path_ + ".tmp" + std::to_string(reinterpret_cast<uintptr_t>(this));
+  // The process id too: the two-site demo runs two processes of one binary, whose contexts may
+  // sit at the same address, and two writers of one temporary file would rename a mix of both.
+  const std::string temporary = pipeline_cache_path_ + ".tmp" + std::to_string(getpid()) + "." +
+                                std::to_string(reinterpret_cast<uintptr_t>(this));
   {
     std::ofstream file(temporary, std::ios::binary);
     if (!file) return;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Takes a capture of demo frame 1, headless, and checks it in RenderDoc's replay.
+# Takes a capture of `remotetouch compose` frame 1, headless, and checks it in RenderDoc's replay.
 #   capture_test.sh renderdoccmd|in-app REMOTETOUCH_BINARY OUTPUT_DIR
 # renderdoccmd: as an engineer would, under `renderdoccmd capture`;
 # in-app:       remotetouch loads librenderdoc.so itself.
@@ -11,7 +11,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 unset REMOTETOUCH_VALIDATION REMOTETOUCH_SYNC_VALIDATION
 rm -rf "$out"
 mkdir -p "$out"
-demo=(demo --frames 3 --width 67 --height 41 --capture-frame 1 --out "$out")
+demo=(compose --frames 3 --width 67 --height 41 --capture-frame 1 --out "$out")
 case "$mode" in
   renderdoccmd) renderdoccmd capture -w -c "$out/capture/rdc" "$binary" "${demo[@]}" | tee "$out/log.txt" ;;
   in-app) "$binary" "${demo[@]}" | tee "$out/log.txt" ;;
@@ -21,5 +21,5 @@ grep -q "RenderDoc capture of frame 1" "$out/log.txt"
 capture=$(find "$out/capture" -name '*.rdc' | head -n 1)
 [ -n "$capture" ] || { echo "no .rdc written under $out/capture" >&2; exit 1; }
 /usr/bin/python3 "$here/list_markers.py" "$capture" \
-  --passes "demo frame" hand_alpha overlay composite \
+  --passes "compose frame" hand_alpha overlay composite \
   --resources "hand mask" "hand alpha" portrait "hand color" fused background display hand_alpha overlay composite

@@ -1,5 +1,7 @@
-// `remotetouch demo`: until the two-site session exists, the compositing passes (paper Eq. 4
-// and 5, then the background) on generated layers, with the hand approaching and retracting.
+// `remotetouch compose`: the receiver's compositing passes alone (paper Eq. 4 and 5, then the
+// background) on generated layers, with the hand approaching and retracting: a small, fully
+// deterministic frame graph for pass dumps and RenderDoc captures. The two-site demo is
+// two_site_demo.cpp.
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -21,13 +23,13 @@ void dump_pass_outputs(vk::Context& context, const vk::FrameGraph& graph, const 
   }
 }
 
-int run_demo(const RunOptions& options) {
+int run_compose(const RunOptions& options) {
   GpuSession session(options);
   vk::Context& context = session.context();
   const uint32_t width = options.width, height = options.height;
 
   CompositingChain chain(context, width, height);
-  vk::FrameGraph graph(context, "demo frame");
+  vk::FrameGraph graph(context, "compose frame");
   float hand_distance_m = 0.0f;
   chain.add_to(graph, [&] { return hand_distance_m; });
 
@@ -49,12 +51,12 @@ int run_demo(const RunOptions& options) {
   for (const auto& timing : graph.timings()) metrics["gpu_ms_median"][timing.name] = timing.median_ms;
   std::ofstream(options.out / "metrics.json") << metrics.dump(2) << "\n";
 
-  std::cout << "demo: " << options.frames << " frames of " << width << "x" << height << " on " << context.device_name()
+  std::cout << "compose: " << options.frames << " frames of " << width << "x" << height << " on " << context.device_name()
             << " written to " << options.out.string() << "/frame_*.png\n";
   if (options.profile) std::cout << vk::format_profile(graph.timings());
   session.report_capture();
   if (context.validation_enabled() && context.validation_errors() > 0) {
-    std::cerr << "demo: " << context.validation_errors() << " validation errors\n";
+    std::cerr << "compose: " << context.validation_errors() << " validation errors\n";
     return 1;
   }
   return 0;

@@ -1,0 +1,711 @@
+#include "app/site_runner.h"
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "app/demo_inputs.h"
+#include "app/gpu_session.h"
+#include "app/hand_renderer.h"
+#include "app/ibr_renderer.h"
+#include "app/simulate.h"
+#include "app/site_simulator.h"
+#include "geometry/target_view.h"
+#include "ibr/camera_selection.h"
+#include "image/image_io.h"
+#include "motor/simulated_motor.h"
+#include "net/session.h"
+#include "passes/composite.h"
+#include "passes/hand_alpha.h"
+#include "passes/overlay.h"
+#include "session/closest_in_time.h"
+#include "session/event_log.h"
+#include "session/fair_mutex.h"
+#include "session/latency_stats.h"
+#include "session/mailbox.h"
+#include "sim/tracker_sim.h"
+#include "time/monotonic_clock.h"
+#include "touch/touch_loop.h"
+
+namespace rt::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+const std::filesystem::path kTemplateDir = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "hand";
+constexpr auto kMotorPulse = std::chrono::milliseconds(150);
+constexpr int kMotorStrength = 200;
+
+struct CapturedFrame {
+  uint64_t index = 0;
+  uint64_t capture_us = 0;  // monotonic, when the cameras' images were taken
+  sim::RgbdFrame frame;
+  sim::PersonPose pose;
+};
+
+struct ReceivedPortrait {
+  net::PortraitMessage message;
+  uint64_t arrival_us = 0;
+};
+
+std::string frame_name(uint64_t index) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%04llu.png", static_cast<unsigned long long>(index));
+  return name;
+}
+
+// The simulator's ground truth (rgba8, alpha 1 on the person) over the display's background, as
+// the receiver's composite shows it: linear colour, no gamma, like shaders/composite.comp.
+HostImage truth_over_background(const HostImage& truth, const HostImage& background) {
+  HostImage out(truth.width, truth.height, PixelFormat::RGBA8);
+  for (uint32_t y = 0; y < truth.height; ++y)
+    for (uint32_t x = 0; x < truth.width; ++x) {
+      const float a = std::clamp(truth.at(x, y, 3), 0.0f, 1.0f);
+      for (uint32_t c = 0; c < 3; ++c) out.at(x, y, c) = truth.at(x, y, c) * a + background.at(x, y, c) * (1.0f - a);
+      out.at(x, y, 3) = 1.0f;
+    }
+  return out;
+}
+
+cv::Mat to_bgr8(const HostImage& image) {
+  cv::Mat bgr(int(image.height), int(image.width), CV_8UC3);
+  for (uint32_t y = 0; y < image.height; ++y)
+    for (uint32_t x = 0; x < image.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        bgr.at<cv::Vec3b>(int(y), int(x))[2 - c] =
+            uint8_t(std::lround(std::clamp(image.at(x, y, uint32_t(c)), 0.0f, 1.0f) * 255.0f));
+  return bgr;
+}
+
+std::vector<passes::IbrCameraModel> camera_models(RgbdRenderer& renderer) {
+  std::vector<passes::IbrCameraModel> models;
+  for (size_t k = 0; k < renderer.camera_count(); ++k) models.push_back({renderer.camera(k).colour, renderer.camera(k).depth});
+  return models;
+}
+
+Camera portrait_camera(const net::PortraitMessage& p) {
+  Camera camera;
+  camera.name = "portrait target view";
+  camera.intrinsics.width = p.width;
+  camera.intrinsics.height = p.height;
+  camera.intrinsics.fx = p.fx;
+  camera.intrinsics.fy = p.fy;
+  camera.intrinsics.cx = p.cx;
+  camera.intrinsics.cy = p.cy;
+  camera.camera_from_site = Eigen::Isometry3d(p.camera_from_site);
+  return camera;
+}
+
+std::vector<HandSkeleton> tracked_hands(const sim::PersonPose& pose, uint64_t now_us) {
+  std::vector<HandSkeleton> hands = {pose.right_hand, pose.left_hand};
+  for (auto& hand : hands) {
+    hand.timestamp_us = now_us;
+    hand.confidence = 1.0f;
+    hand.id = hand.is_left ? 2 : 1;
+  }
+  return hands;
+}
+
+// The hand nearer the glass: the one the receiver draws as geometry.
+const HandSkeleton* touching(const std::vector<HandSkeleton>& hands) {
+  const HandSkeleton* best = nullptr;
+  for (const auto& hand : hands)
+    if (std::isfinite(hand.palm.z()) && (!best || hand.palm.z() < best->palm.z())) best = &hand;
+  return best;
+}
+
+nlohmann::json timings_json(const vk::FrameGraph& graph) {
+  nlohmann::json out = nlohmann::json::object();
+  double total = 0;
+  for (const auto& timing : graph.timings()) {
+    out[timing.name] = timing.median_ms;
+    total += timing.median_ms;
+  }
+  out["total"] = total;
+  return out;
+}
+
+class SiteRun {
+ public:
+  explicit SiteRun(const SiteRunOptions& options);
+  int run();
+
+ private:
+  void capture_loop();
+  void ibr_loop();
+  void tracker_loop();
+  void display_loop();
+  void on_message(const net::Message& message);
+  void on_touch(const TouchEvent& event);
+  double scene_time_s(uint64_t now_us) const { return double(now_us - epoch_us_) * 1e-6 * options_.time_scale; }
+  nlohmann::json metrics(double elapsed_s);
+
+  SiteRunOptions options_;
+  const std::string site_name_;
+  const Site remote_;
+  sim::Scene scene_;
+  uint32_t width_, height_;
+  std::filesystem::path out_;
+  GpuSession gpu_;
+  vk::Context& context_;
+  session::FairMutex gpu_turn_;
+  session::EventLog events_;
+  HostImage background_;
+
+  std::unique_ptr<SiteSimulator> simulator_;
+  std::unique_ptr<IbrRenderer> ibr_;
+  std::vector<Eigen::Vector3d> camera_positions_;
+  std::unique_ptr<net::Session> net_;
+  motor::SimulatedMotor motor_{monotonic_now_us};
+  std::unique_ptr<TouchLoop> touch_;
+
+  session::Mailbox<CapturedFrame> captured_;
+  session::Mailbox<ReceivedPortrait> portraits_;
+  std::mutex eye_mutex_;
+  std::optional<Eigen::Vector3d> remote_eye_;  // the remote viewer's eye, in this site's frame
+  std::mutex skeleton_mutex_;
+  std::deque<net::SkeletonMessage> remote_skeletons_;  // sender's frame and clock, newest last
+  std::deque<std::pair<uint64_t, uint64_t>> remote_capture_of_arrival_;  // (arrival, sender's capture) µs
+
+  uint64_t epoch_us_ = 0, end_us_ = 0;
+  std::atomic<bool> stopping_{false}, capture_done_{false}, ibr_done_{false};
+  std::atomic<uint64_t> frames_captured_{0}, portraits_sent_{0}, frames_without_eye_{0}, tracker_ticks_{0};
+  std::atomic<uint64_t> frames_displayed_{0}, portraits_wrong_size_{0}, last_scene_frame_{0};
+  std::atomic<uint64_t> last_portrait_arrival_us_{0};
+  session::LatencyStats capture_to_sent_, portrait_on_screen_, portrait_network_, hand_on_screen_, touch_to_motor_,
+      detect_to_motor_;
+  // Wall time of each stage's GPU turn (upload, graph run, download), next to the frame graph's
+  // per-pass timestamps.
+  session::LatencyStats simulator_wall_, ibr_wall_, receiver_wall_;
+  nlohmann::json gpu_ms_;
+  std::mutex gpu_ms_mutex_;
+};
+
+SiteRun::SiteRun(const SiteRunOptions& options)
+    : options_(options),
+      site_name_(site_name(options.site)),
+      remote_(other_site(options.site)),
+      scene_(sim::load_scene(resolve_scene(options.scene))),
+      width_(options.run.width),
+      height_(options.run.height),
+      out_(options.run.out),
+      gpu_((std::filesystem::create_directories(options.run.out), options.run)),
+      context_(gpu_.context()),
+      events_(options.run.out / "events.jsonl", site_name(options.site)),
+      background_(make_demo_layers(width_, height_).background) {
+  if (options_.frames_given) scene_.frame_count = options_.run.frames;
+  if (options_.resolution_scale > 0) scene_.resolution_scale = options_.resolution_scale;
+  if (!(options_.time_scale > 0) || !std::isfinite(options_.time_scale))
+    throw std::invalid_argument("--time-scale must be > 0");
+  std::filesystem::create_directories(out_ / "frames");
+  if (options_.write_truth) std::filesystem::create_directories(out_ / "truth");
+
+  simulator_ = std::make_unique<SiteSimulator>(context_, scene_, options_.site, options_.write_truth ? width_ : 0,
+                                               options_.write_truth ? height_ : 0);
+  IbrSettings settings;
+  settings.width = width_;
+  settings.height = height_;
+  ibr_ = std::make_unique<IbrRenderer>(context_, camera_models(simulator_->renderer()), settings);
+  for (const auto& camera : simulator_->site().cameras) camera_positions_.push_back(camera.colour_camera().position_in_site());
+
+  // A skeleton counts as lost after 200 ms rather than 100: the tracker thread shares two CPU cores
+  // with a CPU Vulkan driver here, and a late tick is not a hand the tracker lost.
+  TouchParameters touch_parameters;
+  touch_parameters.max_skeleton_age_us = 200'000;
+  touch_ = std::make_unique<TouchLoop>(touch_parameters, [this](const TouchEvent& event) { on_touch(event); });
+
+  net::SessionOptions net_options;
+  net_options.key = net::load_session_key_file(options_.key_file);
+  net_options.name = "site " + site_name_;
+  if (options_.peer.empty()) {
+    net_options.role = net::Role::Listener;
+    // Port 0 (any free port) is fine for a listener, which parse_host_port refuses for a peer.
+    const size_t colon = options_.listen.rfind(':');
+    if (colon != std::string::npos && options_.listen.substr(colon) == ":0") {
+      net_options.host = options_.listen.substr(0, colon);
+      net_options.port = 0;
+    } else {
+      std::tie(net_options.host, net_options.port) = net::parse_host_port(options_.listen);
+    }
+  } else {
+    net_options.role = net::Role::Connector;
+    std::tie(net_options.host, net_options.port) = net::parse_host_port(options_.peer);
+  }
+  net_options.log = [this](const std::string& line) {
+    std::cerr << line << "\n";
+    events_.write("net_log", monotonic_now_us(), {{"line", line}});
+  };
+  net_ = std::make_unique<net::Session>(net_options);
+  net_->set_handler([this](const net::Message& message) { on_message(message); });
+}
+
+void SiteRun::on_message(const net::Message& message) {
+  const uint64_t now = monotonic_now_us();
+  if (const auto* eye = std::get_if<net::EyeMessage>(&message)) {
+    if (!eye->valid) return;
+    std::lock_guard lock(eye_mutex_);
+    remote_eye_ = map_point(remote_, options_.site, eye->eye);
+  } else if (const auto* skeleton = std::get_if<net::SkeletonMessage>(&message)) {
+    // The detector's "lost tracking" age is measured from arrival: the link's delay is not the
+    // tracker losing the hand (and two machines' clocks are unrelated anyway). The capture time
+    // is kept aside for the touch-to-motor latency.
+    std::vector<HandSkeleton> hands;
+    for (const auto& hand : skeleton->hands) {
+      HandSkeleton local = map_skeleton(remote_, options_.site, hand);
+      local.timestamp_us = now;
+      hands.push_back(local);
+    }
+    {
+      std::lock_guard lock(skeleton_mutex_);
+      remote_capture_of_arrival_.emplace_back(now, skeleton->timestamp_us);
+      while (remote_capture_of_arrival_.size() > 200) remote_capture_of_arrival_.pop_front();
+    }
+    touch_->set_remote_hands(std::move(hands));
+    std::lock_guard lock(skeleton_mutex_);
+    remote_skeletons_.push_back(*skeleton);
+    while (remote_skeletons_.size() > 100) remote_skeletons_.pop_front();  // 2 s at 50 Hz
+  } else if (const auto* portrait = std::get_if<net::PortraitMessage>(&message)) {
+    portrait_network_.add(double(int64_t(now) - int64_t(portrait->capture_timestamp_us)) / 1000.0);
+    last_portrait_arrival_us_ = now;
+    portraits_.put({*portrait, now});
+  } else if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
+    events_.write(touch->kind == net::TouchEventMessage::Kind::Start ? "remote_touch_start" : "remote_touch_end", now,
+                  {{"detected_by", touch->site == 0 ? "A" : "B"}});
+  }
+}
+
+void SiteRun::on_touch(const TouchEvent& event) {
+  const bool start = event.kind == TouchEvent::Kind::Start;
+  events_.write(start ? "touch_start" : "touch_end", event.timestamp_us,
+                {{"overlap_cm2", event.overlap_area_m2 * 1e4},
+                 {"local_capture_us", event.local_capture_us},
+                 {"remote_capture_us", event.remote_capture_us}});
+  net::TouchEventMessage message;
+  message.timestamp_us = event.timestamp_us;
+  message.kind = start ? net::TouchEventMessage::Kind::Start : net::TouchEventMessage::Kind::End;
+  message.site = options_.site == Site::A ? 0 : 1;
+  net_->send(message);
+  if (!start) return;
+  const motor::MotorStatus status = motor_.pulse(kMotorPulse, kMotorStrength);
+  const auto commands = motor_.commands();
+  const uint64_t command_us = commands.empty() ? monotonic_now_us() : commands.back().time_us;
+  if (!status) {
+    events_.write("motor_error", command_us, {{"error", status.error()}});
+    return;
+  }
+  // The hands met when the later of the two skeletons that showed it was captured.
+  uint64_t remote_capture_us = 0;
+  {
+    std::lock_guard lock(skeleton_mutex_);
+    for (const auto& [arrival, capture] : remote_capture_of_arrival_)
+      if (arrival == event.remote_capture_us) remote_capture_us = capture;
+  }
+  const uint64_t met_us = remote_capture_us ? std::max(event.local_capture_us, remote_capture_us) : 0;
+  const double met_to_motor_ms = met_us ? double(int64_t(command_us) - int64_t(met_us)) / 1000.0 : NAN;
+  touch_to_motor_.add(met_to_motor_ms);
+  detect_to_motor_.add(double(int64_t(command_us) - int64_t(event.timestamp_us)) / 1000.0);
+  events_.write("motor_pulse", command_us,
+                {{"duration_ms", kMotorPulse.count()}, {"strength", kMotorStrength},
+                 {"touch_to_motor_ms", std::isfinite(met_to_motor_ms) ? nlohmann::json(met_to_motor_ms) : nlohmann::json()}});
+}
+
+void SiteRun::capture_loop() {
+  const double fps = scene_.fps;
+  uint64_t last_index = UINT64_MAX;
+  while (!stopping_) {
+    const uint64_t now = monotonic_now_us();
+    const uint64_t index = uint64_t(std::floor(scene_time_s(now) * fps));
+    if (index >= scene_.frame_count) break;
+    if (index == last_index) {  // wait for the cameras' next frame
+      const double next_s = double(index + 1) / fps;
+      const uint64_t due_us = epoch_us_ + uint64_t(next_s / options_.time_scale * 1e6);
+      std::this_thread::sleep_for(std::chrono::microseconds(due_us > now ? due_us - now : 0));
+      continue;
+    }
+    last_index = index;
+    last_scene_frame_ = index;
+    CapturedFrame captured;
+    captured.index = index;
+    HostImage truth;
+    {
+      std::lock_guard turn(gpu_turn_);
+      const uint64_t start = monotonic_now_us();
+      simulator_->seek(index);
+      std::optional<sim::RgbdFrame> frame = simulator_->next_frame();
+      if (!frame) break;
+      captured.capture_us = monotonic_now_us();
+      captured.frame = std::move(*frame);
+      captured.pose = simulator_->last_pose();
+      if (options_.write_truth) truth = simulator_->renderer().target_colour();
+      simulator_wall_.add(double(monotonic_now_us() - start) / 1000.0);
+    }
+    ++frames_captured_;
+    captured_.put(std::move(captured));
+    if (options_.write_truth) write_image(out_ / "truth" / frame_name(index), truth_over_background(truth, background_));
+  }
+  capture_done_ = true;
+  captured_.close();
+}
+
+void SiteRun::ibr_loop() {
+  while (true) {
+    std::optional<CapturedFrame> captured = captured_.wait_take(std::chrono::milliseconds(50));
+    if (!captured) {
+      if (captured_.closed()) break;
+      continue;
+    }
+    std::optional<Eigen::Vector3d> eye;
+    {
+      std::lock_guard lock(eye_mutex_);
+      eye = remote_eye_;
+    }
+    if (!eye) {  // nobody to render for yet
+      ++frames_without_eye_;
+      continue;
+    }
+    const Camera target = target_view_camera(*eye, simulator_->site().screen, width_, height_);
+    const auto selection = ibr::select_cameras(
+        camera_positions_, ibr::touching_hand(captured->pose.right_hand, captured->pose.left_hand), ibr_->settings().views);
+    net::PortraitMessage message;
+    {
+      std::lock_guard turn(gpu_turn_);
+      const uint64_t start = monotonic_now_us();
+      ibr_->render(captured->frame.cameras, selection, target);
+      message.color = vk::download(context_, ibr_->portrait());
+      message.depth = vk::download(context_, ibr_->portrait_depth());
+      ibr_wall_.add(double(monotonic_now_us() - start) / 1000.0);
+    }
+    message.frame_index = captured->index;
+    message.capture_timestamp_us = captured->capture_us;
+    message.width = width_;
+    message.height = height_;
+    message.fx = target.intrinsics.fx;
+    message.fy = target.intrinsics.fy;
+    message.cx = target.intrinsics.cx;
+    message.cy = target.intrinsics.cy;
+    message.camera_from_site = target.camera_from_site.matrix();
+    net_->send(message);  // encodes here, on this thread
+    ++portraits_sent_;
+    capture_to_sent_.add(double(monotonic_now_us() - captured->capture_us) / 1000.0);
+  }
+  ibr_done_ = true;
+}
+
+void SiteRun::tracker_loop() {
+  const sim::MotionTrack motion = sim::make_motion_track(scene_, options_.site);
+  const Eigen::Vector3d eye = scene_.at(options_.site).site.seat.head_centre_m;
+  auto next = Clock::now();
+  for (uint64_t tick = 0; !stopping_; ++tick) {
+    const uint64_t now = monotonic_now_us();
+    // The paper computes the viewpoint once; sent again every half second so that a peer that
+    // reconnects gets it too.
+    if (tick % 25 == 0) net_->send(net::EyeMessage{now, eye, true});
+    std::vector<HandSkeleton> hands = tracked_hands(motion.pose_at(scene_time_s(now)), now);
+    touch_->set_local_hands(hands);
+    net_->send(net::SkeletonMessage{now, hands});
+    ++tracker_ticks_;
+    next += std::chrono::microseconds(sim::kTrackerPeriodUs);
+    std::this_thread::sleep_until(next);
+  }
+}
+
+void SiteRun::display_loop() {
+  // Declared first, so destroyed last: the receiver's Vulkan objects go while this holds the turn.
+  std::unique_lock<session::FairMutex> final_turn(gpu_turn_, std::defer_lock);
+  vk::Image portrait(context_, {"portrait", width_, height_, PixelFormat::RGBA32F});
+  vk::Image portrait_depth(context_, {"portrait depth", width_, height_, PixelFormat::R32F});
+  vk::Image background(context_, {"background", width_, height_, PixelFormat::RGBA32F});
+  vk::Image hand_alpha(context_, {"hand alpha", width_, height_, PixelFormat::R32F});
+  vk::Image fused(context_, {"fused", width_, height_, PixelFormat::RGBA32F});
+  vk::Image display(context_, {"display", width_, height_, PixelFormat::RGBA8});
+  HandRenderer hand(context_, kTemplateDir, width_, height_);
+  passes::HandAlphaPass alpha_pass(context_);
+  passes::OverlayPass overlay_pass(context_);
+  passes::CompositePass composite_pass(context_);
+  vk::FrameGraph graph(context_, "receiver frame");
+  float hand_distance_m = NAN;
+  {
+    std::lock_guard turn(gpu_turn_);
+    vk::upload(context_, background, background_);
+    hand.add_to(graph);
+    alpha_pass.add_to(graph, hand.mask(), hand_alpha, [&] { return hand_distance_m; });
+    overlay_pass.add_to(graph, hand.color(), hand_alpha, portrait, fused);
+    composite_pass.add_to(graph, fused, background, display);
+  }
+  cv::VideoWriter video(out_ / "site.mp4", cv::VideoWriter::fourcc('m', 'p', '4', 'v'), scene_.fps,
+                        cv::Size(int(width_), int(height_)));
+  if (!video.isOpened()) events_.write("warning", monotonic_now_us(), {{"message", "OpenCV cannot write site.mp4 here"}});
+  std::ofstream frames_log(out_ / "frames.jsonl");
+  std::optional<uint64_t> last_video_frame;
+
+  while (true) {
+    std::optional<ReceivedPortrait> received = portraits_.wait_take(std::chrono::milliseconds(50));
+    if (!received) {
+      const uint64_t now = monotonic_now_us();
+      const uint64_t quiet_since = std::max<uint64_t>(last_portrait_arrival_us_, end_us_);
+      if (ibr_done_ && now > end_us_ && now - quiet_since > uint64_t(options_.linger_s * 1e6)) break;
+      if (now > end_us_ + 30'000'000) break;  // the peer is gone for good
+      if (stopping_) break;
+      continue;
+    }
+    const net::PortraitMessage& message = received->message;
+    if (message.width != width_ || message.height != height_) {
+      if (portraits_wrong_size_++ == 0)
+        events_.write("error", monotonic_now_us(),
+                      {{"message", "portrait is " + std::to_string(message.width) + "x" + std::to_string(message.height) +
+                                       ", this site displays " + std::to_string(width_) + "x" + std::to_string(height_)}});
+      continue;
+    }
+    // The remote skeleton closest in time to the portrait's capture (both the sender's clock).
+    std::optional<net::SkeletonMessage> skeleton;
+    {
+      std::lock_guard lock(skeleton_mutex_);
+      const auto closest = session::closest_in_time(remote_skeletons_.begin(), remote_skeletons_.end(),
+                                                    message.capture_timestamp_us,
+                                                    [](const net::SkeletonMessage& s) { return s.timestamp_us; });
+      if (closest != remote_skeletons_.end()) skeleton = *closest;
+    }
+    const Camera camera = portrait_camera(message);
+    HostImage shown;
+    {
+      session::UrgentTurn turn(gpu_turn_);
+      vk::upload(context_, portrait, message.color);
+      vk::upload(context_, portrait_depth, message.depth);
+      const HandSkeleton* drawn = skeleton ? touching(skeleton->hands) : nullptr;
+      // The skeleton as sent is in the sender's frame, like the portrait's camera: they line up.
+      if (drawn) hand.set_pose(*drawn, camera);
+      hand_distance_m = drawn && hand.has_pose() ? float(hand.hand_distance_m()) : NAN;
+      const uint64_t start = monotonic_now_us();
+      graph.run();
+      shown = vk::download(context_, display);
+      receiver_wall_.add(double(monotonic_now_us() - start) / 1000.0);
+      if (drawn && hand.has_pose()) (void)hand.adapt_appearance_from(portrait, portrait_depth);
+    }
+    const uint64_t on_screen = monotonic_now_us();
+    portrait_on_screen_.add(double(int64_t(on_screen) - int64_t(message.capture_timestamp_us)) / 1000.0);
+    if (skeleton) hand_on_screen_.add(double(int64_t(on_screen) - int64_t(skeleton->timestamp_us)) / 1000.0);
+    const uint64_t display_index = frames_displayed_++;
+    write_image(out_ / "frames" / frame_name(display_index), shown);
+    if (video.isOpened()) {
+      // The video plays in scene time: each displayed frame stays up until the next one's scene frame.
+      const uint64_t repeat = last_video_frame ? std::clamp<uint64_t>(message.frame_index - *last_video_frame, 1, 90) : 1;
+      const cv::Mat bgr = to_bgr8(shown);
+      for (uint64_t i = 0; i < repeat; ++i) video.write(bgr);
+      last_video_frame = message.frame_index;
+    }
+    frames_log << nlohmann::json{{"display", display_index},
+                                 {"portrait_frame", message.frame_index},
+                                 {"t_us", on_screen},
+                                 {"hand_distance_m", std::isfinite(hand_distance_m) ? nlohmann::json(hand_distance_m) : nlohmann::json()}}
+                      .dump()
+               << "\n";
+  }
+  {
+    std::lock_guard lock(gpu_ms_mutex_);
+    gpu_ms_["receiver"] = timings_json(graph);
+    if (hand.appearance_graph()) gpu_ms_["appearance"] = timings_json(*hand.appearance_graph());
+  }
+  final_turn.lock();
+}
+
+nlohmann::json SiteRun::metrics(double elapsed_s) {
+  const net::NetCounters counters = net_->counters();
+  nlohmann::json m;
+  m["site"] = site_name_;
+  m["scene"] = scene_.name;
+  m["device"] = context_.device_name();
+  m["width"] = width_;
+  m["height"] = height_;
+  m["scene_frames"] = scene_.frame_count;
+  m["resolution_scale"] = scene_.resolution_scale;
+  m["time_scale"] = options_.time_scale;
+  m["elapsed_s"] = elapsed_s;
+  {
+    std::lock_guard lock(gpu_ms_mutex_);
+    m["gpu_ms"] = gpu_ms_;
+  }
+  m["gpu_ms"]["simulator"] = timings_json(simulator_->renderer().graph());
+  m["gpu_ms"]["ibr"] = timings_json(ibr_->graph());
+  m["stage_wall_ms"] = {{"simulator_render_and_readback", simulator_wall_.to_json()},
+                        {"ibr_render_and_readback", ibr_wall_.to_json()},
+                        {"receiver_render_and_readback", receiver_wall_.to_json()}};
+  m["latency_ms"] = {{"capture_to_portrait_sent", capture_to_sent_.to_json()},
+                     {"capture_to_portrait_received", portrait_network_.to_json()},
+                     {"capture_to_portrait_on_screen", portrait_on_screen_.to_json()},
+                     {"skeleton_to_hand_on_screen", hand_on_screen_.to_json()},
+                     {"touch_to_motor_command", touch_to_motor_.to_json()},
+                     {"touch_detected_to_motor_command", detect_to_motor_.to_json()}};
+  m["latency_notes"] =
+      "portrait and hand: the remote sender's capture time to this site's display (both processes share the "
+      "monotonic clock on one machine); touch: the later of the two skeletons that showed the touch to the motor command";
+  const double wall = std::max(elapsed_s, 1e-6);
+  m["fps"] = {{"capture", double(frames_captured_) / wall},
+              {"portraits_sent", double(portraits_sent_) / wall},
+              {"tracker", double(tracker_ticks_) / wall},
+              {"display", double(frames_displayed_) / wall},
+              {"touch_loop", double(touch_->ticks()) / wall}};
+  m["frames"] = {{"captured", frames_captured_.load()},
+                 {"portraits_sent", portraits_sent_.load()},
+                 {"displayed", frames_displayed_.load()},
+                 {"dropped_before_ibr", captured_.dropped()},
+                 {"dropped_without_remote_eye", frames_without_eye_.load()},
+                 {"dropped_before_display", portraits_.dropped()},
+                 {"portraits_stale_on_wire_out", counters.stale_dropped_out[net::message_type_index(net::MessageType::Portrait)]},
+                 {"portraits_wrong_size", portraits_wrong_size_.load()},
+                 {"scene_frames_not_captured", scene_.frame_count - std::min<uint64_t>(scene_.frame_count, frames_captured_)}};
+  m["bytes_per_s"] = {{"out", double(counters.bytes_out) / wall}, {"in", double(counters.bytes_in) / wall}};
+  m["net"] = counters.to_json();
+  m["touch"] = {{"starts", events_.count("touch_start")},
+                {"ends", events_.count("touch_end")},
+                {"motor_pulses", events_.count("motor_pulse")}};
+  return m;
+}
+
+int SiteRun::run() {
+  net_->start();
+  if (options_.peer.empty()) std::cout << "listening on " << net_->local_port() << std::endl;
+  events_.write("waiting_for_peer", monotonic_now_us(), {{"role", options_.peer.empty() ? "listener" : "connector"}});
+  if (!net_->wait_connected(std::chrono::milliseconds(int64_t(options_.connect_timeout_s * 1000)))) {
+    const net::ConnectionStatus status = net_->status();
+    events_.write("connect_failed", monotonic_now_us(), {{"state", net::connection_state_name(status.state)}, {"reason", status.reason}});
+    std::cerr << "site " << site_name_ << ": no connection to the other site within " << options_.connect_timeout_s
+              << " s (" << net::connection_state_name(status.state) << (status.reason.empty() ? "" : ": " + status.reason)
+              << ")\n";
+    return 2;
+  }
+  epoch_us_ = monotonic_now_us();
+  end_us_ = epoch_us_ + uint64_t(scene_.duration_s() / options_.time_scale * 1e6);
+  events_.write("connected", epoch_us_, {{"peer", net_->status().peer}});
+  std::cout << "connected" << std::endl;
+
+  touch_->start();
+  // A stage that throws ends the run cleanly: the others see `stopping_` and the error is reported.
+  std::atomic<bool> failed{false};
+  auto guarded = [&](const char* stage, void (SiteRun::*loop)()) {
+    return std::thread([this, stage, loop, &failed] {
+      try {
+        (this->*loop)();
+      } catch (const std::exception& error) {
+        std::cerr << "site " << site_name_ << ": " << stage << " failed: " << error.what() << "\n";
+        events_.write("error", monotonic_now_us(), {{"stage", stage}, {"message", error.what()}});
+        failed = true;
+        stopping_ = true;
+        captured_.close();
+        portraits_.close();
+        ibr_done_ = true;
+      }
+    });
+  };
+  std::thread tracker = guarded("tracker", &SiteRun::tracker_loop);
+  std::thread capture = guarded("capture", &SiteRun::capture_loop);
+  std::thread ibr = guarded("image-based rendering", &SiteRun::ibr_loop);
+  std::thread display = guarded("display", &SiteRun::display_loop);
+
+  // The monitor: connection changes into the event log, progress for the parent.
+  net::ConnectionState state = net::ConnectionState::Connected;
+  uint64_t last_progress = UINT64_MAX;
+  bool display_running = true;
+  std::atomic<bool> display_finished{false};
+  std::thread display_watch([&] {
+    display.join();
+    display_finished = true;
+  });
+  while (display_running) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const uint64_t now = monotonic_now_us();
+    const net::ConnectionStatus status = net_->status();
+    if (status.state != state) {
+      const bool after_scene = now > end_us_;
+      if (status.state == net::ConnectionState::Connected)
+        events_.write("connection_restored", now, {{"peer", status.peer}, {"phase", after_scene ? "shutdown" : "run"}});
+      else if (state == net::ConnectionState::Connected)
+        events_.write("connection_lost", now,
+                      {{"state", net::connection_state_name(status.state)}, {"reason", status.reason},
+                       {"phase", after_scene ? "shutdown" : "run"}});
+      state = status.state;
+    }
+    const uint64_t frame = std::min<uint64_t>(last_scene_frame_ + 1, scene_.frame_count);
+    if (frame != last_progress) {
+      std::cout << "progress " << frame << " " << scene_.frame_count << std::endl;
+      last_progress = frame;
+    }
+    display_running = !display_finished;
+  }
+  display_watch.join();
+  stopping_ = true;
+  capture.join();
+  ibr.join();
+  tracker.join();
+  touch_->stop();
+  const double elapsed_s = double(monotonic_now_us() - epoch_us_) * 1e-6;
+  // Give the peer a moment to take our last messages before the connection closes.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  nlohmann::json m = metrics(elapsed_s);
+  net_->stop();
+  std::ofstream(out_ / "metrics.json") << m.dump(2) << "\n";
+  if (failed) return 1;
+  if (context_.validation_enabled() && context_.validation_errors() > 0) {
+    std::cerr << "site " << site_name_ << ": " << context_.validation_errors() << " validation errors\n";
+    return 1;
+  }
+  std::cout << "done" << std::endl;
+  return 0;
+}
+
+}  // namespace
+
+void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options) {
+  std::ifstream file(config);
+  if (!file) throw std::runtime_error("cannot read the site config " + config.string());
+  const nlohmann::json json = nlohmann::json::parse(file, nullptr, false);
+  if (json.is_discarded() || !json.is_object()) throw std::runtime_error(config.string() + ": not a JSON object");
+  const std::filesystem::path base = config.parent_path();
+  auto string_field = [&](const char* name, std::string& value) {
+    if (!json.contains(name)) return;
+    if (!json[name].is_string()) throw std::runtime_error(config.string() + ": '" + name + "' must be a string");
+    value = json[name].get<std::string>();
+  };
+  auto number_field = [&](const char* name, auto& value, double min, double max) {
+    if (!json.contains(name)) return;
+    if (!json[name].is_number() || json[name].get<double>() < min || json[name].get<double>() > max)
+      throw std::runtime_error(config.string() + ": '" + name + "' must be a number in [" + std::to_string(min) + ", " +
+                               std::to_string(max) + "]");
+    value = static_cast<std::remove_reference_t<decltype(value)>>(json[name].get<double>());
+  };
+  for (const auto& [key, value] : json.items())
+    if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
+        key != "resolution_scale" && key != "width" && key != "height" && key != "frames")
+      throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
+  std::string site = site_name(options.site), key_file;
+  string_field("scene", options.scene);
+  string_field("site", site);
+  if (site != "A" && site != "B") throw std::runtime_error(config.string() + ": 'site' must be \"A\" or \"B\"");
+  options.site = site == "A" ? Site::A : Site::B;
+  string_field("listen", options.listen);
+  string_field("peer", options.peer);
+  string_field("key_file", key_file);
+  if (!key_file.empty()) options.key_file = std::filesystem::path(key_file).is_absolute() ? std::filesystem::path(key_file) : base / key_file;
+  number_field("time_scale", options.time_scale, 1e-3, 10.0);
+  number_field("resolution_scale", options.resolution_scale, 0.0, 1.0);
+  number_field("width", options.run.width, 16, 4096);
+  number_field("height", options.run.height, 16, 4096);
+  if (json.contains("frames")) {
+    number_field("frames", options.run.frames, 1, 1e6);
+    options.frames_given = true;
+  }
+}
+
+int run_site(const SiteRunOptions& options) {
+  if (options.key_file.empty()) throw std::invalid_argument("a site needs --key-file (64 hex digits, the same at both sites)");
+  SiteRun site(options);
+  return site.run();
+}
+
+}  // namespace rt::app

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# `remotetouch demo` end to end, tiny: two site processes over loopback on a few frames of a scene.
+#   session_demo.sh BINARY OUT SCENE FRAMES TOUCHES [extra demo arguments...]
+# TOUCHES: the touch starts (and motor pulses) each site must report: 1 for clap, 0 for miss/wave.
+# With --disconnect-after-ms among the extra arguments, the log must also show the link lost
+# during the run and restored, and the run must still finish with the same touches.
+set -euo pipefail
+binary=$1 out=$2 scene=$3 frames=$4 touches=$5
+shift 5
+rm -rf "$out"
+"$binary" demo --scene "$scene" --frames "$frames" --width 96 --height 54 --resolution-scale 0.1 --time-scale 1 \
+  --out "$out" "$@" 2>&1 | tee "$out.log"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+for site in A B; do
+  for f in metrics.json events.jsonl frames.jsonl site.mp4 frames/frame_0000.png; do
+    [ -s "$out/site_$site/$f" ] || fail "missing $out/site_$site/$f"
+  done
+  ls "$out/site_$site/truth/"frame_*.png > /dev/null || fail "no ground truth frames at site $site"
+  starts=$(grep -c "\"event\":\"touch_start\".*\"site\":\"$site\"" "$out/events.jsonl" || true)
+  pulses=$(grep -c "\"event\":\"motor_pulse\".*\"site\":\"$site\"" "$out/events.jsonl" || true)
+  [ "$starts" -eq "$touches" ] || fail "site $site: $starts touch starts, expected $touches"
+  [ "$pulses" -eq "$touches" ] || fail "site $site: $pulses motor pulses, expected $touches"
+done
+# Each site's composite must look like the other site's user: a misplaced portrait or hand
+# drops the PSNR against the ground truth far below this (about 20 dB at this tiny size).
+/usr/bin/python3 - "$out/metrics.json" <<'PY' || fail "PSNR against the ground truth too low or missing"
+import json, sys
+m = json.load(open(sys.argv[1]))
+for site in "AB":
+    final, mean = m["psnr_db"][site]["final_db"], m["psnr_db"][site]["mean_db"]
+    print(f"site {site}: PSNR final {final} dB, mean {mean} dB over {m['psnr_db'][site]['frames']} frames")
+    assert final is not None and final > 15 and mean > 15
+PY
+grep -q '"capture_to_portrait_on_screen"' "$out/metrics.json" || fail "no portrait latency in metrics.json"
+grep -q "touch_to_motor_command median ms" "$out.log" || fail "no summary table"
+if [ $# -gt 0 ]; then
+  grep -q '"fault_proxy"' "$out/metrics.json" || fail "fault options given, but no fault proxy counts in metrics.json"
+fi
+if [[ " $* " == *" --loss "* ]]; then
+  grep -q '"records_dropped": [1-9]' "$out/metrics.json" || fail "--loss given, but the proxy dropped no record"
+fi
+if [[ " $* " == *" --disconnect-after-ms "* ]]; then
+  grep -q '"event":"connection_lost".*"phase":"run"' "$out/events.jsonl" || fail "no connection_lost during the run"
+  grep -q '"event":"connection_restored".*"phase":"run"' "$out/events.jsonl" || fail "no connection_restored during the run"
+  grep -q '"fault_proxy"' "$out/metrics.json" || fail "no fault proxy counts in metrics.json"
+fi
+echo "session demo ($scene) ok"

@@ -1,0 +1,33 @@
+# The two-site session (engine/app/site_runner.h, `remotetouch demo` and `remotetouch site`):
+# two processes over loopback, tiny sizes, only the frames each case needs (clap: the palms meet
+# at about 2.6 s and part at 3.4 s of scene time).
+set(rt $<TARGET_FILE:remotetouch>)
+set(session_demo ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_demo.sh)
+add_test(NAME session_demo_clap COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-clap clap 115 1)
+add_test(NAME session_demo_miss COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-miss miss 115 0)
+add_test(NAME session_demo_wave COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-wave wave 90 0)
+# The link cut mid-run (before the touch) through the fault proxy: the connector reconnects, the
+# run finishes, the clap still gives one touch per site.
+add_test(NAME session_demo_disconnect
+         COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-disconnect clap 115 1 --disconnect-after-ms 1200)
+# A slow, lossy link (40 ms delay, 20 ms jitter, 5 % of records lost): still one touch per site.
+add_test(NAME session_demo_lossy
+         COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-lossy clap 115 1 --delay-ms 40 --jitter-ms 20 --loss 0.05)
+# A wrong key: both sites refuse the handshake and give up cleanly, saying why.
+add_test(NAME session_site_wrong_key
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_wrong_key.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-wrong-key)
+add_test(NAME session_site_bad_config
+         COMMAND ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
+set_tests_properties(session_site_bad_config PROPERTIES PASS_REGULAR_EXPRESSION "unknown field 'peers'")
+set_tests_properties(session_demo_clap session_demo_miss session_demo_wave session_demo_disconnect session_demo_lossy
+                     session_site_wrong_key
+                     PROPERTIES TIMEOUT 300)
+add_test(NAME session_demo_unknown_device
+         COMMAND ${rt} demo --frames 2 --width 32 --height 18 --device no-such-gpu --out ${CMAKE_BINARY_DIR}/test-out/session-no-device)
+set_tests_properties(session_demo_unknown_device PROPERTIES PASS_REGULAR_EXPRESSION "no Vulkan device fits.*site A ended")
+add_test(NAME session_site_needs_key COMMAND ${rt} site --site A --out ${CMAKE_BINARY_DIR}/test-out/site-no-key)
+set_tests_properties(session_site_needs_key PROPERTIES PASS_REGULAR_EXPRESSION "needs --key-file")
+add_test(NAME session_site_bad_key_file
+         COMMAND ${rt} site --site A --key-file ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json
+                 --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-bad-key)
+set_tests_properties(session_site_bad_key_file PROPERTIES PASS_REGULAR_EXPRESSION "site_config_bad.json")
