@@ -381,20 +381,29 @@ void Context::run_now(const std::function<void(VkCommandBuffer)>& record) {
   allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   allocate.commandBufferCount = 1;
   VkCommandBuffer commands = VK_NULL_HANDLE;
-  RT_VK_CHECK(vkAllocateCommandBuffers(device_, &allocate, &commands));
+  auto free_commands = [&] {
+    const auto pool = lock_command_pool();
+    vkFreeCommandBuffers(device_, command_pool_, 1, &commands);
+  };
   try {
-    auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    RT_VK_CHECK(vkBeginCommandBuffer(commands, &begin));
-    record(commands);
-    RT_VK_CHECK(vkEndCommandBuffer(commands));
-    wait(submit(commands));
+    uint64_t done = 0;
+    {
+      const auto pool = lock_command_pool();
+      RT_VK_CHECK(vkAllocateCommandBuffers(device_, &allocate, &commands));
+      auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+      begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+      RT_VK_CHECK(vkBeginCommandBuffer(commands, &begin));
+      record(commands);
+      RT_VK_CHECK(vkEndCommandBuffer(commands));
+      done = submit(commands);
+    }
+    wait(done);
   } catch (...) {
     vkDeviceWaitIdle(device_);
-    vkFreeCommandBuffers(device_, command_pool_, 1, &commands);
+    if (commands) free_commands();
     throw;
   }
-  vkFreeCommandBuffers(device_, command_pool_, 1, &commands);
+  free_commands();
 }
 
 void Context::retire(std::function<void()> destroy) {

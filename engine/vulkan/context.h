@@ -42,6 +42,11 @@ class Context {
   VkQueue queue() const { return queue_; }
   uint32_t queue_family() const { return queue_family_; }
   VkCommandPool command_pool() const { return command_pool_; }
+  // The command pool and every command buffer from it are externally synchronized (Vulkan spec):
+  // hold this while allocating, recording or freeing one, from whichever thread.
+  [[nodiscard]] std::unique_lock<std::recursive_mutex> lock_command_pool() const {
+    return std::unique_lock(command_pool_mutex_);
+  }
   VkPipelineCache pipeline_cache() const { return pipeline_cache_; }
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
   std::string device_name() const { return properties_.deviceName; }
@@ -108,6 +113,7 @@ class Context {
   PFN_vkCmdBeginRendering begin_rendering_ = nullptr;
   PFN_vkCmdEndRendering end_rendering_ = nullptr;
 
+  mutable std::recursive_mutex command_pool_mutex_;
   std::mutex mutex_;  // guards the fields below: submissions and retirement may come from any thread
   uint64_t last_submitted_ = 0;
   struct Retired {

@@ -362,6 +362,8 @@ std::vector<std::string> FrameGraph::execution_order() {
 void FrameGraph::run() {
   compile();
   VkCommandBuffer commands = commands_.get();
+  // Recording touches the command pool, which other threads' graphs and uploads share.
+  std::unique_lock pool = context_.lock_command_pool();
   auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   RT_VK_CHECK(vkBeginCommandBuffer(commands, &begin));
@@ -399,7 +401,9 @@ void FrameGraph::run() {
   }
   context_.end_label(commands);
   RT_VK_CHECK(vkEndCommandBuffer(commands));
-  context_.wait(context_.submit(commands));
+  const uint64_t done = context_.submit(commands);
+  pool.unlock();
+  context_.wait(done);
   ++frames_run_;
 
   if (!queries_) return;

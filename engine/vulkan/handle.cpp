@@ -23,6 +23,9 @@ void destroy_object(const Context& c, VkShaderModule o) { vkDestroyShaderModule(
 template <>
 void destroy_object(const Context& c, VkQueryPool o) { vkDestroyQueryPool(c.device(), o, nullptr); }
 template <>
-void destroy_object(const Context& c, VkCommandBuffer o) { vkFreeCommandBuffers(c.device(), c.command_pool(), 1, &o); }
+void destroy_object(const Context& c, VkCommandBuffer o) {
+  const auto pool = c.lock_command_pool();
+  vkFreeCommandBuffers(c.device(), c.command_pool(), 1, &o);
+}
 
 }  // namespace rt::vk

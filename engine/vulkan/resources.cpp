@@ -138,7 +138,10 @@ CommandBuffer::CommandBuffer(Context& context, const std::string& name) {
   info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   info.commandBufferCount = 1;
   VkCommandBuffer commands = VK_NULL_HANDLE;
-  RT_VK_CHECK(vkAllocateCommandBuffers(context.device(), &info, &commands));
+  {
+    const auto pool = context.lock_command_pool();
+    RT_VK_CHECK(vkAllocateCommandBuffers(context.device(), &info, &commands));
+  }
   commands_ = Handle<VkCommandBuffer>(context, commands);
   context.set_name(VK_OBJECT_TYPE_COMMAND_BUFFER, uint64_t(commands), name);
 }
