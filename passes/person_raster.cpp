@@ -111,25 +111,16 @@ RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const 
     for (size_t k = 1; k + 1 < polygon.size(); ++k) {
       const size_t ids[3] = {0, k, k + 1};
       const Eigen::Vector2d a = screen[ids[0]].head<2>(), b = screen[ids[1]].head<2>(), c = screen[ids[2]].head<2>();
-      const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-      if (std::abs(area) < 1e-12) continue;  // degenerate: Vulkan draws nothing
-      const int x0 = std::max(0, int(std::floor(std::min({a.x(), b.x(), c.x()}))) - 1);
-      const int x1 = std::min(int(width) - 1, int(std::ceil(std::max({a.x(), b.x(), c.x()}))) + 1);
-      const int y0 = std::max(0, int(std::floor(std::min({a.y(), b.y(), c.y()}))) - 1);
-      const int y1 = std::min(int(height) - 1, int(std::ceil(std::max({a.y(), b.y(), c.y()}))) + 1);
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-          const Eigen::Vector2d p(x + 0.5, y + 0.5);
+      // Degenerate triangles: Vulkan draws nothing.
+      for_each_pixel_near_triangle(a, b, c, width, height, [&](int x, int y, const Eigen::Vector2d& p, double w0,
+                                                                 double w1, double w2) {
           if (distance_to_segment(p, a, b) <= 1.0 || distance_to_segment(p, b, c) <= 1.0 ||
               distance_to_segment(p, c, a) <= 1.0)
             out.near_edge.at(uint32_t(x), uint32_t(y)) = 1.0f;
-          const double w0 = ((b - p).x() * (c - p).y() - (b - p).y() * (c - p).x()) / area;
-          const double w1 = ((c - p).x() * (a - p).y() - (c - p).y() * (a - p).x()) / area;
-          const double w2 = 1.0 - w0 - w1;
-          if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+          if (w0 < 0 || w1 < 0 || w2 < 0) return;
           const double z = w0 * screen[ids[0]].z() + w1 * screen[ids[1]].z() + w2 * screen[ids[2]].z();
           double& stored = depth_buffer[size_t(y) * width + x];
-          if (!(z < stored)) continue;
+          if (!(z < stored)) return;
           stored = z;
           // Perspective-correct weights.
           const double p0 = w0 / polygon[ids[0]].clip.w(), p1 = w1 / polygon[ids[1]].clip.w(),
@@ -154,7 +145,7 @@ RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const 
           out.color.at(uint32_t(x), uint32_t(y), 3) = 1.0f;
           out.depth_m.at(uint32_t(x), uint32_t(y)) = float(interpolate([](const ClipVertex& v) { return v.camera_z; }));
           out.part.at(uint32_t(x), uint32_t(y)) = part;
-        }
+        });
     }
   }
   return out;

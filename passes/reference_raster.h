@@ -4,6 +4,8 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace rt::passes {
@@ -28,6 +30,29 @@ inline double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2
   const double length2 = ab.squaredNorm();
   const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
   return (p - (a + t * ab)).norm();
+}
+
+// Visits every pixel in the bounding box (one pixel wider) of the screen-space triangle a, b, c,
+// clipped to the image, as visit(x, y, pixel_centre, w0, w1, w2) with the barycentric weights
+// at the pixel's centre (x + 0.5, y + 0.5): all three >= 0 inside. Returns false, visiting
+// nothing, for a degenerate triangle (Vulkan draws nothing then).
+template <typename Visit>
+bool for_each_pixel_near_triangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                                  uint32_t width, uint32_t height, Visit visit) {
+  const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+  if (std::abs(area) < 1e-12) return false;
+  const int x0 = std::max(0, int(std::floor(std::min({a.x(), b.x(), c.x()}))) - 1);
+  const int x1 = std::min(int(width) - 1, int(std::ceil(std::max({a.x(), b.x(), c.x()}))) + 1);
+  const int y0 = std::max(0, int(std::floor(std::min({a.y(), b.y(), c.y()}))) - 1);
+  const int y1 = std::min(int(height) - 1, int(std::ceil(std::max({a.y(), b.y(), c.y()}))) + 1);
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const Eigen::Vector2d p(x + 0.5, y + 0.5);
+      const double w0 = ((b - p).x() * (c - p).y() - (b - p).y() * (c - p).x()) / area;
+      const double w1 = ((c - p).x() * (a - p).y() - (c - p).y() * (a - p).x()) / area;
+      visit(x, y, p, w0, w1, 1.0 - w0 - w1);
+    }
+  return true;
 }
 
 }  // namespace rt::passes
