@@ -219,7 +219,8 @@ void print_summary(const nlohmann::json& metrics) {
           cell(wall(b, "receiver_render_and_readback"), "%.0f"));
   row("touch starts / motor pulses", cell(a["touch"]["starts"], "%.0f") + " / " + cell(a["touch"]["motor_pulses"], "%.0f"),
       cell(b["touch"]["starts"], "%.0f") + " / " + cell(b["touch"]["motor_pulses"], "%.0f"));
-  row("connections lost / reconnects", cell(a["net"]["connections_lost"], "%.0f") + " / " + cell(a["net"]["reconnects"], "%.0f"),
+  // A site that is still finishing sees the peer close: that loss counts here (events.jsonl says "shutdown").
+  row("connections lost / reconnects (any phase)", cell(a["net"]["connections_lost"], "%.0f") + " / " + cell(a["net"]["reconnects"], "%.0f"),
       cell(b["net"]["connections_lost"], "%.0f") + " / " + cell(b["net"]["reconnects"], "%.0f"));
   row("PSNR final composite dB (mean)",
       cell(metrics["psnr_db"]["A"]["final_db"]) + " (" + cell(metrics["psnr_db"]["A"]["mean_db"]) + ")",
