@@ -21,7 +21,10 @@ add_test(NAME session_site_bad_config
 set_tests_properties(session_site_bad_config PROPERTIES PASS_REGULAR_EXPRESSION "unknown field 'peers'")
 set_tests_properties(session_demo_clap session_demo_miss session_demo_wave session_demo_disconnect session_demo_lossy
                      session_site_wrong_key
-                     PROPERTIES TIMEOUT 300)
+                     PROPERTIES TIMEOUT 300
+                     # Two site processes each, real-time scene clock: one such run at a time, so that
+                     # ctest -j does not starve them of the CPU they share with each other.
+                     RESOURCE_LOCK two_site_processes)
 add_test(NAME session_demo_unknown_device
          COMMAND ${rt} demo --frames 2 --width 32 --height 18 --device no-such-gpu --out ${CMAKE_BINARY_DIR}/test-out/session-no-device)
 set_tests_properties(session_demo_unknown_device PROPERTIES PASS_REGULAR_EXPRESSION "no Vulkan device fits.*site A ended")
