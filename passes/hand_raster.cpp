@@ -120,16 +120,14 @@ HandRasterReference hand_raster_reference(std::span<const SkinnedVertex> skinned
       const Eigen::Vector2d a = screen[ids[0]].head<2>(), b = screen[ids[1]].head<2>(), c = screen[ids[2]].head<2>();
       for_each_pixel_near_triangle(a, b, c, width, height, [&](int x, int y, const Eigen::Vector2d&, double w0,
                                                                  double w1, double w2) {
-          if (w0 < 0 || w1 < 0 || w2 < 0) return;
-          const double z = w0 * screen[ids[0]].z() + w1 * screen[ids[1]].z() + w2 * screen[ids[2]].z();
-          double& stored = depth_buffer[size_t(y) * width + x];
-          if (!(z < stored)) return;
-          stored = z;
-          const double p0 = w0 / polygon[ids[0]].clip.w(), p1 = w1 / polygon[ids[1]].clip.w(),
-                       p2 = w2 / polygon[ids[2]].clip.w();
-          const double sum = p0 + p1 + p2;
+          const auto weights = depth_tested_weights(
+              {w0, w1, w2}, {screen[ids[0]].z(), screen[ids[1]].z(), screen[ids[2]].z()},
+              {polygon[ids[0]].clip.w(), polygon[ids[1]].clip.w(), polygon[ids[2]].clip.w()},
+              depth_buffer[size_t(y) * width + x]);
+          if (!weights) return;
           auto interpolate = [&](auto get) {
-            return (p0 * get(polygon[ids[0]]) + p1 * get(polygon[ids[1]]) + p2 * get(polygon[ids[2]])) / sum;
+            return (*weights)[0] * get(polygon[ids[0]]) + (*weights)[1] * get(polygon[ids[1]]) +
+                   (*weights)[2] * get(polygon[ids[2]]);
           };
           const Eigen::Vector4f colour = sample_bilinear(texture, float(interpolate([](const ClipVertex& v) { return v.u; })),
                                                          float(interpolate([](const ClipVertex& v) { return v.v; })));

@@ -117,17 +117,14 @@ RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const 
           if (distance_to_segment(p, a, b) <= 1.0 || distance_to_segment(p, b, c) <= 1.0 ||
               distance_to_segment(p, c, a) <= 1.0)
             out.near_edge.at(uint32_t(x), uint32_t(y)) = 1.0f;
-          if (w0 < 0 || w1 < 0 || w2 < 0) return;
-          const double z = w0 * screen[ids[0]].z() + w1 * screen[ids[1]].z() + w2 * screen[ids[2]].z();
-          double& stored = depth_buffer[size_t(y) * width + x];
-          if (!(z < stored)) return;
-          stored = z;
-          // Perspective-correct weights.
-          const double p0 = w0 / polygon[ids[0]].clip.w(), p1 = w1 / polygon[ids[1]].clip.w(),
-                       p2 = w2 / polygon[ids[2]].clip.w();
-          const double sum = p0 + p1 + p2;
+          const auto weights = depth_tested_weights(
+              {w0, w1, w2}, {screen[ids[0]].z(), screen[ids[1]].z(), screen[ids[2]].z()},
+              {polygon[ids[0]].clip.w(), polygon[ids[1]].clip.w(), polygon[ids[2]].clip.w()},
+              depth_buffer[size_t(y) * width + x]);
+          if (!weights) return;
           auto interpolate = [&](auto get) {
-            return (p0 * get(polygon[ids[0]]) + p1 * get(polygon[ids[1]]) + p2 * get(polygon[ids[2]])) / sum;
+            return (*weights)[0] * get(polygon[ids[0]]) + (*weights)[1] * get(polygon[ids[1]]) +
+                   (*weights)[2] * get(polygon[ids[2]]);
           };
           std::array<double, 13> at{};
           for (int i = 0; i < 13; ++i) at[i] = interpolate([i](const ClipVertex& v) { return v.attributes[i]; });

@@ -4,6 +4,8 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <array>
+#include <optional>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -53,6 +55,22 @@ bool for_each_pixel_near_triangle(const Eigen::Vector2d& a, const Eigen::Vector2
       visit(x, y, p, w0, w1, 1.0 - w0 - w1);
     }
   return true;
+}
+
+// Inside the triangle (all screen weights >= 0), the LESS depth test against `stored` (updated
+// when it passes), then the perspective-correct weights from the vertices' clip w. Empty when the
+// pixel is outside the triangle or behind what is already drawn.
+inline std::optional<std::array<double, 3>> depth_tested_weights(const std::array<double, 3>& screen_weights,
+                                                                 const std::array<double, 3>& depths,
+                                                                 const std::array<double, 3>& clip_w, double& stored) {
+  const auto& w = screen_weights;
+  if (w[0] < 0 || w[1] < 0 || w[2] < 0) return std::nullopt;
+  const double z = w[0] * depths[0] + w[1] * depths[1] + w[2] * depths[2];
+  if (!(z < stored)) return std::nullopt;
+  stored = z;
+  const std::array<double, 3> p{w[0] / clip_w[0], w[1] / clip_w[1], w[2] / clip_w[2]};
+  const double sum = p[0] + p[1] + p[2];
+  return std::array<double, 3>{p[0] / sum, p[1] / sum, p[2] / sum};
 }
 
 }  // namespace rt::passes
