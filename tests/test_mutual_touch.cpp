@@ -109,13 +109,45 @@ TEST_CASE("tracking lost mid-touch ends the touch once", "[touch]") {
 
 TEST_CASE("a stale skeleton counts as lost tracking", "[touch]") {
   Script script;
+  const TouchParameters& parameters = script.detector.parameters();
   const uint64_t frozen = script.now;
   for (int i = 0; i < 5; ++i)
     script.tick({test::flat_hand(0.2, 0.1, 0.005, frozen)}, {remote_hand(-0.2, 0.1, 0.005, script.now)});
-  for (int i = 0; i < 20; ++i)  // the local tracker stops sending: its last skeleton ages
+  REQUIRE(script.events.size() == 1);
+  for (int i = 0; i < 40; ++i)  // the local tracker stops sending: its last skeleton ages
     script.tick({test::flat_hand(0.2, 0.1, 0.005, frozen)}, {remote_hand(-0.2, 0.1, 0.005, script.now)});
   REQUIRE(script.events.size() == 2);
   CHECK(script.events[1].kind == TouchEvent::Kind::End);
+  // Held while the last skeleton is younger than touch_hold_age_us, then end_after_ticks ticks.
+  const uint64_t age_at_end = script.events[1].timestamp_us - frozen;
+  CHECK(age_at_end > parameters.touch_hold_age_us);
+  CHECK(age_at_end <= parameters.touch_hold_age_us + uint64_t(parameters.end_after_ticks) * kTickUs);
+
+  // A stale skeleton cannot start a touch either.
+  Script late;
+  for (int i = 0; i < 20; ++i)
+    late.tick({test::flat_hand(0.2, 0.1, 0.005, late.now)},
+              {remote_hand(-0.2, 0.1, 0.005, late.now - parameters.max_skeleton_age_us - 1)});
+  CHECK(late.events.empty());
+}
+
+TEST_CASE("skeletons late for a moment mid-touch give no second start", "[touch]") {
+  // Two site processes on two CPU cores: a remote skeleton can arrive 300 ms late. The palms
+  // never left the glass, so the clap stays one touch.
+  Script script;
+  for (int i = 0; i < 10; ++i)
+    script.tick({test::flat_hand(0.2, 0.1, 0.005, script.now)}, {remote_hand(-0.2, 0.1, 0.005, script.now)});
+  const uint64_t last_remote = script.now - kTickUs;
+  for (int i = 0; i < 15; ++i)
+    script.tick({test::flat_hand(0.2, 0.1, 0.005, script.now)}, {remote_hand(-0.2, 0.1, 0.005, last_remote)});
+  for (int i = 0; i < 10; ++i)
+    script.tick({test::flat_hand(0.2, 0.1, 0.005, script.now)}, {remote_hand(-0.2, 0.1, 0.005, script.now)});
+  for (int i = 0; i < 10; ++i)  // then the hands part
+    script.tick({test::flat_hand(0.2, 0.1, 0.2, script.now)}, {remote_hand(-0.2, 0.1, 0.2, script.now)});
+  REQUIRE(script.events.size() == 2);
+  CHECK(script.events[0].kind == TouchEvent::Kind::Start);
+  CHECK(script.events[1].kind == TouchEvent::Kind::End);
+  CHECK(script.events[1].timestamp_us > script.events[0].timestamp_us + 35 * kTickUs);
 }
 
 TEST_CASE("NaN joints are ignored, never a NaN area", "[touch]") {
@@ -182,6 +214,9 @@ TEST_CASE("thresholds are parameters, checked", "[touch]") {
   bad = {};
   bad.joint_distance_m = std::numeric_limits<double>::quiet_NaN();
   CHECK_THROWS_WITH(MutualTouchDetector(bad), Catch::Contains("joint_distance_m"));
+  bad = {};
+  bad.touch_hold_age_us = bad.max_skeleton_age_us - 1;
+  CHECK_THROWS_WITH(MutualTouchDetector(bad), Catch::Contains("touch_hold_age_us"));
 }
 
 TEST_CASE("the 50 Hz loop hands each event to its callback", "[touch]") {

@@ -215,10 +215,12 @@ SiteRun::SiteRun(const SiteRunOptions& options)
   ibr_ = std::make_unique<IbrRenderer>(context_, camera_models(simulator_->renderer()), settings);
   for (const auto& camera : simulator_->site().cameras) camera_positions_.push_back(camera.colour_camera().position_in_site());
 
-  // A skeleton counts as lost after 200 ms rather than 100: the tracker thread shares two CPU cores
-  // with a CPU Vulkan driver here, and a late tick is not a hand the tracker lost.
+  // A skeleton counts as lost after 200 ms rather than 100, and a touch holds for a second without
+  // news: the tracker thread shares two CPU cores with a CPU Vulkan driver here, and a late tick
+  // is not a hand the tracker lost.
   TouchParameters touch_parameters;
   touch_parameters.max_skeleton_age_us = 200'000;
+  touch_parameters.touch_hold_age_us = 1'000'000;
   touch_ = std::make_unique<TouchLoop>(touch_parameters, [this](const TouchEvent& event) { on_touch(event); });
 
   net::SessionOptions net_options;

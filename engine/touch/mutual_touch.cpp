@@ -29,6 +29,7 @@ void check_touch_parameters(const TouchParameters& p) {
   if (!(p.end_area_m2 >= 0.0) || p.end_area_m2 > p.start_area_m2) fail("end_area_m2 must be in [0, start_area_m2]");
   if (p.end_after_ticks < 1) fail("end_after_ticks must be at least 1");
   if (p.max_skeleton_age_us == 0) fail("max_skeleton_age_us must be > 0");
+  if (p.touch_hold_age_us < p.max_skeleton_age_us) fail("touch_hold_age_us must be >= max_skeleton_age_us");
 }
 
 std::optional<Eigen::AlignedBox2d> contact_box(const HandSkeleton& hand, double joint_distance_m) {
@@ -69,8 +70,9 @@ std::optional<TouchEvent> MutualTouchDetector::update(uint64_t now_us, std::span
                                                       std::span<const HandSkeleton> remote_hands) {
   TouchEvent event;
   event.timestamp_us = now_us;
-  const auto local = fresh(local_hands, now_us, parameters_.max_skeleton_age_us, event.local_capture_us);
-  const auto remote = fresh(remote_hands, now_us, parameters_.max_skeleton_age_us, event.remote_capture_us);
+  const uint64_t max_age_us = touching_ ? parameters_.touch_hold_age_us : parameters_.max_skeleton_age_us;
+  const auto local = fresh(local_hands, now_us, max_age_us, event.local_capture_us);
+  const auto remote = fresh(remote_hands, now_us, max_age_us, event.remote_capture_us);
   event.overlap_area_m2 = overlap_area_m2(local, remote, parameters_.joint_distance_m);
 
   if (!touching_) {

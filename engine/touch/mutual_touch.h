@@ -20,8 +20,12 @@ struct TouchParameters {
   // ticks (60 ms at 50 Hz), so tracker jitter around the threshold gives no second clap.
   double end_area_m2 = 25e-4;
   int end_after_ticks = 3;
-  // A skeleton older than this counts as lost tracking (the tracker runs at 50 Hz).
+  // A skeleton older than this counts as lost tracking (the tracker runs at 50 Hz) ...
   uint64_t max_skeleton_age_us = 100'000;
+  // ... except during a touch: then a side's last skeleton stands until it is this old. Skeletons
+  // that stop arriving for a moment (a stalled thread, a burst of network delay) say nothing
+  // about the hands parting, and ending there gave one clap two starts.
+  uint64_t touch_hold_age_us = 500'000;
 };
 
 // Throws with the reason unless the thresholds make sense (positive, end <= start, ...).

@@ -18,7 +18,10 @@ for site in A B; do
   ls "$out/site_$site/truth/"frame_*.png > /dev/null || fail "no ground truth frames at site $site"
   starts=$(grep -c "\"event\":\"touch_start\".*\"site\":\"$site\"" "$out/events.jsonl" || true)
   pulses=$(grep -c "\"event\":\"motor_pulse\".*\"site\":\"$site\"" "$out/events.jsonl" || true)
-  [ "$starts" -eq "$touches" ] || fail "site $site: $starts touch starts, expected $touches"
+  if [ "$starts" -ne "$touches" ]; then
+    grep -E '"event":"(touch_|remote_touch_|connection_)' "$out/events.jsonl" >&2 || true
+    fail "site $site: $starts touch starts, expected $touches"
+  fi
   [ "$pulses" -eq "$touches" ] || fail "site $site: $pulses motor pulses, expected $touches"
 done
 # Each site's composite must look like the other site's user: a misplaced portrait or hand
