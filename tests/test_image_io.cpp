@@ -5,6 +5,7 @@
 #include <limits>
 #include <random>
 
+#include "image/image_crop.h"
 #include "image/image_io.h"
 #include "support/gpu_test.h"
 
@@ -61,4 +62,29 @@ TEST_CASE("bad paths and extensions say what is wrong", "[image_io]") {
   const HostImage image(2, 2, PixelFormat::R32F);
   CHECK_THROWS_WITH(write_image(scratch("picture.bmp2"), image), Catch::Contains(".png or .exr"));
   CHECK_THROWS_WITH(read_image(scratch("does-not-exist.png")), Catch::Contains("does-not-exist.png"));
+}
+
+TEST_CASE("crop to the covered box and paste back on zero", "[image_io]") {
+  HostImage mask(13, 7, PixelFormat::R32F);
+  HostImage colour(13, 7, PixelFormat::RGBA32F);
+  for (size_t i = 0; i < colour.texels.size(); ++i) colour.texels[i] = float(i % 97) / 97.0f;
+  CHECK(nonzero_box(mask).empty());
+  mask.at(0, 0) = std::numeric_limits<float>::quiet_NaN();  // NaN is nothing
+  mask.at(3, 2) = 0.5f;
+  mask.at(9, 5) = 1.0f;
+  const PixelBox box = nonzero_box(mask);
+  CHECK(box.x == 3);
+  CHECK(box.y == 2);
+  CHECK(box.width == 7);
+  CHECK(box.height == 4);
+  const HostImage part = crop(colour, box);
+  const HostImage back = paste_on_zero(part, box.x, box.y, 13, 7);
+  for (uint32_t y = 0; y < 7; ++y)
+    for (uint32_t x = 0; x < 13; ++x)
+      for (uint32_t c = 0; c < 4; ++c) {
+        const bool inside = x >= 3 && x < 10 && y >= 2 && y < 6;
+        REQUIRE(back.at(x, y, c) == (inside ? colour.at(x, y, c) : 0.0f));
+      }
+  CHECK_THROWS_WITH(crop(colour, {10, 0, 4, 1}), Catch::Contains("outside"));
+  CHECK_THROWS_WITH(paste_on_zero(part, 7, 0, 13, 7), Catch::Contains("does not fit"));
 }

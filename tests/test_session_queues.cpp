@@ -15,6 +15,7 @@
 #include "session/fair_mutex.h"
 #include "session/latency_stats.h"
 #include "session/mailbox.h"
+#include "session/timed_history.h"
 
 using namespace rt::session;
 
@@ -165,4 +166,33 @@ TEST_CASE("closest in time: nearest timestamp either side, earlier on a tie, end
   REQUIRE(at(1'000'000) == 160);
   const std::vector<uint64_t> none;
   REQUIRE(closest_in_time(none.begin(), none.end(), 5, [](uint64_t t) { return t; }) == none.end());
+}
+
+TEST_CASE("timed history: closest entry to a time, bounded, shared between threads") {
+  TimedHistory<int> history(3);
+  REQUIRE_FALSE(history.closest(100));
+  history.add(100, 1);
+  history.add(200, 2);
+  history.add(300, 3);
+  CHECK(history.closest(0)->second == 1);
+  CHECK(history.closest(149)->second == 1);
+  CHECK(history.closest(150)->second == 1);  // a tie: the earlier
+  CHECK(history.closest(151)->second == 2);
+  CHECK(history.closest(10'000)->first == 300);
+  history.add(400, 4);  // 100 falls out
+  CHECK(history.size() == 3);
+  CHECK(history.closest(0)->second == 2);
+
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    for (int i = 0; i < 2000; ++i) history.add(uint64_t(1000 + i), i);
+    done = true;
+  });
+  while (!done) {
+    const auto entry = history.closest(UINT64_MAX);
+    REQUIRE(entry);
+    REQUIRE((entry->first < 1000 || uint64_t(entry->second) == entry->first - 1000));
+  }
+  writer.join();
+  CHECK(history.closest(UINT64_MAX)->second == 1999);
 }

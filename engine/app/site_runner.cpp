@@ -20,6 +20,7 @@
 #include "app/site_simulator.h"
 #include "geometry/target_view.h"
 #include "ibr/camera_selection.h"
+#include "image/image_crop.h"
 #include "image/image_io.h"
 #include "motor/simulated_motor.h"
 #include "net/session.h"
@@ -31,6 +32,7 @@
 #include "session/fair_mutex.h"
 #include "session/latency_stats.h"
 #include "session/mailbox.h"
+#include "session/timed_history.h"
 #include "sim/tracker_sim.h"
 #include "time/monotonic_clock.h"
 #include "touch/touch_loop.h"
@@ -54,6 +56,40 @@ struct ReceivedPortrait {
   net::PortraitMessage message;
   uint64_t arrival_us = 0;
 };
+
+// One geometry-hand render of the hand thread, for the display to fuse with the portrait of the
+// closest capture time: colour and mask cut to the hand's box (it covers a small part of the
+// view, and a dozen full frames would be mostly zeros). Nothing drawn: a NaN distance (the
+// fusion then shows the portrait alone).
+struct HandRender {
+  PixelBox box;
+  HostImage color;  // rgba32f straight alpha, box-sized
+  HostImage mask;   // r32f coverage, box-sized
+  float distance_m = NAN;
+  bool drawn() const { return std::isfinite(distance_m); }
+};
+
+HandRender cropped_hand_render(const HostImage& color, const HostImage& mask, float distance_m) {
+  HandRender render;
+  render.box = nonzero_box(mask);
+  if (render.box.empty()) return render;  // posed out of view
+  render.color = crop(color, render.box);
+  render.mask = crop(mask, render.box);
+  render.distance_m = distance_m;
+  return render;
+}
+
+// Renders kept for the display to choose from. The portrait arrives a few hundred milliseconds
+// after its skeleton on lavapipe; the hand thread renders once per camera frame, so this covers
+// about 0.8 s at 30 fps scene time, and more when the scene plays slower.
+constexpr size_t kHandRenderHistory = 24;
+// The hand render nearest the portrait's time can still be off by the hand thread's spacing (one
+// camera frame, more when the GPU is busy; metrics.json reports the gap). Near the glass a hand
+// a little off beats no hand, as the cameras cannot see it there; beyond this it is the wrong
+// hand altogether (a stalled thread), and the portrait is shown alone.
+constexpr uint64_t kMaxHandToPortraitGapUs = 500'000;
+
+uint64_t gap_us(uint64_t a, uint64_t b) { return a > b ? a - b : b - a; }
 
 std::string frame_name(uint64_t index) {
   char name[32];
@@ -141,7 +177,9 @@ class SiteRun {
   void capture_loop();
   void ibr_loop();
   void tracker_loop();
+  void hand_loop();
   void display_loop();
+  std::optional<net::SkeletonMessage> remote_skeleton_closest_to(uint64_t timestamp_us);
   void on_message(const net::Message& message);
   void on_touch(const TouchEvent& event);
   double scene_time_s(uint64_t now_us) const { return double(now_us - epoch_us_) * 1e-6 * options_.time_scale; }
@@ -173,17 +211,26 @@ class SiteRun {
   std::mutex skeleton_mutex_;
   std::deque<net::SkeletonMessage> remote_skeletons_;  // sender's frame and clock, newest last
   std::deque<std::pair<uint64_t, uint64_t>> remote_capture_of_arrival_;  // (arrival, sender's capture) µs
+  // The hand thread: the newest remote skeleton to draw, the view to draw it from (the portraits'
+  // camera, sent with each one), the portraits shown (for appearance adaption), its renders.
+  session::Mailbox<net::SkeletonMessage> skeletons_to_draw_;
+  session::Mailbox<ReceivedPortrait> portraits_shown_;
+  std::mutex hand_camera_mutex_;
+  std::optional<Camera> hand_camera_;
+  session::TimedHistory<HandRender> hand_renders_{kHandRenderHistory};
+  std::atomic<bool> display_done_{false};
 
   uint64_t epoch_us_ = 0, end_us_ = 0;
   std::atomic<bool> stopping_{false}, capture_done_{false}, ibr_done_{false};
   std::atomic<uint64_t> frames_captured_{0}, portraits_sent_{0}, frames_without_eye_{0}, tracker_ticks_{0};
-  std::atomic<uint64_t> frames_displayed_{0}, portraits_wrong_size_{0}, last_scene_frame_{0};
+  std::atomic<uint64_t> hand_renders_done_{0}, frames_displayed_{0}, portraits_wrong_size_{0}, last_scene_frame_{0};
   std::atomic<uint64_t> last_portrait_arrival_us_{0};
+  session::LatencyStats hand_to_portrait_gap_;  // capture times of the hand render and the portrait fused
   session::LatencyStats capture_to_sent_, portrait_on_screen_, portrait_network_, hand_on_screen_, touch_to_motor_,
       detect_to_motor_;
   // Wall time of each stage's GPU turn (upload, graph run, download), next to the frame graph's
   // per-pass timestamps.
-  session::LatencyStats simulator_wall_, ibr_wall_, receiver_wall_;
+  session::LatencyStats simulator_wall_, ibr_wall_, hand_wall_, receiver_wall_;
   nlohmann::json gpu_ms_;
   std::mutex gpu_ms_mutex_;
 };
@@ -270,6 +317,7 @@ void SiteRun::on_message(const net::Message& message) {
       while (remote_capture_of_arrival_.size() > 200) remote_capture_of_arrival_.pop_front();
     }
     touch_->set_remote_hands(std::move(hands));
+    skeletons_to_draw_.put(*skeleton);
     std::lock_guard lock(skeleton_mutex_);
     remote_skeletons_.push_back(*skeleton);
     while (remote_skeletons_.size() > 100) remote_skeletons_.pop_front();  // 2 s at 50 Hz
@@ -418,16 +466,99 @@ void SiteRun::tracker_loop() {
   }
 }
 
+void SiteRun::hand_loop() {
+  // Declared first, so destroyed last: the hand's Vulkan objects go while this holds the turn.
+  std::unique_lock<session::FairMutex> final_turn(gpu_turn_, std::defer_lock);
+  vk::Image portrait(context_, {"adaption portrait", width_, height_, PixelFormat::RGBA32F});
+  vk::Image portrait_depth(context_, {"adaption portrait depth", width_, height_, PixelFormat::R32F});
+  HandRenderer hand(context_, kTemplateDir, width_, height_);
+  vk::FrameGraph graph(context_, "geometry hand");
+  {
+    std::lock_guard turn(gpu_turn_);
+    hand.add_to(graph);
+  }
+  // The skeleton's hand nearest the glass, posed for `camera` (the portraits' view, in the sender's
+  // frame like the skeleton); a skeleton that cannot be posed keeps the last pose.
+  auto pose = [&](const net::SkeletonMessage& skeleton, const Camera& camera) {
+    const HandSkeleton* drawn = touching(skeleton.hands);
+    if (drawn) hand.set_pose(*drawn, camera);
+    return drawn && hand.has_pose();
+  };
+  // Skinning and rasterization, read back cut to the hand; the caller holds the GPU turn.
+  auto render_in_turn = [&] {
+    const uint64_t start = monotonic_now_us();
+    graph.run();
+    HandRender render = cropped_hand_render(vk::download(context_, hand.color()), vk::download(context_, hand.mask()),
+                                            float(hand.hand_distance_m()));
+    hand_wall_.add(double(monotonic_now_us() - start) / 1000.0);
+    ++hand_renders_done_;
+    return render;
+  };
+  // One render per camera frame is all the display can use; more would only take GPU turns
+  // from the image-based model (lavapipe has one GPU's worth of CPU for everything).
+  const auto period = std::chrono::microseconds(
+      std::max<int64_t>(sim::kTrackerPeriodUs, int64_t(1e6 / (scene_.fps * options_.time_scale))));
+  auto next = Clock::now();
+  while (!display_done_ && !stopping_) {
+    // Appearance adaption (Eq. 3) compares a shown portrait with the hand posed at its capture
+    // time, in its view; the adapted texture is what the next renders sample. Only where the
+    // cameras see the hand well (beyond d_max), as adapt_appearance_from requires anyway.
+    if (std::optional<ReceivedPortrait> shown = portraits_shown_.take()) {
+      const net::PortraitMessage& message = shown->message;
+      const std::optional<net::SkeletonMessage> skeleton = remote_skeleton_closest_to(message.capture_timestamp_us);
+      if (skeleton && pose(*skeleton, portrait_camera(message)) && hand.hand_distance_m() > RT_FUSION_D_MAX_M) {
+        // Urgent like the display: the receiver's work is what the user waits for.
+        session::UrgentTurn turn(gpu_turn_);
+        hand_renders_.add(skeleton->timestamp_us, render_in_turn());
+        vk::upload(context_, portrait, message.color);
+        vk::upload(context_, portrait_depth, message.depth);
+        (void)hand.adapt_appearance_from(portrait, portrait_depth);
+      }
+    }
+    std::optional<net::SkeletonMessage> skeleton = skeletons_to_draw_.wait_take(std::chrono::milliseconds(50));
+    std::optional<Camera> camera;
+    {
+      std::lock_guard lock(hand_camera_mutex_);
+      camera = hand_camera_;
+    }
+    if (!skeleton || !camera) continue;  // nothing new, or no portrait yet to say from where
+    if (pose(*skeleton, *camera)) {
+      session::UrgentTurn turn(gpu_turn_);
+      hand_renders_.add(skeleton->timestamp_us, render_in_turn());
+    } else {
+      hand_renders_.add(skeleton->timestamp_us, HandRender{});  // no hand near: the portrait alone
+    }
+    next += period;
+    const auto now = Clock::now();
+    if (next < now) next = now;  // fell behind: skip, do not burst
+    std::this_thread::sleep_until(next);
+  }
+  {
+    std::lock_guard lock(gpu_ms_mutex_);
+    gpu_ms_["hand"] = timings_json(graph);
+    if (hand.appearance_graph()) gpu_ms_["appearance"] = timings_json(*hand.appearance_graph());
+  }
+  final_turn.lock();
+}
+
+std::optional<net::SkeletonMessage> SiteRun::remote_skeleton_closest_to(uint64_t timestamp_us) {
+  std::lock_guard lock(skeleton_mutex_);
+  const auto closest = session::closest_in_time(remote_skeletons_.begin(), remote_skeletons_.end(), timestamp_us,
+                                                [](const net::SkeletonMessage& s) { return s.timestamp_us; });
+  if (closest == remote_skeletons_.end()) return std::nullopt;
+  return *closest;
+}
+
 void SiteRun::display_loop() {
   // Declared first, so destroyed last: the receiver's Vulkan objects go while this holds the turn.
   std::unique_lock<session::FairMutex> final_turn(gpu_turn_, std::defer_lock);
   vk::Image portrait(context_, {"portrait", width_, height_, PixelFormat::RGBA32F});
-  vk::Image portrait_depth(context_, {"portrait depth", width_, height_, PixelFormat::R32F});
   vk::Image background(context_, {"background", width_, height_, PixelFormat::RGBA32F});
+  vk::Image hand_color(context_, {"hand colour", width_, height_, PixelFormat::RGBA32F});
+  vk::Image hand_mask(context_, {"hand mask", width_, height_, PixelFormat::R32F});
   vk::Image hand_alpha(context_, {"hand alpha", width_, height_, PixelFormat::R32F});
   vk::Image fused(context_, {"fused", width_, height_, PixelFormat::RGBA32F});
   vk::Image display(context_, {"display", width_, height_, PixelFormat::RGBA8});
-  HandRenderer hand(context_, kTemplateDir, width_, height_);
   passes::HandAlphaPass alpha_pass(context_);
   passes::OverlayPass overlay_pass(context_);
   passes::CompositePass composite_pass(context_);
@@ -436,9 +567,8 @@ void SiteRun::display_loop() {
   {
     std::lock_guard turn(gpu_turn_);
     vk::upload(context_, background, background_);
-    hand.add_to(graph);
-    alpha_pass.add_to(graph, hand.mask(), hand_alpha, [&] { return hand_distance_m; });
-    overlay_pass.add_to(graph, hand.color(), hand_alpha, portrait, fused);
+    alpha_pass.add_to(graph, hand_mask, hand_alpha, [&] { return hand_distance_m; });
+    overlay_pass.add_to(graph, hand_color, hand_alpha, portrait, fused);
     composite_pass.add_to(graph, fused, background, display);
   }
   cv::VideoWriter video(out_ / "site.mp4", cv::VideoWriter::fourcc('m', 'p', '4', 'v'), scene_.fps,
@@ -465,34 +595,37 @@ void SiteRun::display_loop() {
                                        ", this site displays " + std::to_string(width_) + "x" + std::to_string(height_)}});
       continue;
     }
-    // The remote skeleton closest in time to the portrait's capture (both the sender's clock).
-    std::optional<net::SkeletonMessage> skeleton;
     {
-      std::lock_guard lock(skeleton_mutex_);
-      const auto closest = session::closest_in_time(remote_skeletons_.begin(), remote_skeletons_.end(),
-                                                    message.capture_timestamp_us,
-                                                    [](const net::SkeletonMessage& s) { return s.timestamp_us; });
-      if (closest != remote_skeletons_.end()) skeleton = *closest;
+      std::lock_guard lock(hand_camera_mutex_);
+      hand_camera_ = portrait_camera(message);
     }
-    const Camera camera = portrait_camera(message);
+    // The hand render whose skeleton was captured closest to the portrait (both the sender's clock);
+    // one far from it would put the hand where it no longer is: then the portrait shows alone.
+    std::optional<std::pair<uint64_t, HandRender>> hand = hand_renders_.closest(message.capture_timestamp_us);
+    if (hand && gap_us(hand->first, message.capture_timestamp_us) > kMaxHandToPortraitGapUs) hand.reset();
+    const bool with_hand = hand && hand->second.drawn();
     HostImage shown;
     {
       session::UrgentTurn turn(gpu_turn_);
       vk::upload(context_, portrait, message.color);
-      vk::upload(context_, portrait_depth, message.depth);
-      const HandSkeleton* drawn = skeleton ? touching(skeleton->hands) : nullptr;
-      // The skeleton as sent is in the sender's frame, like the portrait's camera: they line up.
-      if (drawn) hand.set_pose(*drawn, camera);
-      hand_distance_m = drawn && hand.has_pose() ? float(hand.hand_distance_m()) : NAN;
+      if (with_hand) {
+        const PixelBox& box = hand->second.box;
+        vk::upload(context_, hand_color, paste_on_zero(hand->second.color, box.x, box.y, width_, height_));
+        vk::upload(context_, hand_mask, paste_on_zero(hand->second.mask, box.x, box.y, width_, height_));
+      }
+      hand_distance_m = with_hand ? hand->second.distance_m : NAN;
       const uint64_t start = monotonic_now_us();
       graph.run();
       shown = vk::download(context_, display);
       receiver_wall_.add(double(monotonic_now_us() - start) / 1000.0);
-      if (drawn && hand.has_pose()) (void)hand.adapt_appearance_from(portrait, portrait_depth);
     }
     const uint64_t on_screen = monotonic_now_us();
     portrait_on_screen_.add(double(int64_t(on_screen) - int64_t(message.capture_timestamp_us)) / 1000.0);
-    if (skeleton) hand_on_screen_.add(double(int64_t(on_screen) - int64_t(skeleton->timestamp_us)) / 1000.0);
+    if (with_hand) {
+      hand_on_screen_.add(double(int64_t(on_screen) - int64_t(hand->first)) / 1000.0);
+      hand_to_portrait_gap_.add(double(gap_us(hand->first, message.capture_timestamp_us)) / 1000.0);
+    }
+    portraits_shown_.put(std::move(*received));
     const uint64_t display_index = frames_displayed_++;
     write_image(out_ / "frames" / frame_name(display_index), shown);
     if (video.isOpened()) {
@@ -505,14 +638,15 @@ void SiteRun::display_loop() {
     frames_log << nlohmann::json{{"display", display_index},
                                  {"portrait_frame", message.frame_index},
                                  {"t_us", on_screen},
+                                 {"hand_to_portrait_ms", hand ? nlohmann::json(double(int64_t(hand->first) - int64_t(message.capture_timestamp_us)) / 1000.0) : nlohmann::json()},
                                  {"hand_distance_m", std::isfinite(hand_distance_m) ? nlohmann::json(hand_distance_m) : nlohmann::json()}}
                       .dump()
                << "\n";
   }
+  display_done_ = true;
   {
     std::lock_guard lock(gpu_ms_mutex_);
     gpu_ms_["receiver"] = timings_json(graph);
-    if (hand.appearance_graph()) gpu_ms_["appearance"] = timings_json(*hand.appearance_graph());
   }
   final_turn.lock();
 }
@@ -537,11 +671,13 @@ nlohmann::json SiteRun::metrics(double elapsed_s) {
   m["gpu_ms"]["ibr"] = timings_json(ibr_->graph());
   m["stage_wall_ms"] = {{"simulator_render_and_readback", simulator_wall_.to_json()},
                         {"ibr_render_and_readback", ibr_wall_.to_json()},
+                        {"hand_render_and_readback", hand_wall_.to_json()},
                         {"receiver_render_and_readback", receiver_wall_.to_json()}};
   m["latency_ms"] = {{"capture_to_portrait_sent", capture_to_sent_.to_json()},
                      {"capture_to_portrait_received", portrait_network_.to_json()},
                      {"capture_to_portrait_on_screen", portrait_on_screen_.to_json()},
                      {"skeleton_to_hand_on_screen", hand_on_screen_.to_json()},
+                     {"hand_render_to_portrait_capture_gap", hand_to_portrait_gap_.to_json()},
                      {"touch_to_motor_command", touch_to_motor_.to_json()},
                      {"touch_detected_to_motor_command", detect_to_motor_.to_json()}};
   m["latency_notes"] =
@@ -551,6 +687,7 @@ nlohmann::json SiteRun::metrics(double elapsed_s) {
   m["fps"] = {{"capture", double(frames_captured_) / wall},
               {"portraits_sent", double(portraits_sent_) / wall},
               {"tracker", double(tracker_ticks_) / wall},
+              {"hand_renders", double(hand_renders_done_) / wall},
               {"display", double(frames_displayed_) / wall},
               {"touch_loop", double(touch_->ticks()) / wall}};
   m["frames"] = {{"captured", frames_captured_.load()},
@@ -609,6 +746,7 @@ int SiteRun::run() {
   std::thread capture = guarded("capture", &SiteRun::capture_loop);
   std::thread ibr = guarded("image-based rendering", &SiteRun::ibr_loop);
   std::thread display = guarded("display", &SiteRun::display_loop);
+  std::thread hand = guarded("hand rendering", &SiteRun::hand_loop);
 
   // The monitor: connection changes into the event log, progress for the parent.
   net::ConnectionState state = net::ConnectionState::Connected;
@@ -644,6 +782,7 @@ int SiteRun::run() {
   stopping_ = true;
   capture.join();
   ibr.join();
+  hand.join();
   tracker.join();
   touch_->stop();
   const double elapsed_s = double(monotonic_now_us() - epoch_us_) * 1e-6;

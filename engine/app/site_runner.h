@@ -6,7 +6,9 @@
 //   ibr      newest frame + remote eye -> portrait (RGBA + depth) -> network                 |
 //   tracker  (50 Hz)        local skeletons -> network, touch loop; local eye -> network      |
 //   network  remote eye -> ibr; remote skeletons -> history, touch loop; portraits -> mailbox |
-//   display  newest portrait + remote skeleton of the closest timestamp -> geometry hand ->
+//   hand     newest remote skeleton -> geometry hand (skinning, raster) at the portraits' view
+//            -> short history of renders; each shown portrait -> appearance adaption (Eq. 3)
+//   display  newest portrait + the hand render whose skeleton is closest in time to it ->
 //            Eq. 4, Eq. 5, background -> PNG / MP4
 //   touch    (50 Hz) local + remote skeletons -> touch start/end -> motor pulse, event to peer
 //

@@ -198,7 +198,7 @@ void print_summary(const nlohmann::json& metrics) {
   };
   for (const char* stage : {"capture_to_portrait_on_screen", "skeleton_to_hand_on_screen", "touch_to_motor_command"})
     row(std::string(stage) + " median ms", cell(a["latency_ms"][stage]["median_ms"]), cell(b["latency_ms"][stage]["median_ms"]));
-  for (const char* stage : {"capture", "portraits_sent", "display", "tracker", "touch_loop"})
+  for (const char* stage : {"capture", "portraits_sent", "hand_renders", "display", "tracker", "touch_loop"})
     row(std::string("fps ") + stage, cell(a["fps"][stage]), cell(b["fps"][stage]));
   row("frames displayed", cell(a["frames"]["displayed"], "%.0f"), cell(b["frames"]["displayed"], "%.0f"));
   auto dropped = [](const nlohmann::json& site) {
@@ -208,15 +208,22 @@ void print_summary(const nlohmann::json& metrics) {
   row("frames dropped (capture / before ibr / display)", dropped(a), dropped(b));
   row("wire kB/s out", cell(nlohmann::json(a["bytes_per_s"]["out"].get<double>() / 1000.0)),
       cell(nlohmann::json(b["bytes_per_s"]["out"].get<double>() / 1000.0)));
-  row("GPU ms sim / ibr / receiver (pass sums)",
-      cell(a["gpu_ms"]["simulator"]["total"], "%.0f") + "/" + cell(a["gpu_ms"]["ibr"]["total"]) + "/" + cell(a["gpu_ms"]["receiver"]["total"], "%.0f"),
-      cell(b["gpu_ms"]["simulator"]["total"], "%.0f") + "/" + cell(b["gpu_ms"]["ibr"]["total"]) + "/" + cell(b["gpu_ms"]["receiver"]["total"], "%.0f"));
-  auto wall = [](const nlohmann::json& site, const char* stage) { return site["stage_wall_ms"][stage]["median_ms"]; };
-  row("wall ms sim / ibr / receiver (median turn)",
-      cell(wall(a, "simulator_render_and_readback"), "%.0f") + "/" + cell(wall(a, "ibr_render_and_readback"), "%.0f") + "/" +
-          cell(wall(a, "receiver_render_and_readback"), "%.0f"),
-      cell(wall(b, "simulator_render_and_readback"), "%.0f") + "/" + cell(wall(b, "ibr_render_and_readback"), "%.0f") + "/" +
-          cell(wall(b, "receiver_render_and_readback"), "%.0f"));
+  // Per stage: the frame graph's pass sums, and the wall time of the stage's GPU turn.
+  const std::pair<const char*, const char*> stages[] = {{"simulator", "simulator_render_and_readback"},
+                                                        {"ibr", "ibr_render_and_readback"},
+                                                        {"hand", "hand_render_and_readback"},
+                                                        {"receiver", "receiver_render_and_readback"}};
+  auto per_stage = [&](const nlohmann::json& site, bool gpu) {
+    std::string text;
+    for (const auto& [graph, turn] : stages)
+      text += (text.empty() ? "" : "/") +
+              (gpu ? cell(site["gpu_ms"][graph]["total"], "%.0f") : cell(site["stage_wall_ms"][turn]["median_ms"], "%.0f"));
+    return text;
+  };
+  row("GPU ms sim/ibr/hand/receiver (pass sums)", per_stage(a, true), per_stage(b, true));
+  row("wall ms sim/ibr/hand/receiver (median turn)", per_stage(a, false), per_stage(b, false));
+  row("hand render to portrait gap median ms", cell(a["latency_ms"]["hand_render_to_portrait_capture_gap"]["median_ms"]),
+      cell(b["latency_ms"]["hand_render_to_portrait_capture_gap"]["median_ms"]));
   row("touch starts / motor pulses", cell(a["touch"]["starts"], "%.0f") + " / " + cell(a["touch"]["motor_pulses"], "%.0f"),
       cell(b["touch"]["starts"], "%.0f") + " / " + cell(b["touch"]["motor_pulses"], "%.0f"));
   // A site that is still finishing sees the peer close: that loss counts here (events.jsonl says "shutdown").
