@@ -39,9 +39,10 @@ struct Bench {
 
   UsbMotor& open_driver() {
     UsbMotorOptions options;
-    // Short, so that the failure cases stay fast; the emulated board answers at once.
-    options.reply_timeout = 50ms;
-    options.ready_timeout = 200ms;
+    // Short, so that the failure cases stay fast, yet long enough for the emulated board's thread
+    // to answer while ctest -j runs CPU-bound Vulkan tests on the same two cores (50 ms was not).
+    options.reply_timeout = 400ms;
+    options.ready_timeout = 1000ms;
     options.drain_quiet = 5ms;
     options.retry_initial = 5ms;
     options.retry_max = 20ms;
@@ -191,7 +192,7 @@ TEST_CASE("motor usb: the start-up line proves the firmware", "[motor][usb]") {
   SECTION("no firmware at all") {
     bench.uno.set_ready_line("");
     const auto status = bench.open_driver().connect();
-    CHECK(status.error().find("no 'READY remotetouch-motor 1' line within 200 ms of resetting the board") !=
+    CHECK(status.error().find("no 'READY remotetouch-motor 1' line within 1000 ms of resetting the board") !=
           std::string::npos);
   }
   CHECK(bench.uno.resets() == 1);
@@ -230,7 +231,7 @@ TEST_CASE("motor usb: garbage and wrong replies are errors, and the next command
 
   bench.uno.set_silent(true);
   status = motor.pulse(120ms, 200);
-  CHECK(status.error() == "no reply from the motor (2341:0043 on bus 1 address 1) to 'P 120 200' within 50 ms");
+  CHECK(status.error() == "no reply from the motor (2341:0043 on bus 1 address 1) to 'P 120 200' within 400 ms");
   bench.uno.set_silent(false);
   CHECK(motor.pulse(120ms, 200).ok());
   CHECK(motor.connected());  // none of this needed a reconnect
