@@ -582,7 +582,10 @@ void SiteRun::display_loop() {
     if (!received) {
       const uint64_t now = monotonic_now_us();
       const uint64_t quiet_since = std::max<uint64_t>(last_portrait_arrival_us_, end_us_);
-      if (ibr_done_ && now > end_us_ && now - quiet_since > uint64_t(options_.linger_s * 1e6)) break;
+      // Before the first portrait, the peer may still be starting up on a loaded machine: wait
+      // longer for it than for the tail of a stream that has been flowing.
+      const double linger_s = last_portrait_arrival_us_ ? options_.linger_s : std::max(options_.linger_s, 10.0);
+      if (ibr_done_ && now > end_us_ && now - quiet_since > uint64_t(linger_s * 1e6)) break;
       if (now > end_us_ + 30'000'000) break;  // the peer is gone for good
       if (stopping_) break;
       continue;
