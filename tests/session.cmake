@@ -10,6 +10,10 @@ add_test(NAME session_demo_wave COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR
 # run finishes, the clap still gives one touch per site.
 add_test(NAME session_demo_disconnect
          COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-disconnect clap 115 1 --disconnect-after-ms 1200)
+# The link cut and kept silent for 1.2 s: both displays keep running and show the remote side
+# lost, the connector gets back in, the run finishes.
+add_test(NAME session_demo_outage
+         COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-outage wave 90 0 --disconnect-after-ms 700 --outage-ms 1200)
 # A slow, lossy link (40 ms delay, 20 ms jitter, 5 % of records lost): still one touch per site.
 add_test(NAME session_demo_lossy
          COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-lossy clap 115 1 --delay-ms 40 --jitter-ms 20 --loss 0.05)
@@ -19,7 +23,7 @@ add_test(NAME session_site_wrong_key
 add_test(NAME session_site_bad_config
          COMMAND ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
 set_tests_properties(session_site_bad_config PROPERTIES PASS_REGULAR_EXPRESSION "unknown field 'peers'")
-set_tests_properties(session_demo_clap session_demo_miss session_demo_wave session_demo_disconnect session_demo_lossy
+set_tests_properties(session_demo_clap session_demo_miss session_demo_wave session_demo_disconnect session_demo_outage session_demo_lossy
                      session_site_wrong_key
                      PROPERTIES TIMEOUT 300
                      # Two site processes each, real-time scene clock: one such run at a time, so that

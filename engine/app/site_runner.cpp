@@ -1,5 +1,6 @@
 #include "app/site_runner.h"
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -90,6 +91,22 @@ constexpr size_t kHandRenderHistory = 24;
 constexpr uint64_t kMaxHandToPortraitGapUs = 500'000;
 
 uint64_t gap_us(uint64_t a, uint64_t b) { return a > b ? a - b : b - a; }
+
+// While the link is down, a frame this often shows the user that the remote side is lost.
+constexpr uint64_t kLinkLostFrameIntervalUs = 250'000;
+
+// The notice on such a frame: a user sees why the other person vanished, and that it is being
+// dealt with.
+void label_link_lost(cv::Mat& bgr, const std::string& reason) {
+  const double scale = std::max(0.3, bgr.cols / 900.0);
+  const int thickness = std::max(1, int(std::lround(scale * 2)));
+  auto line = [&](const std::string& text, double y_fraction) {
+    cv::putText(bgr, text, cv::Point(int(bgr.cols * 0.04), int(bgr.rows * y_fraction)), cv::FONT_HERSHEY_SIMPLEX, scale,
+                cv::Scalar(40, 40, 230), thickness, cv::LINE_AA);
+  };
+  line("remote site lost - reconnecting", 0.12);
+  if (!reason.empty()) line(reason, 0.22);
+}
 
 std::string frame_name(uint64_t index) {
   char name[32];
@@ -223,7 +240,7 @@ class SiteRun {
   uint64_t epoch_us_ = 0, end_us_ = 0;
   std::atomic<bool> stopping_{false}, capture_done_{false}, ibr_done_{false};
   std::atomic<uint64_t> frames_captured_{0}, portraits_sent_{0}, frames_without_eye_{0}, tracker_ticks_{0};
-  std::atomic<uint64_t> hand_renders_done_{0}, frames_displayed_{0}, portraits_wrong_size_{0}, last_scene_frame_{0};
+  std::atomic<uint64_t> hand_renders_done_{0}, link_lost_frames_{0}, frames_displayed_{0}, portraits_wrong_size_{0}, last_scene_frame_{0};
   std::atomic<uint64_t> last_portrait_arrival_us_{0};
   session::LatencyStats hand_to_portrait_gap_;  // capture times of the hand render and the portrait fused
   session::LatencyStats capture_to_sent_, portrait_on_screen_, portrait_network_, hand_on_screen_, touch_to_motor_,
@@ -576,6 +593,8 @@ void SiteRun::display_loop() {
   if (!video.isOpened()) events_.write("warning", monotonic_now_us(), {{"message", "OpenCV cannot write site.mp4 here"}});
   std::ofstream frames_log(out_ / "frames.jsonl");
   std::optional<uint64_t> last_video_frame;
+  const HostImage no_portrait(width_, height_, PixelFormat::RGBA32F);
+  uint64_t last_shown_us = 0;
 
   while (true) {
     std::optional<ReceivedPortrait> received = portraits_.wait_take(std::chrono::milliseconds(50));
@@ -588,6 +607,28 @@ void SiteRun::display_loop() {
       if (ibr_done_ && now > end_us_ && now - quiet_since > uint64_t(linger_s * 1e6)) break;
       if (now > end_us_ + 30'000'000) break;  // the peer is gone for good
       if (stopping_) break;
+      // While the link is down the display keeps running and says so (after the scene's end, a
+      // closing peer is the normal shutdown).
+      if (now < end_us_ && now - last_shown_us >= kLinkLostFrameIntervalUs &&
+          net_->status().state != net::ConnectionState::Connected) {
+        HostImage frame;
+        {
+          session::UrgentTurn turn(gpu_turn_);
+          vk::upload(context_, portrait, no_portrait);  // background only
+          hand_distance_m = NAN;
+          graph.run();
+          frame = vk::download(context_, display);
+        }
+        cv::Mat bgr = to_bgr8(frame);
+        label_link_lost(bgr, net_->status().reason);
+        const uint64_t display_index = frames_displayed_++;
+        ++link_lost_frames_;
+        cv::imwrite((out_ / "frames" / frame_name(display_index)).string(), bgr);
+        if (video.isOpened()) video.write(bgr);
+        frames_log << nlohmann::json{{"display", display_index}, {"portrait_frame", nullptr}, {"t_us", now}, {"link_lost", true}}.dump()
+                   << "\n";
+        last_shown_us = now;
+      }
       continue;
     }
     const net::PortraitMessage& message = received->message;
@@ -623,6 +664,7 @@ void SiteRun::display_loop() {
       receiver_wall_.add(double(monotonic_now_us() - start) / 1000.0);
     }
     const uint64_t on_screen = monotonic_now_us();
+    last_shown_us = on_screen;
     portrait_on_screen_.add(double(int64_t(on_screen) - int64_t(message.capture_timestamp_us)) / 1000.0);
     if (with_hand) {
       hand_on_screen_.add(double(int64_t(on_screen) - int64_t(hand->first)) / 1000.0);
@@ -696,6 +738,7 @@ nlohmann::json SiteRun::metrics(double elapsed_s) {
   m["frames"] = {{"captured", frames_captured_.load()},
                  {"portraits_sent", portraits_sent_.load()},
                  {"displayed", frames_displayed_.load()},
+                 {"displayed_link_lost", link_lost_frames_.load()},
                  {"dropped_before_ibr", captured_.dropped()},
                  {"dropped_without_remote_eye", frames_without_eye_.load()},
                  {"dropped_before_display", portraits_.dropped()},

@@ -164,7 +164,7 @@ nlohmann::json measure_psnr(const std::filesystem::path& shown, const std::files
   nlohmann::json final_frame;
   for (std::string line; std::getline(frames, line);) {
     const nlohmann::json entry = nlohmann::json::parse(line, nullptr, false);
-    if (entry.is_discarded()) continue;
+    if (entry.is_discarded() || !entry["portrait_frame"].is_number_unsigned()) continue;  // e.g. a link-lost frame
     char display[32], truth[32];
     std::snprintf(display, sizeof display, "frame_%04llu.png", entry["display"].get<unsigned long long>());
     std::snprintf(truth, sizeof truth, "frame_%04llu.png", entry["portrait_frame"].get<unsigned long long>());
@@ -292,7 +292,7 @@ int run_two_site_demo(const DemoOptions& options) {
   const bool tty = isatty(STDERR_FILENO);
   std::vector<Child*> children = {&a, &*b};
   bool disconnected = false;
-  uint64_t connected_at = 0;
+  uint64_t connected_at = 0, outage_ends_at = 0;
   while (!a.eof || !b->eof) {
     std::vector<pollfd> fds;
     for (Child* child : children)
@@ -311,9 +311,19 @@ int run_two_site_demo(const DemoOptions& options) {
     draw_progress(children, tty);
     if (proxy && options.disconnect_after_ms && !disconnected && connected_at &&
         monotonic_now_us() - connected_at > uint64_t(*options.disconnect_after_ms) * 1000) {
-      std::cerr << (tty ? "\n" : "") << "demo: fault proxy cuts the connection\n";
+      std::cerr << (tty ? "\n" : "") << "demo: fault proxy cuts the connection"
+                << (options.outage_ms > 0 ? " for " + std::to_string(options.outage_ms) + " ms" : std::string()) << "\n";
+      if (options.outage_ms > 0) {
+        proxy->set_blackhole(true);  // the reconnection attempts go unanswered until the outage ends
+        outage_ends_at = monotonic_now_us() + uint64_t(options.outage_ms) * 1000;
+      }
       proxy->disconnect_now();
       disconnected = true;
+    }
+    if (proxy && outage_ends_at && monotonic_now_us() >= outage_ends_at) {
+      std::cerr << (tty ? "\n" : "") << "demo: fault proxy restores the link\n";
+      proxy->set_blackhole(false);
+      outage_ends_at = 0;
     }
   }
   if (tty) std::cerr << "\n";
@@ -397,6 +407,9 @@ DemoCommand::DemoCommand(CLI::App& app) {
       ->check(CLI::Range(0.01, 1.0));
   command_->add_option("--disconnect-after-ms", disconnect_after_ms_,
                        "Fault injection: cut the link once, this long after the sites connect");
+  command_->add_option("--outage-ms", options_.outage_ms,
+                       "Fault injection: with --disconnect-after-ms, the link stays silent this long after the cut")
+      ->check(CLI::Range(0, 60000));
   command_->add_option("--delay-ms", options_.delay_ms, "Fault injection: delay every record")->check(CLI::Range(0, 10000));
   command_->add_option("--jitter-ms", options_.jitter_ms, "Fault injection: extra random delay per record")->check(CLI::Range(0, 10000));
   command_->add_option("--loss", options_.loss, "Fault injection: probability of dropping a record")->check(CLI::Range(0.0, 0.9));

@@ -19,6 +19,7 @@ struct DemoOptions {
   double resolution_scale = 0.0;  // 0 = the scene's own
   // Faults on the link (through net::FaultProxy; none by default).
   std::optional<int> disconnect_after_ms;
+  int outage_ms = 0;  // after the cut, the link stays silent this long (reconnects fail meanwhile)
   int delay_ms = 0, jitter_ms = 0;
   double loss = 0.0;
 };

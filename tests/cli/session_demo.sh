@@ -47,4 +47,10 @@ if [[ " $* " == *" --disconnect-after-ms "* ]]; then
   grep -q '"event":"connection_restored".*"phase":"run"' "$out/events.jsonl" || fail "no connection_restored during the run"
   grep -q '"fault_proxy"' "$out/metrics.json" || fail "no fault proxy counts in metrics.json"
 fi
+if [[ " $* " == *" --outage-ms "* ]]; then
+  # The link stayed down long enough for the displays to notice: they kept running and said so.
+  for site in A B; do
+    grep -q '"link_lost":true' "$out/site_$site/frames.jsonl" || fail "site $site showed no link-lost frame during the outage"
+  done
+fi
 echo "session demo ($scene) ok"
