@@ -245,7 +245,9 @@ int run_two_site_demo(const DemoOptions& options) {
     std::vector<std::string> args = {"site", "--site", site, "--scene", options.scene, "--key-file", key_file.string(),
                                      "--out", (out / ("site_" + site)).string(), "--width", std::to_string(options.run.width),
                                      "--height", std::to_string(options.run.height), "--time-scale",
-                                     std::to_string(options.time_scale)};
+                                     std::to_string(options.time_scale),
+                                     // Two sites on one machine cannot share one motor board.
+                                     "--motor", "simulated"};
     if (options.frames_given) args.insert(args.end(), {"--frames", std::to_string(options.run.frames)});
     if (options.resolution_scale > 0) args.insert(args.end(), {"--resolution-scale", std::to_string(options.resolution_scale)});
     if (!options.run.device.empty()) args.insert(args.end(), {"--device", options.run.device});
@@ -422,6 +424,10 @@ SiteCommand::SiteCommand(CLI::App& app) {
   command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale")->check(CLI::Range(0.01, 1.0));
   command_->add_option("--connect-timeout", options_.connect_timeout_s, "Seconds to wait for the other site")
       ->check(CLI::Range(0.1, 3600.0))->capture_default_str();
+  command_->add_option("--replay", options_.replay,
+                       "Replay a recording (remotetouch simulate's format) as this site's cameras and tracker");
+  command_->add_option("--motor", options_.motor, "simulated, usb (the Arduino; an error without it) or auto")
+      ->check(CLI::IsMember({"simulated", "usb", "auto"}))->capture_default_str();
 }
 
 int SiteCommand::run() {
@@ -440,6 +446,8 @@ int SiteCommand::run() {
     if (given("--height")) options_.run.height = flags.run.height;
     if (given("--frames")) options_.run.frames = flags.run.frames;
     if (given("--site")) options_.site = site_ == "B" ? Site::B : Site::A;
+    if (given("--replay")) options_.replay = flags.replay;
+    if (given("--motor")) options_.motor = flags.motor;
   } else {
     options_.site = site_ == "B" ? Site::B : Site::A;
   }
