@@ -778,7 +778,8 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   if (!key_file.empty()) options.key_file = std::filesystem::path(key_file).is_absolute() ? std::filesystem::path(key_file) : base / key_file;
   std::string replay;
   string_field("replay", replay);
-  if (!replay.empty()) options.replay = std::filesystem::path(replay).is_absolute() ? std::filesystem::path(replay) : base / replay;
+  if (!replay.empty())
+    options.replay = std::filesystem::path(replay).is_absolute() ? std::filesystem::path(replay) : (base / replay).lexically_normal();
   string_field("motor", options.motor);
   if (options.motor != "simulated" && options.motor != "usb" && options.motor != "auto")
     throw std::runtime_error(config.string() + ": 'motor' must be \"simulated\", \"usb\" or \"auto\"");
