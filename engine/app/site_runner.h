@@ -2,7 +2,7 @@
 // One site of a two-site session (paper section 3.3, DESIGN.md section 1): its sender and its
 // receiver, each stage in its own thread, joined by newest-wins mailboxes.
 //
-//   capture  (scene clock)  simulated RGBD frame -> mailbox ---------------------------------.
+//   capture  (scene clock)  simulated or replayed RGBD frame -> mailbox ---------------------.
 //   ibr      newest frame + remote eye -> portrait (RGBA + depth) -> network                 |
 //   tracker  (50 Hz)        local skeletons -> network, touch loop; local eye -> network      |
 //   network  remote eye -> ibr; remote skeletons -> history, touch loop; portraits -> mailbox |

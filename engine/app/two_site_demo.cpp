@@ -208,9 +208,14 @@ void print_summary(const nlohmann::json& metrics) {
   row("frames dropped (capture / before ibr / display)", dropped(a), dropped(b));
   row("wire kB/s out", cell(nlohmann::json(a["bytes_per_s"]["out"].get<double>() / 1000.0)),
       cell(nlohmann::json(b["bytes_per_s"]["out"].get<double>() / 1000.0)));
+  // A site that replays a recording has no simulator: its entry is absent.
+  auto gpu = [](const nlohmann::json& site, const char* stage) {
+    const nlohmann::json::json_pointer path("/gpu_ms/" + std::string(stage) + "/total");
+    return site.contains(path) ? site.at(path) : nlohmann::json();
+  };
   row("GPU ms sim / ibr / receiver (pass sums)",
-      cell(a["gpu_ms"]["simulator"]["total"], "%.0f") + "/" + cell(a["gpu_ms"]["ibr"]["total"]) + "/" + cell(a["gpu_ms"]["receiver"]["total"], "%.0f"),
-      cell(b["gpu_ms"]["simulator"]["total"], "%.0f") + "/" + cell(b["gpu_ms"]["ibr"]["total"]) + "/" + cell(b["gpu_ms"]["receiver"]["total"], "%.0f"));
+      cell(gpu(a, "simulator"), "%.0f") + "/" + cell(gpu(a, "ibr")) + "/" + cell(gpu(a, "receiver"), "%.0f"),
+      cell(gpu(b, "simulator"), "%.0f") + "/" + cell(gpu(b, "ibr")) + "/" + cell(gpu(b, "receiver"), "%.0f"));
   auto wall = [](const nlohmann::json& site, const char* stage) { return site["stage_wall_ms"][stage]["median_ms"]; };
   row("wall ms sim / ibr / receiver (median turn)",
       cell(wall(a, "simulator_render_and_readback"), "%.0f") + "/" + cell(wall(a, "ibr_render_and_readback"), "%.0f") + "/" +
@@ -252,6 +257,8 @@ int run_two_site_demo(const DemoOptions& options) {
     if (options.resolution_scale > 0) args.insert(args.end(), {"--resolution-scale", std::to_string(options.resolution_scale)});
     if (!options.run.device.empty()) args.insert(args.end(), {"--device", options.run.device});
     if (options.run.validation) args.push_back("--validation");
+    const std::filesystem::path& replay = site == "A" ? options.replay_a : options.replay_b;
+    if (!replay.empty()) args.insert(args.end(), {"--replay", replay.string()});
     return args;
   };
 
@@ -395,6 +402,8 @@ DemoCommand::DemoCommand(CLI::App& app) {
   command_->add_option("--delay-ms", options_.delay_ms, "Fault injection: delay every record")->check(CLI::Range(0, 10000));
   command_->add_option("--jitter-ms", options_.jitter_ms, "Fault injection: extra random delay per record")->check(CLI::Range(0, 10000));
   command_->add_option("--loss", options_.loss, "Fault injection: probability of dropping a record")->check(CLI::Range(0.0, 0.9));
+  command_->add_option("--replay-a", options_.replay_a, "Site A plays this recording instead of the scene (site --replay)");
+  command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
 }
 
 int DemoCommand::run() {

@@ -21,6 +21,7 @@ struct DemoOptions {
   std::optional<int> disconnect_after_ms;
   int delay_ms = 0, jitter_ms = 0;
   double loss = 0.0;
+  std::filesystem::path replay_a, replay_b;  // a site that plays a recording (site --replay)
 };
 
 int run_two_site_demo(const DemoOptions& options);
