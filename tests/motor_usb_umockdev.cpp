@@ -11,8 +11,10 @@
 #include <thread>
 #include <vector>
 
+#include "app/site_motor.h"
 #include "motor/emulated_uno.h"
 #include "motor/usb_motor.h"
+#include "motor/usb_probe.h"
 
 using namespace std::chrono_literals;
 using rt::motor::EmulatedUno;
@@ -276,6 +278,36 @@ TEST_CASE("motor usb: unplugging is reported and the next command reconnects", "
   CHECK(bench.uno.resets() == 1);
   CHECK(bench.uno.received() == "P 100 80\n");
   CHECK(bench.uno.motor_strength() == 80);
+}
+
+TEST_CASE("motor usb: the probe finds the board without opening it; a site's auto motor uses it", "[motor][usb]") {
+  EmulatedUno uno;
+  auto probe = rt::motor::find_usb_boards(0x2341, 0x0043);
+  REQUIRE(std::holds_alternative<std::vector<rt::motor::UsbBoard>>(probe));
+  CHECK(std::get<std::vector<rt::motor::UsbBoard>>(probe).empty());
+  CHECK_THROWS_WITH(rt::app::open_site_motor(rt::app::MotorMode::Usb, {}),
+                    "--motor usb: no Arduino Uno 2341:0043 found on USB; plug in the motor's board or use --motor simulated");
+  CHECK(rt::app::open_site_motor(rt::app::MotorMode::Auto, {}).description == "simulated: no Arduino Uno 2341:0043 found");
+
+  uno.plug();
+  probe = rt::motor::find_usb_boards(0x2341, 0x0043);
+  REQUIRE(std::holds_alternative<std::vector<rt::motor::UsbBoard>>(probe));
+  const auto& boards = std::get<std::vector<rt::motor::UsbBoard>>(probe);
+  REQUIRE(boards.size() == 1);
+  CHECK(boards[0].bus == 1);
+  CHECK(boards[0].where().rfind("bus 1 port 1", 0) == 0);
+  CHECK(uno.resets() == 0);  // listing does not open (and so does not reset) the board
+  CHECK(std::get<std::vector<rt::motor::UsbBoard>>(rt::motor::find_usb_boards(0x2341, 0x0001)).empty());
+
+  std::vector<std::string> log;
+  rt::app::SiteMotor site = rt::app::open_site_motor(rt::app::MotorMode::Auto, [&](const std::string& line) { log.push_back(line); });
+  INFO(site.description);
+  CHECK(site.description.rfind("usb (bus 1 port 1", 0) == 0);
+  CHECK(site.description.find("firmware 'remotetouch-motor 1'") != std::string::npos);
+  CHECK(uno.resets() == 1);  // opened at start, not on the first touch
+  REQUIRE(site.motor->pulse(150ms, 200).ok());
+  CHECK(uno.received() == "P 150 200\n");
+  site.motor.reset();
 }
 
 TEST_CASE("motor usb: closing stops the motor and gives the port back to cdc_acm", "[motor][usb]") {

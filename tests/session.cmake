@@ -38,3 +38,18 @@ add_test(NAME session_site_bad_key_file
          COMMAND ${rt} site --site A --key-file ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json
                  --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-bad-key)
 set_tests_properties(session_site_bad_key_file PROPERTIES PASS_REGULAR_EXPRESSION "site_config_bad.json")
+# A site replaying a recording (`site --replay`): site B of clap recorded once by `simulate`
+# (tiny: 115 frames at a tenth of the cameras' resolution, ground truth at the display's size),
+# then played against a simulated site A; an image unreadable mid-run; bad inputs.
+set(replay_recording ${CMAKE_BINARY_DIR}/test-out/session-replay-recording)
+add_test(NAME session_replay_record
+         COMMAND ${rt} simulate --scene clap --site B --frames 115 --resolution-scale 0.1 --gt-width 96 --gt-height 54
+                 --out ${replay_recording})
+set_tests_properties(session_replay_record PROPERTIES FIXTURES_SETUP replay_recording TIMEOUT 300)
+set(session_replay ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_replay.sh)
+foreach(mode session broken-png bad-inputs)
+  add_test(NAME session_site_replay_${mode}
+           COMMAND ${session_replay} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-replay-${mode} ${replay_recording} ${mode})
+  set_tests_properties(session_site_replay_${mode} PROPERTIES FIXTURES_REQUIRED replay_recording TIMEOUT 300)
+endforeach()
+set_tests_properties(session_site_replay_session session_site_replay_broken-png PROPERTIES RESOURCE_LOCK two_site_processes)

@@ -94,6 +94,8 @@ int run_cli(int argc, char** argv) {
   add_common_options(*simulate_command, simulate, "out/simulate");
   add_frame_options(*simulate_command, simulate, 1);
   simulate_command->get_option("--frames")->description("Frames to record (default: the scene's own count)");
+  simulate_command->add_option("--resolution-scale", simulate_options.resolution_scale,
+                               "Camera resolution scale (default: the scene's)")->check(CLI::Range(0.01, 1.0));
   simulate_command->add_option("--gt-width", simulate_options.gt_width, "Ground-truth target view width")
       ->check(CLI::Range(1u, 16384u))->capture_default_str();
   simulate_command->add_option("--gt-height", simulate_options.gt_height, "Ground-truth target view height")

@@ -26,6 +26,7 @@ std::filesystem::path resolve_scene(const std::string& scene) {
 int run_simulate(const RunOptions& options, const SimulateOptions& simulate) {
   sim::Scene scene = sim::load_scene(resolve_scene(simulate.scene));
   if (simulate.frames_given) scene.frame_count = options.frames;
+  if (simulate.resolution_scale > 0) scene.resolution_scale = simulate.resolution_scale;
   const Site site = simulate.site;
   GpuSession session(options);
   SiteSimulator simulator(session.context(), scene, site, simulate.gt_width, simulate.gt_height);

@@ -16,6 +16,7 @@ struct SimulateOptions {
   Site site = Site::A;
   bool frames_given = false;   // --frames overrides the scene's frame count
   uint32_t gt_width = 640, gt_height = 360;  // the ground-truth target view
+  double resolution_scale = 0.0;             // of the cameras; 0 = the scene's own
 };
 
 // A scene name (assets/scenes/NAME.json, or REMOTETOUCH_ASSETS/scenes/NAME.json) or a path.

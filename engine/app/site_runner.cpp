@@ -18,12 +18,14 @@
 #include "app/hand_renderer.h"
 #include "app/ibr_renderer.h"
 #include "app/simulate.h"
+#include "app/site_eye.h"
+#include "app/site_inputs.h"
+#include "app/site_motor.h"
 #include "app/site_simulator.h"
 #include "geometry/target_view.h"
 #include "ibr/camera_selection.h"
 #include "image/image_crop.h"
 #include "image/image_io.h"
-#include "motor/simulated_motor.h"
 #include "net/session.h"
 #include "passes/composite.h"
 #include "passes/hand_alpha.h"
@@ -49,8 +51,8 @@ constexpr int kMotorStrength = 200;
 struct CapturedFrame {
   uint64_t index = 0;
   uint64_t capture_us = 0;  // monotonic, when the cameras' images were taken
+  double scene_time_s = 0;  // of the frame, for the tracked hands of that moment
   sim::RgbdFrame frame;
-  sim::PersonPose pose;
 };
 
 struct ReceivedPortrait {
@@ -156,16 +158,6 @@ Camera portrait_camera(const net::PortraitMessage& p) {
   return camera;
 }
 
-std::vector<HandSkeleton> tracked_hands(const sim::PersonPose& pose, uint64_t now_us) {
-  std::vector<HandSkeleton> hands = {pose.right_hand, pose.left_hand};
-  for (auto& hand : hands) {
-    hand.timestamp_us = now_us;
-    hand.confidence = 1.0f;
-    hand.id = hand.is_left ? 2 : 1;
-  }
-  return hands;
-}
-
 // The hand nearer the glass: the one the receiver draws as geometry.
 const HandSkeleton* touching(const std::vector<HandSkeleton>& hands) {
   const HandSkeleton* best = nullptr;
@@ -214,11 +206,15 @@ class SiteRun {
   session::EventLog events_;
   HostImage background_;
 
+  // The site's inputs (site_inputs.h): simulated from the scene, or replayed from a recording.
   std::unique_ptr<SiteSimulator> simulator_;
+  std::unique_ptr<SiteReplay> replay_;
+  TrackedHandsHistory tracked_hands_;
   std::unique_ptr<IbrRenderer> ibr_;
   std::vector<Eigen::Vector3d> camera_positions_;
   std::unique_ptr<net::Session> net_;
-  motor::SimulatedMotor motor_{monotonic_now_us};
+  SiteMotor motor_;  // used by the touch loop's thread only (usb_motor.h)
+  std::unique_ptr<ViewerEyeFinder> eye_finder_;
   std::unique_ptr<TouchLoop> touch_;
 
   session::Mailbox<CapturedFrame> captured_;
@@ -240,7 +236,8 @@ class SiteRun {
   uint64_t epoch_us_ = 0, end_us_ = 0;
   std::atomic<bool> stopping_{false}, capture_done_{false}, ibr_done_{false};
   std::atomic<uint64_t> frames_captured_{0}, portraits_sent_{0}, frames_without_eye_{0}, tracker_ticks_{0};
-  std::atomic<uint64_t> hand_renders_done_{0}, link_lost_frames_{0}, frames_displayed_{0}, portraits_wrong_size_{0}, last_scene_frame_{0};
+  std::atomic<uint64_t> hand_renders_done_{0}, link_lost_frames_{0}, frames_displayed_{0}, portraits_wrong_size_{0},
+      last_scene_frame_{0}, truth_frames_{0};
   std::atomic<uint64_t> last_portrait_arrival_us_{0};
   session::LatencyStats hand_to_portrait_gap_;  // capture times of the hand render and the portrait fused
   session::LatencyStats capture_to_sent_, portrait_on_screen_, portrait_network_, hand_on_screen_, touch_to_motor_,
@@ -271,13 +268,44 @@ SiteRun::SiteRun(const SiteRunOptions& options)
   std::filesystem::create_directories(out_ / "frames");
   if (options_.write_truth) std::filesystem::create_directories(out_ / "truth");
 
-  simulator_ = std::make_unique<SiteSimulator>(context_, scene_, options_.site, options_.write_truth ? width_ : 0,
-                                               options_.write_truth ? height_ : 0);
   IbrSettings settings;
   settings.width = width_;
   settings.height = height_;
-  ibr_ = std::make_unique<IbrRenderer>(context_, camera_models(simulator_->renderer()), settings);
-  for (const auto& camera : simulator_->site().cameras) camera_positions_.push_back(camera.colour_camera().position_in_site());
+  std::vector<passes::IbrCameraModel> cameras;
+  if (!options_.replay.empty()) {
+    // The recording stands for this site's devices: its calibration is the site, its frames and
+    // its times are the scene's.
+    replay_ = std::make_unique<SiteReplay>(options_.replay, options_.frames_given ? options_.run.frames : 0, settings.views);
+    scene_.sites[options_.site == Site::A ? 0 : 1].site = replay_->site();
+    scene_.frame_count = uint32_t(replay_->frame_count());
+    scene_.fps = replay_->pacing().fps(scene_.fps);
+    cameras = replay_->cameras();
+    std::cerr << "site " << site_name_ << ": replaying " << replay_->frame_count() << " frames of " << options_.replay.string()
+              << " (" << scene_.duration_s() << " s of scene time)" << (options_.resolution_scale > 0 ? "; --resolution-scale does not apply to a replay" : "")
+              << "\n";
+  } else {
+    simulator_ = std::make_unique<SiteSimulator>(context_, scene_, options_.site, options_.write_truth ? width_ : 0,
+                                                 options_.write_truth ? height_ : 0);
+    cameras = camera_models(simulator_->renderer());
+  }
+  ibr_ = std::make_unique<IbrRenderer>(context_, cameras, settings);
+  for (const auto& camera : scene_.at(options_.site).site.cameras) camera_positions_.push_back(camera.colour_camera().position_in_site());
+
+  motor_ = open_site_motor(parse_motor_mode(options_.motor), [this](const std::string& line) {
+    std::cerr << "site " << site_name_ << ": motor: " << line << "\n";
+    events_.write("motor_log", monotonic_now_us(), {{"line", line}});
+  });
+  std::cerr << "site " << site_name_ << ": motor: " << motor_.description << "\n";
+  events_.write("motor", monotonic_now_us(), {{"motor", motor_.description}});
+
+  // The eye sent to the peer: the seat's head position until the cameras find the viewer's eyes.
+  std::vector<Camera> colour_cameras;
+  for (const auto& camera : cameras) colour_cameras.push_back(camera.colour);
+  eye_finder_ = std::make_unique<ViewerEyeFinder>(
+      colour_cameras, scene_.at(options_.site).site.seat.head_centre_m, EyeSearchOptions{}, [this](const std::string& source) {
+        std::cerr << "site " << site_name_ << ": eye: " << source << "\n";
+        events_.write("eye_source", monotonic_now_us(), {{"source", source}});
+      });
 
   // A skeleton counts as lost after 200 ms rather than 100, and a touch holds for a second without
   // news: the tracker thread shares two CPU cores with a CPU Vulkan driver here, and a late tick
@@ -360,9 +388,8 @@ void SiteRun::on_touch(const TouchEvent& event) {
   message.site = options_.site == Site::A ? 0 : 1;
   net_->send(message);
   if (!start) return;
-  const motor::MotorStatus status = motor_.pulse(kMotorPulse, kMotorStrength);
-  const auto commands = motor_.commands();
-  const uint64_t command_us = commands.empty() ? monotonic_now_us() : commands.back().time_us;
+  const uint64_t command_us = monotonic_now_us();
+  const motor::MotorStatus status = motor_.motor->pulse(kMotorPulse, kMotorStrength);
   if (!status) {
     events_.write("motor_error", command_us, {{"error", status.error()}});
     return;
@@ -386,22 +413,52 @@ void SiteRun::on_touch(const TouchEvent& event) {
 void SiteRun::capture_loop() {
   const double fps = scene_.fps;
   uint64_t last_index = UINT64_MAX;
+  bool told_no_truth = false;
   while (!stopping_) {
     const uint64_t now = monotonic_now_us();
-    const uint64_t index = uint64_t(std::floor(scene_time_s(now) * fps));
-    if (index >= scene_.frame_count) break;
-    if (index == last_index) {  // wait for the cameras' next frame
-      const double next_s = double(index + 1) / fps;
+    // The cameras' frame due now: the simulator renders the scene's frame of this moment, a replay
+    // takes the newest recorded frame whose time has come; either skips the frames it missed.
+    std::optional<uint64_t> due;
+    double next_s = 0;  // when the frame after `last_index` is due
+    if (replay_) {
+      if (const auto i = replay_->pacing().due_at(scene_time_s(now))) due = *i;
+      if (due && *due == last_index && last_index + 1 >= replay_->frame_count()) break;
+      next_s = replay_->pacing().time_s(due && *due == last_index ? last_index + 1 : 0);
+    } else {
+      due = uint64_t(std::floor(scene_time_s(now) * fps));
+      if (*due >= scene_.frame_count) break;
+      next_s = double(*due + 1) / fps;
+    }
+    if (!due || *due == last_index) {  // wait for the cameras' next frame
       const uint64_t due_us = epoch_us_ + uint64_t(next_s / options_.time_scale * 1e6);
       std::this_thread::sleep_for(std::chrono::microseconds(due_us > now ? due_us - now : 0));
       continue;
     }
+    const uint64_t index = *due;
     last_index = index;
     last_scene_frame_ = index;
     CapturedFrame captured;
     captured.index = index;
     HostImage truth;
-    {
+    if (replay_) {
+      captured.frame = replay_->read(index);  // files only: no GPU turn
+      captured.capture_us = monotonic_now_us();
+      captured.scene_time_s = replay_->pacing().time_s(index);
+      if (options_.write_truth) {
+        // The recording's ground truth is the view from the seat of the scene it was made in.
+        std::optional<HostImage> recorded = replay_->ground_truth(index);
+        if (recorded && recorded->width == width_ && recorded->height == height_ && recorded->channels() == 4) {
+          truth = std::move(*recorded);
+        } else if (!told_no_truth) {
+          told_no_truth = true;
+          const std::string why = recorded ? "its gt/ target view is " + std::to_string(recorded->width) + "x" +
+                                                 std::to_string(recorded->height) + ", not the display's " +
+                                                 std::to_string(width_) + "x" + std::to_string(height_)
+                                           : "it has no gt/ target view for frame " + std::to_string(index);
+          events_.write("warning", monotonic_now_us(), {{"message", "no ground truth from the recording: " + why}});
+        }
+      }
+    } else {
       std::lock_guard turn(gpu_turn_);
       const uint64_t start = monotonic_now_us();
       simulator_->seek(index);
@@ -409,13 +466,18 @@ void SiteRun::capture_loop() {
       if (!frame) break;
       captured.capture_us = monotonic_now_us();
       captured.frame = std::move(*frame);
-      captured.pose = simulator_->last_pose();
+      captured.scene_time_s = double(index) / fps;
       if (options_.write_truth) truth = simulator_->renderer().target_colour();
       simulator_wall_.add(double(monotonic_now_us() - start) / 1000.0);
     }
+    // The viewer's eyes are looked for in the first frames, on the finder's own thread.
+    if (eye_finder_->wants_frame()) eye_finder_->offer(captured.capture_us, captured.frame.cameras);
     ++frames_captured_;
     captured_.put(std::move(captured));
-    if (options_.write_truth) write_image(out_ / "truth" / frame_name(index), truth_over_background(truth, background_));
+    if (!truth.texels.empty()) {
+      write_image(out_ / "truth" / frame_name(index), truth_over_background(truth, background_));
+      ++truth_frames_;
+    }
   }
   capture_done_ = true;
   captured_.close();
@@ -437,9 +499,10 @@ void SiteRun::ibr_loop() {
       ++frames_without_eye_;
       continue;
     }
-    const Camera target = target_view_camera(*eye, simulator_->site().screen, width_, height_);
-    const auto selection = ibr::select_cameras(
-        camera_positions_, ibr::touching_hand(captured->pose.right_hand, captured->pose.left_hand), ibr_->settings().views);
+    const Camera target = target_view_camera(*eye, scene_.at(options_.site).site.screen, width_, height_);
+    // The cameras opposite the hand the tracker saw reaching at that moment (no ground truth here).
+    const std::vector<HandSkeleton> hands = tracked_hands_.closest(captured->scene_time_s).value_or(std::vector<HandSkeleton>{});
+    const auto selection = ibr::select_cameras(camera_positions_, touching_side(hands), ibr_->settings().views);
     net::PortraitMessage message;
     {
       std::lock_guard turn(gpu_turn_);
@@ -466,15 +529,29 @@ void SiteRun::ibr_loop() {
 }
 
 void SiteRun::tracker_loop() {
-  const sim::MotionTrack motion = sim::make_motion_track(scene_, options_.site);
-  const Eigen::Vector3d eye = scene_.at(options_.site).site.seat.head_centre_m;
+  const sim::SiteDescription& site = scene_.at(options_.site).site;
+  PacedHandTracker tracker =
+      replay_ ? PacedHandTracker(replay_->tracker(), site.tracker, replay_->origin_us())
+              : PacedHandTracker(std::make_unique<sim::SimulatedHandTracker>(sim::make_simulated_tracker(scene_, options_.site)),
+                                 site.tracker, 0);
+  std::optional<Eigen::Vector3d> sent_eye;
   auto next = Clock::now();
   for (uint64_t tick = 0; !stopping_; ++tick) {
     const uint64_t now = monotonic_now_us();
     // The paper computes the viewpoint once; sent again every half second so that a peer that
-    // reconnects gets it too.
-    if (tick % 25 == 0) net_->send(net::EyeMessage{now, eye, true});
-    std::vector<HandSkeleton> hands = tracked_hands(motion.pose_at(scene_time_s(now)), now);
+    // reconnects gets it too, and at once when the cameras' eye replaces the seat's.
+    const Eigen::Vector3d eye = eye_finder_->eye();
+    if (tick % 25 == 0 || !sent_eye || *sent_eye != eye) {
+      net_->send(net::EyeMessage{now, eye, true});
+      sent_eye = eye;
+    }
+    std::vector<HandSkeleton> hands;
+    if (const auto tracked = tracker.at(scene_time_s(now))) {
+      tracked_hands_.add(tracked->time_s, tracked->hands);
+      hands = tracked->hands;
+      // Ages count on this machine's clock from when the site has the frame.
+      for (auto& hand : hands) hand.timestamp_us = now;
+    }
     touch_->set_local_hands(hands);
     net_->send(net::SkeletonMessage{now, hands});
     ++tracker_ticks_;
@@ -708,11 +785,15 @@ nlohmann::json SiteRun::metrics(double elapsed_s) {
   m["resolution_scale"] = scene_.resolution_scale;
   m["time_scale"] = options_.time_scale;
   m["elapsed_s"] = elapsed_s;
+  m["inputs"] = replay_ ? "replay of " + replay_->dir().string() : std::string("simulated scene");
+  m["eye_source"] = eye_finder_->source();
+  m["eye"] = {eye_finder_->eye().x(), eye_finder_->eye().y(), eye_finder_->eye().z()};
+  m["motor"] = motor_.description;
   {
     std::lock_guard lock(gpu_ms_mutex_);
     m["gpu_ms"] = gpu_ms_;
   }
-  m["gpu_ms"]["simulator"] = timings_json(simulator_->renderer().graph());
+  if (simulator_) m["gpu_ms"]["simulator"] = timings_json(simulator_->renderer().graph());
   m["gpu_ms"]["ibr"] = timings_json(ibr_->graph());
   m["stage_wall_ms"] = {{"simulator_render_and_readback", simulator_wall_.to_json()},
                         {"ibr_render_and_readback", ibr_wall_.to_json()},
@@ -744,6 +825,7 @@ nlohmann::json SiteRun::metrics(double elapsed_s) {
                  {"dropped_before_display", portraits_.dropped()},
                  {"portraits_stale_on_wire_out", counters.stale_dropped_out[net::message_type_index(net::MessageType::Portrait)]},
                  {"portraits_wrong_size", portraits_wrong_size_.load()},
+                 {"ground_truth_written", truth_frames_.load()},
                  {"scene_frames_not_captured", scene_.frame_count - std::min<uint64_t>(scene_.frame_count, frames_captured_)}};
   m["bytes_per_s"] = {{"out", double(counters.bytes_out) / wall}, {"in", double(counters.bytes_in) / wall}};
   m["net"] = counters.to_json();
@@ -868,7 +950,8 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   };
   for (const auto& [key, value] : json.items())
     if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
-        key != "resolution_scale" && key != "width" && key != "height" && key != "frames")
+        key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" &&
+        key != "motor")
       throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
   std::string site = site_name(options.site), key_file;
   string_field("scene", options.scene);
@@ -879,6 +962,13 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   string_field("peer", options.peer);
   string_field("key_file", key_file);
   if (!key_file.empty()) options.key_file = std::filesystem::path(key_file).is_absolute() ? std::filesystem::path(key_file) : base / key_file;
+  std::string replay;
+  string_field("replay", replay);
+  if (!replay.empty())
+    options.replay = std::filesystem::path(replay).is_absolute() ? std::filesystem::path(replay) : (base / replay).lexically_normal();
+  string_field("motor", options.motor);
+  if (options.motor != "simulated" && options.motor != "usb" && options.motor != "auto")
+    throw std::runtime_error(config.string() + ": 'motor' must be \"simulated\", \"usb\" or \"auto\"");
   number_field("time_scale", options.time_scale, 1e-3, 10.0);
   number_field("resolution_scale", options.resolution_scale, 0.0, 1.0);
   number_field("width", options.run.width, 16, 4096);

@@ -2,7 +2,7 @@
 // One site of a two-site session (paper section 3.3, DESIGN.md section 1): its sender and its
 // receiver, each stage in its own thread, joined by newest-wins mailboxes.
 //
-//   capture  (scene clock)  simulated RGBD frame -> mailbox ---------------------------------.
+//   capture  (scene clock)  simulated or replayed RGBD frame -> mailbox ---------------------.
 //   ibr      newest frame + remote eye -> portrait (RGBA + depth) -> network                 |
 //   tracker  (50 Hz)        local skeletons -> network, touch loop; local eye -> network      |
 //   network  remote eye -> ibr; remote skeletons -> history, touch loop; portraits -> mailbox |
@@ -36,6 +36,10 @@ struct SiteRunOptions {
   bool write_truth = true;             // this site's user seen from the remote eye, over the background
   double connect_timeout_s = 60.0;
   double linger_s = 1.5;  // after the last capture, how long without a new portrait ends the display
+  // This site's devices: empty = simulated from the scene; else a recording (sim/recording.h) to
+  // replay: its cameras, frames, times and tracker replace the scene's at this site.
+  std::filesystem::path replay;
+  std::string motor = "auto";  // simulated | usb | auto (the Arduino on USB when attached)
 };
 
 // Runs the site to the end of the scene; writes under run.out: frames/frame_NNNN.png,
@@ -45,7 +49,8 @@ struct SiteRunOptions {
 int run_site(const SiteRunOptions& options);
 
 // Fills the fields a --config JSON names (scene, site, listen, peer, key_file, time_scale,
-// resolution_scale, width, height, frames); a file path is relative to the config's folder.
+// resolution_scale, width, height, frames, replay, motor); a file path (key_file, replay) is
+// relative to the config's folder.
 // Throws naming the file and field.
 void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options);
 

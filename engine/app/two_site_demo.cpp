@@ -208,16 +208,19 @@ void print_summary(const nlohmann::json& metrics) {
   row("frames dropped (capture / before ibr / display)", dropped(a), dropped(b));
   row("wire kB/s out", cell(nlohmann::json(a["bytes_per_s"]["out"].get<double>() / 1000.0)),
       cell(nlohmann::json(b["bytes_per_s"]["out"].get<double>() / 1000.0)));
-  // Per stage: the frame graph's pass sums, and the wall time of the stage's GPU turn.
+  // Per stage: the frame graph's pass sums, and the wall time of the stage's GPU turn. A site that
+  // replays a recording has no simulator: its entries are absent.
   const std::pair<const char*, const char*> stages[] = {{"simulator", "simulator_render_and_readback"},
                                                         {"ibr", "ibr_render_and_readback"},
                                                         {"hand", "hand_render_and_readback"},
                                                         {"receiver", "receiver_render_and_readback"}};
   auto per_stage = [&](const nlohmann::json& site, bool gpu) {
     std::string text;
-    for (const auto& [graph, turn] : stages)
-      text += (text.empty() ? "" : "/") +
-              (gpu ? cell(site["gpu_ms"][graph]["total"], "%.0f") : cell(site["stage_wall_ms"][turn]["median_ms"], "%.0f"));
+    for (const auto& [graph, turn] : stages) {
+      const nlohmann::json::json_pointer path(gpu ? "/gpu_ms/" + std::string(graph) + "/total"
+                                                  : "/stage_wall_ms/" + std::string(turn) + "/median_ms");
+      text += (text.empty() ? "" : "/") + cell(site.contains(path) ? site.at(path) : nlohmann::json(), "%.0f");
+    }
     return text;
   };
   row("GPU ms sim/ibr/hand/receiver (pass sums)", per_stage(a, true), per_stage(b, true));
@@ -252,11 +255,15 @@ int run_two_site_demo(const DemoOptions& options) {
     std::vector<std::string> args = {"site", "--site", site, "--scene", options.scene, "--key-file", key_file.string(),
                                      "--out", (out / ("site_" + site)).string(), "--width", std::to_string(options.run.width),
                                      "--height", std::to_string(options.run.height), "--time-scale",
-                                     std::to_string(options.time_scale)};
+                                     std::to_string(options.time_scale),
+                                     // Two sites on one machine cannot share one motor board.
+                                     "--motor", "simulated"};
     if (options.frames_given) args.insert(args.end(), {"--frames", std::to_string(options.run.frames)});
     if (options.resolution_scale > 0) args.insert(args.end(), {"--resolution-scale", std::to_string(options.resolution_scale)});
     if (!options.run.device.empty()) args.insert(args.end(), {"--device", options.run.device});
     if (options.run.validation) args.push_back("--validation");
+    const std::filesystem::path& replay = site == "A" ? options.replay_a : options.replay_b;
+    if (!replay.empty()) args.insert(args.end(), {"--replay", replay.string()});
     return args;
   };
 
@@ -413,6 +420,8 @@ DemoCommand::DemoCommand(CLI::App& app) {
   command_->add_option("--delay-ms", options_.delay_ms, "Fault injection: delay every record")->check(CLI::Range(0, 10000));
   command_->add_option("--jitter-ms", options_.jitter_ms, "Fault injection: extra random delay per record")->check(CLI::Range(0, 10000));
   command_->add_option("--loss", options_.loss, "Fault injection: probability of dropping a record")->check(CLI::Range(0.0, 0.9));
+  command_->add_option("--replay-a", options_.replay_a, "Site A plays this recording instead of the scene (site --replay)");
+  command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
 }
 
 int DemoCommand::run() {
@@ -442,6 +451,10 @@ SiteCommand::SiteCommand(CLI::App& app) {
   command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale")->check(CLI::Range(0.01, 1.0));
   command_->add_option("--connect-timeout", options_.connect_timeout_s, "Seconds to wait for the other site")
       ->check(CLI::Range(0.1, 3600.0))->capture_default_str();
+  command_->add_option("--replay", options_.replay,
+                       "Replay a recording (remotetouch simulate's format) as this site's cameras and tracker");
+  command_->add_option("--motor", options_.motor, "simulated, usb (the Arduino; an error without it) or auto")
+      ->check(CLI::IsMember({"simulated", "usb", "auto"}))->capture_default_str();
 }
 
 int SiteCommand::run() {
@@ -460,6 +473,8 @@ int SiteCommand::run() {
     if (given("--height")) options_.run.height = flags.run.height;
     if (given("--frames")) options_.run.frames = flags.run.frames;
     if (given("--site")) options_.site = site_ == "B" ? Site::B : Site::A;
+    if (given("--replay")) options_.replay = flags.replay;
+    if (given("--motor")) options_.motor = flags.motor;
   } else {
     options_.site = site_ == "B" ? Site::B : Site::A;
   }

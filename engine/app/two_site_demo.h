@@ -22,6 +22,7 @@ struct DemoOptions {
   int outage_ms = 0;  // after the cut, the link stays silent this long (reconnects fail meanwhile)
   int delay_ms = 0, jitter_ms = 0;
   double loss = 0.0;
+  std::filesystem::path replay_a, replay_b;  // a site that plays a recording (site --replay)
 };
 
 int run_two_site_demo(const DemoOptions& options);

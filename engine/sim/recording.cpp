@@ -39,6 +39,10 @@ std::filesystem::path depth_path(const std::filesystem::path& dir, size_t camera
   return dir / ("cam" + std::to_string(camera)) / numbered("depth", frame, "png");
 }
 
+std::filesystem::path ground_truth_colour_path(const std::filesystem::path& dir, uint64_t frame) {
+  return dir / "gt" / numbered("target_color", frame, "png");
+}
+
 RecordingWriter::RecordingWriter(const std::filesystem::path& dir, nlohmann::json calibration) : dir_(dir) {
   camera_names_ = camera_names_of(calibration, "recording calibration");
   calibration["format"] = kRecordingFormat;
@@ -70,7 +74,7 @@ void RecordingWriter::write_frame(const RgbdFrame& frame) {
 void RecordingWriter::write_ground_truth(uint64_t frame, const HostImage& target_rgba, const HostImage& target_depth_m,
                                          const HostImage& target_part, const std::vector<HostImage>& camera_parts) {
   const std::filesystem::path gt = dir_ / "gt";
-  write_image(gt / numbered("target_color", frame, "png"), target_rgba);
+  write_image(ground_truth_colour_path(dir_, frame), target_rgba);
   HostImage millimetres(target_depth_m.width, target_depth_m.height, PixelFormat::R16U);
   for (size_t i = 0; i < millimetres.texels.size(); ++i)
     millimetres.texels[i] = std::clamp(std::floor(target_depth_m.texels[i] * 1000.0f + 0.5f), 0.0f, 65535.0f);
@@ -108,6 +112,13 @@ ReplayRgbdSource::ReplayRgbdSource(const std::filesystem::path& dir) : dir_(dir)
   }
 }
 
+void ReplayRgbdSource::seek(size_t i) {
+  if (i > frames_.size())
+    throw std::out_of_range("recording '" + dir_.string() + "' has " + std::to_string(frames_.size()) +
+                            " frames, cannot seek to " + std::to_string(i));
+  next_ = i;
+}
+
 std::optional<RgbdFrame> ReplayRgbdSource::next_frame() {
   if (next_ >= frames_.size()) return std::nullopt;
   const nlohmann::json& line = frames_[next_++];
@@ -118,7 +129,10 @@ std::optional<RgbdFrame> ReplayRgbdSource::next_frame() {
     RgbdImage image;
     image.camera = camera_names_[k];
     image.timestamp_us = line["cameras"][k].value("timestamp_us", frame.timestamp_us);
-    const HostImage colour = read_image(colour_path(dir_, k, frame.index));
+    const std::filesystem::path colour_file = colour_path(dir_, k, frame.index);
+    const HostImage colour = read_image(colour_file);
+    if (colour.format != PixelFormat::RGBA32F)
+      throw std::runtime_error("colour image '" + colour_file.string() + "' is not an RGB or RGBA image");
     // PNG colour comes back as float RGBA: keep the engine's 8-bit format.
     image.colour = HostImage(colour.width, colour.height, PixelFormat::RGBA8);
     image.colour.texels = colour.texels;

@@ -18,6 +18,8 @@ inline constexpr const char* kRecordingFormat = "remotetouch-recording/1";
 
 std::filesystem::path colour_path(const std::filesystem::path& dir, size_t camera, uint64_t frame);
 std::filesystem::path depth_path(const std::filesystem::path& dir, size_t camera, uint64_t frame);
+// gt/target_color_<NNNNNN>.png: the target view's RGBA as written by write_ground_truth.
+std::filesystem::path ground_truth_colour_path(const std::filesystem::path& dir, uint64_t frame);
 
 class RecordingWriter {
  public:
@@ -43,6 +45,12 @@ class ReplayRgbdSource : public RgbdSource {
   std::optional<RgbdFrame> next_frame() override;
   const nlohmann::json& calibration() const { return calibration_; }
   size_t frame_count() const { return frames_.size(); }
+  // Of the i-th line of frames.jsonl, without reading its images: a live replay skips the
+  // frames it could not keep up with.
+  uint64_t frame_index(size_t i) const { return frames_.at(i)["frame"].get<uint64_t>(); }
+  uint64_t frame_timestamp_us(size_t i) const { return frames_.at(i)["timestamp_us"].get<uint64_t>(); }
+  // The next next_frame() reads the i-th line (i == frame_count(): the end).
+  void seek(size_t i);
 
  private:
   std::filesystem::path dir_;

@@ -1,0 +1,168 @@
+#include "app/site_eye.h"
+
+#include <opencv2/core.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+
+#include "viewer/eye_detector.h"
+#include "viewer/eye_locator.h"
+
+namespace rt::app {
+namespace {
+
+// The detector wants 8-bit BGR; HostImage holds [0, 1] floats.
+cv::Mat bgr8(const HostImage& image) {
+  if (image.channels() < 3) return {};
+  cv::Mat bgr(int(image.height), int(image.width), CV_8UC3);
+  for (uint32_t y = 0; y < image.height; ++y) {
+    auto* row = bgr.ptr<cv::Vec3b>(int(y));
+    for (uint32_t x = 0; x < image.width; ++x)
+      for (uint32_t c = 0; c < 3; ++c)
+        row[x][2 - c] = uint8_t(std::lround(std::clamp(image.at(x, y, c), 0.0f, 1.0f) * 255.0f));
+  }
+  return bgr;
+}
+
+}  // namespace
+
+EyeSearch::EyeSearch(const EyeSearchOptions& options) : options_(options), estimator_(options.viewpoint) {
+  if (options_.max_frames < options_.viewpoint.frames_needed)
+    throw std::invalid_argument("eye search: max_frames (" + std::to_string(options_.max_frames) +
+                                ") must be at least the frames the estimate needs (" +
+                                std::to_string(options_.viewpoint.frames_needed) + ")");
+}
+
+EyeSearch::State EyeSearch::add(uint64_t timestamp_us, const EyePair& frame) {
+  if (state_ != State::Searching) return state_;
+  ++frames_;
+  estimator_.add(timestamp_us, frame);
+  if (frame.ok()) {
+    ++frames_with_eyes_;
+  } else {
+    last_miss_ = frame.message.empty() ? failure_name(frame.failure) : frame.message;
+  }
+  const InitialViewpoint result = estimator_.result();
+  if (result.ok()) {
+    state_ = State::Found;
+    eye_ = result.midpoint;
+    spread_m_ = result.spread_m;
+  } else if (frames_ >= options_.max_frames) {
+    state_ = State::GaveUp;
+    reason_ = frames_with_eyes_ == 0
+                  ? "no face found in " + std::to_string(frames_) + " frames: " + last_miss_
+                  : "no steady viewpoint in " + std::to_string(frames_) + " frames: " + result.message;
+  }
+  return state_;
+}
+
+void EyeSearch::give_up(const std::string& reason) {
+  if (state_ != State::Searching) return;
+  state_ = State::GaveUp;
+  reason_ = reason;
+}
+
+std::string EyeSearch::source() const {
+  switch (state_) {
+    case State::Found: {
+      char spread[32];
+      std::snprintf(spread, sizeof spread, "%.1f", spread_m_ * 1000.0);
+      return "cameras (" + std::to_string(frames_) + " frames, spread " + spread + " mm)";
+    }
+    case State::GaveUp: return "seat (" + reason_ + ")";
+    case State::Searching: break;
+  }
+  return "seat (searching for the eyes: " + std::to_string(frames_) + " of at most " + std::to_string(options_.max_frames) +
+         " frames examined)";
+}
+
+ViewerEyeFinder::ViewerEyeFinder(std::vector<Camera> cameras, const Eigen::Vector3d& seat_eye,
+                                 const EyeSearchOptions& options, std::function<void(const std::string&)> on_decided)
+    : cameras_(std::move(cameras)), seat_eye_(seat_eye), on_decided_(std::move(on_decided)), search_(options) {
+  thread_ = std::thread([this] { run(); });
+}
+
+ViewerEyeFinder::~ViewerEyeFinder() {
+  frames_.close();
+  thread_.join();
+}
+
+bool ViewerEyeFinder::wants_frame() const {
+  std::lock_guard lock(mutex_);
+  return search_.state() == EyeSearch::State::Searching && !busy_;
+}
+
+void ViewerEyeFinder::offer(uint64_t timestamp_us, const std::vector<sim::RgbdImage>& images) {
+  Offered offered{timestamp_us, {}};
+  for (const sim::RgbdImage& image : images) offered.colour.push_back(image.colour);
+  {
+    std::lock_guard lock(mutex_);
+    if (search_.state() != EyeSearch::State::Searching) return;
+    busy_ = true;
+  }
+  frames_.put(std::move(offered));
+}
+
+Eigen::Vector3d ViewerEyeFinder::eye() const {
+  std::lock_guard lock(mutex_);
+  return search_.eye_or(seat_eye_);
+}
+
+std::string ViewerEyeFinder::source() const {
+  std::lock_guard lock(mutex_);
+  return search_.source();
+}
+
+bool ViewerEyeFinder::decided() const {
+  std::lock_guard lock(mutex_);
+  return search_.state() != EyeSearch::State::Searching;
+}
+
+void ViewerEyeFinder::run() {
+  auto decide = [&](auto&& change) {
+    std::string source;
+    {
+      std::lock_guard lock(mutex_);
+      change();
+      busy_ = false;
+      if (search_.state() == EyeSearch::State::Searching) return;
+      source = search_.source();
+    }
+    if (on_decided_) on_decided_(source);
+  };
+  std::unique_ptr<EyeDetector> detector;
+  try {
+    detector = std::make_unique<EyeDetector>();
+  } catch (const std::exception& error) {
+    decide([&] { search_.give_up(std::string("the eye detector cannot start: ") + error.what()); });
+    return;
+  }
+  while (true) {
+    std::optional<Offered> offered = frames_.wait_take(std::chrono::milliseconds(100));
+    if (!offered) {
+      if (frames_.closed()) return;
+      continue;
+    }
+    if (offered->colour.size() != cameras_.size()) {
+      decide([&] {
+        search_.give_up("the frames have " + std::to_string(offered->colour.size()) + " cameras, the site " +
+                        std::to_string(cameras_.size()));
+      });
+      return;
+    }
+    std::vector<cv::Mat> images;
+    for (size_t k = 0; k < cameras_.size(); ++k) {
+      const HostImage& colour = offered->colour[k];
+      // A camera whose image is not the calibrated size does not take part.
+      const bool fits = colour.width == cameras_[k].intrinsics.width && colour.height == cameras_[k].intrinsics.height;
+      images.push_back(fits ? bgr8(colour) : cv::Mat());
+    }
+    const EyePair pair = locate_viewer_eyes(*detector, cameras_, images);
+    decide([&] { search_.add(offered->timestamp_us, pair); });
+    if (decided()) return;
+  }
+}
+
+}  // namespace rt::app

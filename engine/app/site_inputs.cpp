@@ -1,0 +1,194 @@
+#include "app/site_inputs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "app/site_simulator.h"
+#include "image/image_io.h"
+#include "sim/tracker_replay.h"
+#include "sim/tracker_space.h"
+
+namespace rt::app {
+namespace {
+
+std::string size_text(uint32_t width, uint32_t height) { return std::to_string(width) + "x" + std::to_string(height); }
+
+// The calibration's intrinsics at the size of a recorded image: `simulate` records at the
+// scene's resolution scale and writes the full-resolution calibration.
+CameraIntrinsics intrinsics_for_image(const CameraIntrinsics& calibrated, const HostImage& image,
+                                      const std::filesystem::path& file, const std::string& camera) {
+  // The scales that round to the image's width and to its height (scaled_intrinsics rounds):
+  // any scale in both ranges gives the same intrinsics.
+  auto range = [](uint32_t pixels, uint32_t full) {
+    return std::pair((double(pixels) - 0.5) / double(full), (double(pixels) + 0.5) / double(full));
+  };
+  const auto [width_low, width_high] = range(image.width, calibrated.width);
+  const auto [height_low, height_high] = range(image.height, calibrated.height);
+  const double low = std::max({width_low, height_low, 1e-9}), high = std::min(width_high, height_high);
+  const CameraIntrinsics scaled = scaled_intrinsics(calibrated, low < high ? 0.5 * (low + high) : width_low + 0.5 / calibrated.width);
+  if (!(low < high) || scaled.width != image.width || scaled.height != image.height)
+    throw std::runtime_error("'" + file.string() + "' is " + size_text(image.width, image.height) +
+                             ", which is not camera '" + camera + "' of the calibration (" +
+                             size_text(calibrated.width, calibrated.height) + ") at one resolution scale");
+  return scaled;
+}
+
+}  // namespace
+
+ReplayPacing::ReplayPacing(std::vector<uint64_t> timestamps_us) {
+  if (timestamps_us.empty()) throw std::invalid_argument("a replay needs at least one frame");
+  for (size_t i = 0; i < timestamps_us.size(); ++i) {
+    if (i > 0 && timestamps_us[i] < timestamps_us[i - 1])
+      throw std::invalid_argument("frame " + std::to_string(i) + "'s time (" + std::to_string(timestamps_us[i]) +
+                                  " us) is before the previous frame's (" + std::to_string(timestamps_us[i - 1]) + " us)");
+    offsets_s_.push_back(double(timestamps_us[i] - timestamps_us[0]) * 1e-6);
+  }
+}
+
+std::optional<size_t> ReplayPacing::due_at(double t_s) const {
+  // The first frame later than t_s; the one before it is due.
+  const auto later = std::upper_bound(offsets_s_.begin(), offsets_s_.end(), t_s);
+  if (later == offsets_s_.begin()) return std::nullopt;
+  return size_t(later - offsets_s_.begin()) - 1;
+}
+
+double ReplayPacing::fps(double fallback_fps) const {
+  if (offsets_s_.size() < 2 || !(offsets_s_.back() > 0)) return fallback_fps;
+  return double(offsets_s_.size() - 1) / offsets_s_.back();
+}
+
+namespace {
+
+sim::ReplayRgbdSource open_recording(const std::filesystem::path& dir) {
+  std::error_code error;
+  if (!std::filesystem::is_directory(dir, error))
+    throw std::runtime_error("--replay: the recording folder '" + dir.string() + "' does not exist (or is not a folder)");
+  return sim::ReplayRgbdSource(dir);
+}
+
+std::vector<uint64_t> recorded_times(const sim::ReplayRgbdSource& source, size_t count) {
+  std::vector<uint64_t> times;
+  for (size_t i = 0; i < count; ++i) times.push_back(source.frame_timestamp_us(i));
+  return times;
+}
+
+}  // namespace
+
+SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size_t cameras_needed)
+    : dir_(dir), source_(open_recording(dir)), pacing_(std::vector<uint64_t>{0}) {
+  const std::string calibration_file = "'" + (dir_ / "calibration.json").string() + "'";
+  nlohmann::json description = source_.calibration();
+  description.erase("format");
+  site_ = sim::site_from_json(description, calibration_file);
+  if (site_.cameras.size() < cameras_needed)
+    throw std::runtime_error(calibration_file + " has " + std::to_string(site_.cameras.size()) +
+                             " cameras; the image-based model uses " + std::to_string(cameras_needed));
+  const size_t count = max_frames ? std::min(max_frames, source_.frame_count()) : source_.frame_count();
+  if (count == 0) throw std::runtime_error("'" + (dir_ / "frames.jsonl").string() + "' lists no frames");
+  try {
+    pacing_ = ReplayPacing(recorded_times(source_, count));
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error("'" + (dir_ / "frames.jsonl").string() + "': " + error.what());
+  }
+  origin_us_ = source_.frame_timestamp_us(0);
+  // Every image there before the peer is kept waiting for a site that fails half way; reading
+  // them all would take as long as the replay, so only the first frame is read now.
+  for (size_t i = 0; i < count; ++i)
+    for (size_t k = 0; k < site_.cameras.size(); ++k)
+      for (const auto& file : {sim::colour_path(dir_, k, source_.frame_index(i)), sim::depth_path(dir_, k, source_.frame_index(i))})
+        if (!std::filesystem::is_regular_file(file))
+          throw std::runtime_error("recording '" + dir_.string() + "': frame " + std::to_string(source_.frame_index(i)) +
+                                   " has no image '" + file.string() + "'");
+  source_.seek(0);
+  const sim::RgbdFrame first = *source_.next_frame();
+  for (size_t k = 0; k < site_.cameras.size(); ++k) {
+    const sim::RgbdCamera& camera = site_.cameras[k];
+    passes::IbrCameraModel model{camera.colour_camera(), camera.depth_camera()};
+    model.colour.intrinsics =
+        intrinsics_for_image(camera.colour, first.cameras[k].colour, sim::colour_path(dir_, k, first.index), camera.name);
+    model.depth.intrinsics =
+        intrinsics_for_image(camera.depth, first.cameras[k].depth_mm, sim::depth_path(dir_, k, first.index), camera.name);
+    cameras_.push_back(model);
+  }
+  if (!std::filesystem::is_regular_file(dir_ / "tracker.jsonl"))
+    throw std::runtime_error("recording '" + dir_.string() + "' has no 'tracker.jsonl'");
+}
+
+sim::RgbdFrame SiteReplay::read(size_t i) {
+  source_.seek(i);
+  sim::RgbdFrame frame = *source_.next_frame();
+  for (size_t k = 0; k < cameras_.size(); ++k) {
+    const sim::RgbdImage& image = frame.cameras[k];
+    const CameraIntrinsics& colour = cameras_[k].colour.intrinsics;
+    const CameraIntrinsics& depth = cameras_[k].depth.intrinsics;
+    if (image.colour.width != colour.width || image.colour.height != colour.height)
+      throw std::runtime_error("'" + sim::colour_path(dir_, k, frame.index).string() + "' is " +
+                               size_text(image.colour.width, image.colour.height) + ", the recording's first frame " +
+                               size_text(colour.width, colour.height));
+    if (image.depth_mm.width != depth.width || image.depth_mm.height != depth.height)
+      throw std::runtime_error("'" + sim::depth_path(dir_, k, frame.index).string() + "' is " +
+                               size_text(image.depth_mm.width, image.depth_mm.height) + ", the recording's first frame " +
+                               size_text(depth.width, depth.height));
+  }
+  return frame;
+}
+
+std::optional<HostImage> SiteReplay::ground_truth(size_t i) const {
+  const std::filesystem::path file = sim::ground_truth_colour_path(dir_, source_.frame_index(i));
+  if (!std::filesystem::is_regular_file(file)) return std::nullopt;
+  return read_image(file);
+}
+
+std::unique_ptr<sim::HandTracker> SiteReplay::tracker() const {
+  return std::make_unique<sim::ReplayHandTracker>(dir_ / "tracker.jsonl");
+}
+
+PacedHandTracker::PacedHandTracker(std::unique_ptr<sim::HandTracker> tracker, const sim::TrackerPlacement& placement,
+                                   uint64_t origin_us)
+    : tracker_(std::move(tracker)), placement_(placement), origin_us_(origin_us) {}
+
+std::optional<PacedHandTracker::Hands> PacedHandTracker::at(double t_s) {
+  auto time_of = [&](const sim::TrackerFrame& frame) { return (double(frame.timestamp_us) - double(origin_us_)) * 1e-6; };
+  while (!ended_) {
+    if (!pending_) {
+      pending_ = tracker_->next_frame();
+      if (!pending_) {
+        ended_ = true;
+        break;
+      }
+    }
+    if (time_of(*pending_) > t_s) break;
+    current_ = Hands{time_of(*pending_), sim::skeletons_in_site(*pending_, placement_)};
+    pending_.reset();
+  }
+  return current_;
+}
+
+void TrackedHandsHistory::add(double time_s, std::vector<HandSkeleton> hands) {
+  std::lock_guard lock(mutex_);
+  entries_.emplace_back(time_s, std::move(hands));
+  while (entries_.size() > 1 && entries_.back().first - entries_.front().first > 2.0) entries_.pop_front();
+}
+
+std::optional<std::vector<HandSkeleton>> TrackedHandsHistory::closest(double time_s) const {
+  std::lock_guard lock(mutex_);
+  const std::pair<double, std::vector<HandSkeleton>>* best = nullptr;
+  for (const auto& entry : entries_)
+    if (!best || std::abs(entry.first - time_s) < std::abs(best->first - time_s)) best = &entry;
+  if (!best) return std::nullopt;
+  return best->second;
+}
+
+ibr::TouchingHand touching_side(const std::vector<HandSkeleton>& hands) {
+  const HandSkeleton* nearest[2] = {nullptr, nullptr};  // right, left
+  for (const HandSkeleton& hand : hands) {
+    if (!hand.palm.allFinite()) continue;
+    const HandSkeleton*& slot = nearest[hand.is_left ? 1 : 0];
+    if (!slot || hand.palm.z() < slot->palm.z()) slot = &hand;
+  }
+  if (nearest[0] && nearest[1]) return ibr::touching_hand(*nearest[0], *nearest[1]);
+  return nearest[1] ? ibr::TouchingHand::Left : ibr::TouchingHand::Right;
+}
+
+}  // namespace rt::app
