@@ -18,6 +18,7 @@
 #include "app/hand_renderer.h"
 #include "app/ibr_renderer.h"
 #include "app/simulate.h"
+#include "app/site_display.h"
 #include "app/site_eye.h"
 #include "app/site_inputs.h"
 #include "app/site_motor.h"
@@ -60,28 +61,6 @@ struct ReceivedPortrait {
   uint64_t arrival_us = 0;
 };
 
-// One geometry-hand render of the hand thread, for the display to fuse with the portrait of the
-// closest capture time: colour and mask cut to the hand's box (it covers a small part of the
-// view, and a dozen full frames would be mostly zeros). Nothing drawn: a NaN distance (the
-// fusion then shows the portrait alone).
-struct HandRender {
-  PixelBox box;
-  HostImage color;  // rgba32f straight alpha, box-sized
-  HostImage mask;   // r32f coverage, box-sized
-  float distance_m = NAN;
-  bool drawn() const { return std::isfinite(distance_m); }
-};
-
-HandRender cropped_hand_render(const HostImage& color, const HostImage& mask, float distance_m) {
-  HandRender render;
-  render.box = nonzero_box(mask);
-  if (render.box.empty()) return render;  // posed out of view
-  render.color = crop(color, render.box);
-  render.mask = crop(mask, render.box);
-  render.distance_m = distance_m;
-  return render;
-}
-
 // Renders kept for the display to choose from. The portrait arrives a few hundred milliseconds
 // after its skeleton on lavapipe; the hand thread renders once per camera frame, so this covers
 // about 0.8 s at 30 fps scene time, and more when the scene plays slower.
@@ -97,73 +76,10 @@ uint64_t gap_us(uint64_t a, uint64_t b) { return a > b ? a - b : b - a; }
 // While the link is down, a frame this often shows the user that the remote side is lost.
 constexpr uint64_t kLinkLostFrameIntervalUs = 250'000;
 
-// The notice on such a frame: a user sees why the other person vanished, and that it is being
-// dealt with.
-void label_link_lost(cv::Mat& bgr, const std::string& reason) {
-  const double scale = std::max(0.3, bgr.cols / 900.0);
-  const int thickness = std::max(1, int(std::lround(scale * 2)));
-  auto line = [&](const std::string& text, double y_fraction) {
-    cv::putText(bgr, text, cv::Point(int(bgr.cols * 0.04), int(bgr.rows * y_fraction)), cv::FONT_HERSHEY_SIMPLEX, scale,
-                cv::Scalar(40, 40, 230), thickness, cv::LINE_AA);
-  };
-  line("remote site lost - reconnecting", 0.12);
-  if (!reason.empty()) line(reason, 0.22);
-}
-
-std::string frame_name(uint64_t index) {
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%04llu.png", static_cast<unsigned long long>(index));
-  return name;
-}
-
-// The simulator's ground truth (rgba8, alpha 1 on the person) over the display's background, as
-// the receiver's composite shows it: linear colour, no gamma, like shaders/composite.comp.
-HostImage truth_over_background(const HostImage& truth, const HostImage& background) {
-  HostImage out(truth.width, truth.height, PixelFormat::RGBA8);
-  for (uint32_t y = 0; y < truth.height; ++y)
-    for (uint32_t x = 0; x < truth.width; ++x) {
-      const float a = std::clamp(truth.at(x, y, 3), 0.0f, 1.0f);
-      for (uint32_t c = 0; c < 3; ++c) out.at(x, y, c) = truth.at(x, y, c) * a + background.at(x, y, c) * (1.0f - a);
-      out.at(x, y, 3) = 1.0f;
-    }
-  return out;
-}
-
-cv::Mat to_bgr8(const HostImage& image) {
-  cv::Mat bgr(int(image.height), int(image.width), CV_8UC3);
-  for (uint32_t y = 0; y < image.height; ++y)
-    for (uint32_t x = 0; x < image.width; ++x)
-      for (int c = 0; c < 3; ++c)
-        bgr.at<cv::Vec3b>(int(y), int(x))[2 - c] =
-            uint8_t(std::lround(std::clamp(image.at(x, y, uint32_t(c)), 0.0f, 1.0f) * 255.0f));
-  return bgr;
-}
-
 std::vector<passes::IbrCameraModel> camera_models(RgbdRenderer& renderer) {
   std::vector<passes::IbrCameraModel> models;
   for (size_t k = 0; k < renderer.camera_count(); ++k) models.push_back({renderer.camera(k).colour, renderer.camera(k).depth});
   return models;
-}
-
-Camera portrait_camera(const net::PortraitMessage& p) {
-  Camera camera;
-  camera.name = "portrait target view";
-  camera.intrinsics.width = p.width;
-  camera.intrinsics.height = p.height;
-  camera.intrinsics.fx = p.fx;
-  camera.intrinsics.fy = p.fy;
-  camera.intrinsics.cx = p.cx;
-  camera.intrinsics.cy = p.cy;
-  camera.camera_from_site = Eigen::Isometry3d(p.camera_from_site);
-  return camera;
-}
-
-// The hand nearer the glass: the one the receiver draws as geometry.
-const HandSkeleton* touching(const std::vector<HandSkeleton>& hands) {
-  const HandSkeleton* best = nullptr;
-  for (const auto& hand : hands)
-    if (std::isfinite(hand.palm.z()) && (!best || hand.palm.z() < best->palm.z())) best = &hand;
-  return best;
 }
 
 nlohmann::json timings_json(const vk::FrameGraph& graph) {
@@ -929,55 +845,6 @@ int SiteRun::run() {
 }
 
 }  // namespace
-
-void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options) {
-  std::ifstream file(config);
-  if (!file) throw std::runtime_error("cannot read the site config " + config.string());
-  const nlohmann::json json = nlohmann::json::parse(file, nullptr, false);
-  if (json.is_discarded() || !json.is_object()) throw std::runtime_error(config.string() + ": not a JSON object");
-  const std::filesystem::path base = config.parent_path();
-  auto string_field = [&](const char* name, std::string& value) {
-    if (!json.contains(name)) return;
-    if (!json[name].is_string()) throw std::runtime_error(config.string() + ": '" + name + "' must be a string");
-    value = json[name].get<std::string>();
-  };
-  auto number_field = [&](const char* name, auto& value, double min, double max) {
-    if (!json.contains(name)) return;
-    if (!json[name].is_number() || json[name].get<double>() < min || json[name].get<double>() > max)
-      throw std::runtime_error(config.string() + ": '" + name + "' must be a number in [" + std::to_string(min) + ", " +
-                               std::to_string(max) + "]");
-    value = static_cast<std::remove_reference_t<decltype(value)>>(json[name].get<double>());
-  };
-  for (const auto& [key, value] : json.items())
-    if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
-        key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" &&
-        key != "motor")
-      throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
-  std::string site = site_name(options.site), key_file;
-  string_field("scene", options.scene);
-  string_field("site", site);
-  if (site != "A" && site != "B") throw std::runtime_error(config.string() + ": 'site' must be \"A\" or \"B\"");
-  options.site = site == "A" ? Site::A : Site::B;
-  string_field("listen", options.listen);
-  string_field("peer", options.peer);
-  string_field("key_file", key_file);
-  if (!key_file.empty()) options.key_file = std::filesystem::path(key_file).is_absolute() ? std::filesystem::path(key_file) : base / key_file;
-  std::string replay;
-  string_field("replay", replay);
-  if (!replay.empty())
-    options.replay = std::filesystem::path(replay).is_absolute() ? std::filesystem::path(replay) : (base / replay).lexically_normal();
-  string_field("motor", options.motor);
-  if (options.motor != "simulated" && options.motor != "usb" && options.motor != "auto")
-    throw std::runtime_error(config.string() + ": 'motor' must be \"simulated\", \"usb\" or \"auto\"");
-  number_field("time_scale", options.time_scale, 1e-3, 10.0);
-  number_field("resolution_scale", options.resolution_scale, 0.0, 1.0);
-  number_field("width", options.run.width, 16, 4096);
-  number_field("height", options.run.height, 16, 4096);
-  if (json.contains("frames")) {
-    number_field("frames", options.run.frames, 1, 1e6);
-    options.frames_given = true;
-  }
-}
 
 int run_site(const SiteRunOptions& options) {
   if (options.key_file.empty()) throw std::invalid_argument("a site needs --key-file (64 hex digits, the same at both sites)");

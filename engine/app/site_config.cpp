@@ -1,0 +1,61 @@
+// `remotetouch site --config FILE`: the JSON fields that set a site's options.
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "app/site_runner.h"
+
+namespace rt::app {
+
+void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options) {
+  std::ifstream file(config);
+  if (!file) throw std::runtime_error("cannot read the site config " + config.string());
+  const nlohmann::json json = nlohmann::json::parse(file, nullptr, false);
+  if (json.is_discarded() || !json.is_object()) throw std::runtime_error(config.string() + ": not a JSON object");
+  const std::filesystem::path base = config.parent_path();
+  auto string_field = [&](const char* name, std::string& value) {
+    if (!json.contains(name)) return;
+    if (!json[name].is_string()) throw std::runtime_error(config.string() + ": '" + name + "' must be a string");
+    value = json[name].get<std::string>();
+  };
+  auto number_field = [&](const char* name, auto& value, double min, double max) {
+    if (!json.contains(name)) return;
+    if (!json[name].is_number() || json[name].get<double>() < min || json[name].get<double>() > max)
+      throw std::runtime_error(config.string() + ": '" + name + "' must be a number in [" + std::to_string(min) + ", " +
+                               std::to_string(max) + "]");
+    value = static_cast<std::remove_reference_t<decltype(value)>>(json[name].get<double>());
+  };
+  for (const auto& [key, value] : json.items())
+    if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
+        key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" &&
+        key != "motor")
+      throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
+  std::string site = site_name(options.site), key_file;
+  string_field("scene", options.scene);
+  string_field("site", site);
+  if (site != "A" && site != "B") throw std::runtime_error(config.string() + ": 'site' must be \"A\" or \"B\"");
+  options.site = site == "A" ? Site::A : Site::B;
+  string_field("listen", options.listen);
+  string_field("peer", options.peer);
+  string_field("key_file", key_file);
+  if (!key_file.empty()) options.key_file = std::filesystem::path(key_file).is_absolute() ? std::filesystem::path(key_file) : base / key_file;
+  std::string replay;
+  string_field("replay", replay);
+  if (!replay.empty())
+    options.replay = std::filesystem::path(replay).is_absolute() ? std::filesystem::path(replay) : (base / replay).lexically_normal();
+  string_field("motor", options.motor);
+  if (options.motor != "simulated" && options.motor != "usb" && options.motor != "auto")
+    throw std::runtime_error(config.string() + ": 'motor' must be \"simulated\", \"usb\" or \"auto\"");
+  number_field("time_scale", options.time_scale, 1e-3, 10.0);
+  number_field("resolution_scale", options.resolution_scale, 0.0, 1.0);
+  number_field("width", options.run.width, 16, 4096);
+  number_field("height", options.run.height, 16, 4096);
+  if (json.contains("frames")) {
+    number_field("frames", options.run.frames, 1, 1e6);
+    options.frames_given = true;
+  }
+}
+
+}  // namespace rt::app

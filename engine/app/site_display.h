@@ -1,0 +1,53 @@
+#pragma once
+// The pieces of a site's receiver that are plain functions: the hand renders it keeps, the frames
+// it writes (names, the ground truth as the display would show it, the link-lost notice) and
+// what a portrait message says about its view.
+#include <opencv2/core.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "geometry/camera.h"
+#include "image/host_image.h"
+#include "image/image_crop.h"
+#include "net/messages.h"
+#include "tracking/hand_skeleton.h"
+
+namespace rt::app {
+
+// One geometry-hand render of the hand thread, for the display to fuse with the portrait of the
+// closest capture time: colour and mask cut to the hand's box (it covers a small part of the
+// view, and a dozen full frames would be mostly zeros). Nothing drawn: a NaN distance (the
+// fusion then shows the portrait alone).
+struct HandRender {
+  PixelBox box;
+  HostImage color;  // rgba32f straight alpha, box-sized
+  HostImage mask;   // r32f coverage, box-sized
+  float distance_m = NAN;
+  bool drawn() const { return std::isfinite(distance_m); }
+};
+
+// Cuts a hand render (rgba32f colour, r32f mask of the full view) to the mask's box.
+HandRender cropped_hand_render(const HostImage& color, const HostImage& mask, float distance_m);
+
+// The notice on a frame shown while the link is down: a user sees why the other person vanished,
+// and that it is being dealt with.
+void label_link_lost(cv::Mat& bgr, const std::string& reason);
+
+std::string frame_name(uint64_t index);  // frame_NNNN.png
+
+// The simulator's ground truth (rgba8, alpha 1 on the person) over the display's background, as
+// the receiver's composite shows it: linear colour, no gamma, like shaders/composite.comp.
+HostImage truth_over_background(const HostImage& truth, const HostImage& background);
+
+cv::Mat to_bgr8(const HostImage& image);
+
+// The target view a portrait was rendered for, as its message describes it (the sender's frame).
+Camera portrait_camera(const net::PortraitMessage& portrait);
+
+// The hand nearer the glass: the one the receiver draws as geometry; null when none is finite.
+const HandSkeleton* touching(const std::vector<HandSkeleton>& hands);
+
+}  // namespace rt::app
