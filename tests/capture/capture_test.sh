@@ -17,10 +17,12 @@ case "$mode" in
     # renderdoccmd gives up when the launched process is slow to open RenderDoc's target-control
     # port, which a loaded CI machine does now and then: only that failure is tried again.
     for attempt in 1 2 3; do
-      renderdoccmd capture -w -c "$out/capture/rdc" "$binary" "${demo[@]}" 2>&1 | tee "$out/log.txt"
+      status=0
+      renderdoccmd capture -w -c "$out/capture/rdc" "$binary" "${demo[@]}" 2>&1 | tee "$out/log.txt" || status=$?
       grep -q "RenderDoc injection failed" "$out/log.txt" || break
       echo "capture_test: RenderDoc could not attach (attempt $attempt), trying again" >&2
-    done ;;
+    done
+    [ "$status" -eq 0 ] || exit "$status" ;;
   in-app) "$binary" "${demo[@]}" | tee "$out/log.txt" ;;
   *) echo "unknown mode $mode" >&2; exit 2 ;;
 esac
