@@ -45,7 +45,9 @@ struct Bench {
     // to answer while ctest -j runs CPU-bound Vulkan tests on the same two cores (50 ms was not).
     options.reply_timeout = 400ms;
     options.ready_timeout = 1000ms;
-    options.drain_quiet = 5ms;
+    // The drain stops once input has been quiet this long: a loaded machine can pause the
+    // emulated board's thread for a few milliseconds mid-garbage (5 ms was not enough).
+    options.drain_quiet = 50ms;
     options.retry_initial = 5ms;
     options.retry_max = 20ms;
     options.log = [this](const std::string& line) { log.push_back(line); };
