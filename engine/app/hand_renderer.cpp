@@ -163,8 +163,12 @@ void HandRenderer::build_appearance_graph(vk::Image& portrait_color, vk::Image& 
   appearance_portrait_[1] = &portrait_depth;
 }
 
+bool HandRenderer::appearance_adaption_possible() const {
+  return has_pose_ && tracked_ && hand_distance_m_ > RT_FUSION_D_MAX_M;
+}
+
 bool HandRenderer::adapt_appearance_from(vk::Image& portrait_color, vk::Image& portrait_depth) {
-  if (!has_pose_ || !tracked_ || !(hand_distance_m_ > RT_FUSION_D_MAX_M)) return false;
+  if (!appearance_adaption_possible()) return false;
   if (portrait_color.width() != width_ || portrait_color.height() != height_)
     throw std::invalid_argument("hand renderer: portrait '" + portrait_color.name() + "' differs in size from the hand render");
   if (!appearance_graph_ || appearance_portrait_[0] != &portrait_color || appearance_portrait_[1] != &portrait_depth)

@@ -56,6 +56,9 @@ class HandRenderer {
   // metres, 0 = nothing): runs now, only while the hand is tracked and farther from the screen
   // than d_max (where the cameras see it well); returns whether it ran.
   bool adapt_appearance_from(vk::Image& portrait_color, vk::Image& portrait_depth);
+  // Whether adapt_appearance_from would run with the current pose: callers skip the work that
+  // would only feed it otherwise.
+  bool appearance_adaption_possible() const;
   void reset_appearance();
   shader_abi::AppearanceState appearance_state();  // reads the GPU state back
   vk::FrameGraph* appearance_graph() { return appearance_graph_.get(); }

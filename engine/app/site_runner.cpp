@@ -31,7 +31,6 @@
 #include "passes/composite.h"
 #include "passes/hand_alpha.h"
 #include "passes/overlay.h"
-#include "session/closest_in_time.h"
 #include "session/event_log.h"
 #include "session/fair_mutex.h"
 #include "session/latency_stats.h"
@@ -104,7 +103,6 @@ class SiteRun {
   void tracker_loop();
   void hand_loop();
   void display_loop();
-  std::optional<net::SkeletonMessage> remote_skeleton_closest_to(uint64_t timestamp_us);
   void on_message(const net::Message& message);
   void on_touch(const TouchEvent& event);
   double scene_time_s(uint64_t now_us) const { return double(now_us - epoch_us_) * 1e-6 * options_.time_scale; }
@@ -138,8 +136,8 @@ class SiteRun {
   std::mutex eye_mutex_;
   std::optional<Eigen::Vector3d> remote_eye_;  // the remote viewer's eye, in this site's frame
   std::mutex skeleton_mutex_;
-  std::deque<net::SkeletonMessage> remote_skeletons_;  // sender's frame and clock, newest last
   std::deque<std::pair<uint64_t, uint64_t>> remote_capture_of_arrival_;  // (arrival, sender's capture) µs
+  session::TimedHistory<net::SkeletonMessage> remote_skeletons_{100};  // sender's frame and clock: 2 s at 50 Hz
   // The hand thread: the newest remote skeleton to draw, the view to draw it from (the portraits'
   // camera, sent with each one), the portraits shown (for appearance adaption), its renders.
   session::Mailbox<net::SkeletonMessage> skeletons_to_draw_;
@@ -279,9 +277,7 @@ void SiteRun::on_message(const net::Message& message) {
     }
     touch_->set_remote_hands(std::move(hands));
     skeletons_to_draw_.put(*skeleton);
-    std::lock_guard lock(skeleton_mutex_);
-    remote_skeletons_.push_back(*skeleton);
-    while (remote_skeletons_.size() > 100) remote_skeletons_.pop_front();  // 2 s at 50 Hz
+    remote_skeletons_.add(skeleton->timestamp_us, *skeleton);
   } else if (const auto* portrait = std::get_if<net::PortraitMessage>(&message)) {
     portrait_network_.add(double(int64_t(now) - int64_t(portrait->capture_timestamp_us)) / 1000.0);
     last_portrait_arrival_us_ = now;
@@ -515,11 +511,11 @@ void SiteRun::hand_loop() {
     // cameras see the hand well (beyond d_max), as adapt_appearance_from requires anyway.
     if (std::optional<ReceivedPortrait> shown = portraits_shown_.take()) {
       const net::PortraitMessage& message = shown->message;
-      const std::optional<net::SkeletonMessage> skeleton = remote_skeleton_closest_to(message.capture_timestamp_us);
-      if (skeleton && pose(*skeleton, portrait_camera(message)) && hand.hand_distance_m() > RT_FUSION_D_MAX_M) {
+      const auto skeleton = remote_skeletons_.closest(message.capture_timestamp_us);
+      if (skeleton && pose(skeleton->second, portrait_camera(message)) && hand.appearance_adaption_possible()) {
         // Urgent like the display: the receiver's work is what the user waits for.
         session::UrgentTurn turn(gpu_turn_);
-        hand_renders_.add(skeleton->timestamp_us, render_in_turn());
+        hand_renders_.add(skeleton->first, render_in_turn());
         vk::upload(context_, portrait, message.color);
         vk::upload(context_, portrait_depth, message.depth);
         (void)hand.adapt_appearance_from(portrait, portrait_depth);
@@ -551,14 +547,6 @@ void SiteRun::hand_loop() {
   final_turn.lock();
 }
 
-std::optional<net::SkeletonMessage> SiteRun::remote_skeleton_closest_to(uint64_t timestamp_us) {
-  std::lock_guard lock(skeleton_mutex_);
-  const auto closest = session::closest_in_time(remote_skeletons_.begin(), remote_skeletons_.end(), timestamp_us,
-                                                [](const net::SkeletonMessage& s) { return s.timestamp_us; });
-  if (closest == remote_skeletons_.end()) return std::nullopt;
-  return *closest;
-}
-
 void SiteRun::display_loop() {
   // Declared first, so destroyed last: the receiver's Vulkan objects go while this holds the turn.
   std::unique_lock<session::FairMutex> final_turn(gpu_turn_, std::defer_lock);
@@ -588,6 +576,15 @@ void SiteRun::display_loop() {
   std::optional<uint64_t> last_video_frame;
   const HostImage no_portrait(width_, height_, PixelFormat::RGBA32F);
   uint64_t last_shown_us = 0;
+  // A displayed frame: PNG, `video_repeat` frames of the MP4, a line of frames.jsonl.
+  auto write_frame = [&](const cv::Mat& bgr, nlohmann::json entry, uint64_t video_repeat) {
+    const uint64_t display_index = frames_displayed_++;
+    cv::imwrite((out_ / "frames" / frame_name(display_index)).string(), bgr);
+    if (video.isOpened())
+      for (uint64_t i = 0; i < video_repeat; ++i) video.write(bgr);
+    entry["display"] = display_index;
+    frames_log << entry.dump() << "\n";
+  };
 
   while (true) {
     std::optional<ReceivedPortrait> received = portraits_.wait_take(std::chrono::milliseconds(50));
@@ -614,12 +611,8 @@ void SiteRun::display_loop() {
         }
         cv::Mat bgr = to_bgr8(frame);
         label_link_lost(bgr, net_->status().reason);
-        const uint64_t display_index = frames_displayed_++;
         ++link_lost_frames_;
-        cv::imwrite((out_ / "frames" / frame_name(display_index)).string(), bgr);
-        if (video.isOpened()) video.write(bgr);
-        frames_log << nlohmann::json{{"display", display_index}, {"portrait_frame", nullptr}, {"t_us", now}, {"link_lost", true}}.dump()
-                   << "\n";
+        write_frame(bgr, {{"portrait_frame", nullptr}, {"t_us", now}, {"link_lost", true}}, 1);
         last_shown_us = now;
       }
       continue;
@@ -663,23 +656,17 @@ void SiteRun::display_loop() {
       hand_on_screen_.add(double(int64_t(on_screen) - int64_t(hand->first)) / 1000.0);
       hand_to_portrait_gap_.add(double(gap_us(hand->first, message.capture_timestamp_us)) / 1000.0);
     }
+    // The video plays in scene time: each displayed frame stays up until the next one's scene frame.
+    const uint64_t repeat = last_video_frame ? std::clamp<uint64_t>(message.frame_index - *last_video_frame, 1, 90) : 1;
+    last_video_frame = message.frame_index;
+    const double hand_to_portrait_ms = hand ? double(int64_t(hand->first) - int64_t(message.capture_timestamp_us)) / 1000.0 : NAN;
+    write_frame(to_bgr8(shown),
+                {{"portrait_frame", message.frame_index},
+                 {"t_us", on_screen},
+                 {"hand_to_portrait_ms", std::isfinite(hand_to_portrait_ms) ? nlohmann::json(hand_to_portrait_ms) : nlohmann::json()},
+                 {"hand_distance_m", std::isfinite(hand_distance_m) ? nlohmann::json(hand_distance_m) : nlohmann::json()}},
+                repeat);
     portraits_shown_.put(std::move(*received));
-    const uint64_t display_index = frames_displayed_++;
-    write_image(out_ / "frames" / frame_name(display_index), shown);
-    if (video.isOpened()) {
-      // The video plays in scene time: each displayed frame stays up until the next one's scene frame.
-      const uint64_t repeat = last_video_frame ? std::clamp<uint64_t>(message.frame_index - *last_video_frame, 1, 90) : 1;
-      const cv::Mat bgr = to_bgr8(shown);
-      for (uint64_t i = 0; i < repeat; ++i) video.write(bgr);
-      last_video_frame = message.frame_index;
-    }
-    frames_log << nlohmann::json{{"display", display_index},
-                                 {"portrait_frame", message.frame_index},
-                                 {"t_us", on_screen},
-                                 {"hand_to_portrait_ms", hand ? nlohmann::json(double(int64_t(hand->first) - int64_t(message.capture_timestamp_us)) / 1000.0) : nlohmann::json()},
-                                 {"hand_distance_m", std::isfinite(hand_distance_m) ? nlohmann::json(hand_distance_m) : nlohmann::json()}}
-                      .dump()
-               << "\n";
   }
   display_done_ = true;
   {
