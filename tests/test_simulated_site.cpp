@@ -47,8 +47,14 @@ int cameras_seeing_palm(double z) {
     const double expected_z = (depth_camera.camera_from_site * palm_surface).z();
     const float seen_z = truth.at(uint32_t(x), uint32_t(y));
     // Seen: a valid depth sample within a couple of centimetres of the palm (not the body
-    // behind it, not an occluder in front of it).
-    if (depth.at(uint32_t(x), uint32_t(y)) > 0 && std::abs(seen_z - expected_z) < 0.02) ++seeing;
+    // behind it, not an occluder in front of it), and in the colour image, which the image-based
+    // model needs as much. (A bottom corner's 120-degree depth view reaches a palm on the glass
+    // at a grazing angle; its 90-degree colour view does not.)
+    const auto colour_pixel = specs[k].colour.project(palm_surface);
+    const bool in_colour = colour_pixel && colour_pixel->x() >= 0 && colour_pixel->y() >= 0 &&
+                           colour_pixel->x() < specs[k].colour.intrinsics.width &&
+                           colour_pixel->y() < specs[k].colour.intrinsics.height;
+    if (depth.at(uint32_t(x), uint32_t(y)) > 0 && std::abs(seen_z - expected_z) < 0.02 && in_colour) ++seeing;
   }
   return seeing;
 }

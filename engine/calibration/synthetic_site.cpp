@@ -44,7 +44,8 @@ CameraIntrinsics kinect_like_intrinsics(size_t index) {
   return k;
 }
 
-Eigen::Isometry3d site_from_board_pose(std::mt19937& rng, const Chessboard& board) {
+// `held_at`: where the board's centre is held on average.
+Eigen::Isometry3d site_from_board_pose(std::mt19937& rng, const Chessboard& board, const Eigen::Vector3d& held_at) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   // Held up facing the screen: board x along site -x and y along site -y, as the cameras
   // (image x to the user's left) see it unrotated; then tilted a little every way.
@@ -54,7 +55,7 @@ Eigen::Isometry3d site_from_board_pose(std::mt19937& rng, const Chessboard& boar
                                 Eigen::AngleAxisd(0.45 * unit(rng), Eigen::Vector3d::UnitY()) *
                                 Eigen::AngleAxisd(0.3 * unit(rng), Eigen::Vector3d::UnitZ()))
                                    .toRotationMatrix();
-  const Eigen::Vector3d centre(0.35 * unit(rng), 0.22 * unit(rng), 0.52 + 0.12 * unit(rng));
+  const Eigen::Vector3d centre = held_at + Eigen::Vector3d(0.12 * unit(rng), 0.06 * unit(rng), 0.06 * unit(rng));
   const Eigen::Vector3d board_centre((board.cols - 1) * board.square_m / 2, (board.rows - 1) * board.square_m / 2, 0);
   Eigen::Isometry3d site_from_board = Eigen::Isometry3d::Identity();
   site_from_board.linear() = tilt * facing_screen;
@@ -93,7 +94,14 @@ void add_board_views(SyntheticSite& site, const SyntheticSiteOptions& options, s
   for (const sim::RgbdCamera& camera : site.truth.cameras) cameras.push_back(camera.colour_camera());
   for (size_t attempt = 0; input.snapshots.size() < options.board_poses && attempt < 200 * options.board_poses;
        ++attempt) {
-    const Eigen::Isometry3d site_from_board = site_from_board_pose(rng, input.board);
+    // The board is held in front of each camera in turn, on its axis 0.4 to 0.64 m from the glass,
+    // where the cameras of its row (which look at one point) see it too.
+    const Camera& facing = cameras[input.snapshots.size() % cameras.size()];
+    const Eigen::Vector3d mount = facing.position_in_site();
+    const Eigen::Vector3d axis = facing.camera_from_site.inverse().linear().col(2);
+    const double held_z = 0.52 + 0.12 * std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
+    const Eigen::Vector3d held_at = mount + axis * ((held_z - mount.z()) / axis.z());
+    const Eigen::Isometry3d site_from_board = site_from_board_pose(rng, input.board, held_at);
     BoardSnapshot snapshot;
     snapshot.name = "view-" + std::to_string(input.snapshots.size());
     for (size_t c = 0; c < site.truth.cameras.size(); ++c)

@@ -14,8 +14,12 @@ constexpr uint32_t kDepthSize = 512;
 constexpr double kDepthFovDeg = 120.0;
 constexpr double kDepthMinM = 0.25, kDepthMaxM = 2.88;
 
-// Aim between face and chest so that both stay in view when the user leans in.
-constexpr double kAimBelowHeadM = 0.1;
+// The top row aims between face and chest, so that both stay in view when the user leans in.
+// The bottom row aims at the waist: aimed at the face too, the six 59-degree-tall views left the
+// bottom of the torso, which the remote eye sees through the lower part of the screen, to no
+// colour camera at all (a tenth of the portrait, and most of its error).
+constexpr double kTopAimBelowHeadM = 0.1;
+constexpr double kBottomAimBelowHeadM = 0.5;
 
 constexpr double kTrackerDistanceFromScreenM = 0.5;
 // Beside and below the right hand as it reaches for the touch region.
@@ -34,7 +38,10 @@ std::vector<CameraMount> camera_stand_mounts(const Screen& screen, const CameraS
           {"bottom-left", {-x, -y, z}}, {"bottom-centre", {0, -y, z}}, {"bottom-right", {x, -y, z}}};
 }
 
-Eigen::Vector3d camera_aim_point(const Seat& seat) { return seat.head_centre_m - Eigen::Vector3d(0, kAimBelowHeadM, 0); }
+Eigen::Vector3d camera_aim_point(const Seat& seat, const Eigen::Vector3d& mount_position) {
+  const double below_head = mount_position.y() < 0 ? kBottomAimBelowHeadM : kTopAimBelowHeadM;
+  return seat.head_centre_m - Eigen::Vector3d(0, below_head, 0);
+}
 
 Eigen::Isometry3d camera_from_site_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
   const Eigen::Vector3d to_target = target - position;
@@ -69,11 +76,10 @@ CameraIntrinsics intrinsics_for_horizontal_fov(uint32_t width, uint32_t height, 
 SiteDescription make_default_site(const DefaultSiteOptions& options) {
   SiteDescription site;
   site.name = options.name;
-  const Eigen::Vector3d aim = camera_aim_point(site.seat);
   for (const CameraMount& mount : camera_stand_mounts(site.screen, options.stand)) {
     RgbdCamera camera;
     camera.name = mount.name;
-    camera.camera_from_site = camera_from_site_looking_at(mount.position, aim);
+    camera.camera_from_site = camera_from_site_looking_at(mount.position, camera_aim_point(site.seat, mount.position));
     camera.colour = intrinsics_for_horizontal_fov(options.colour_width, options.colour_height, kColourHorizontalFovDeg);
     camera.depth = intrinsics_for_horizontal_fov(kDepthSize, kDepthSize, kDepthFovDeg);
     camera.depth_min_m = kDepthMinM;

@@ -38,12 +38,14 @@ struct DefaultSiteOptions {
 };
 
 // A 65-inch screen, the user seated 0.7 m away, six cameras just outside the screen's corners and
-// the centres of its top and bottom edges aimed at the user's chest and face, the tracker 0.5 m
+// the centres of its top and bottom edges (the top row aimed at the user's chest and face, the
+// bottom row at the waist), the tracker 0.5 m
 // from the screen below the right hand facing up at the touch region, the motor on the top-left corner.
 SiteDescription make_default_site(const DefaultSiteOptions& options = {});
 
-// Where the default site's cameras look: between the seated user's face and chest.
-Eigen::Vector3d camera_aim_point(const Seat& seat);
+// Where a default site's camera at `mount_position` looks: from the top row between the seated
+// user's face and chest, from the bottom row (below the screen centre) at the waist.
+Eigen::Vector3d camera_aim_point(const Seat& seat, const Eigen::Vector3d& mount_position);
 
 // Pose of a camera at `position` looking at `target`, image "up" towards +y of the site (OpenCV
 // axes: x right, y down, z forward). Throws std::invalid_argument when the points coincide or

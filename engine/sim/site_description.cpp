@@ -220,10 +220,10 @@ void validate_site(const SiteDescription& site, const std::string& where) {
   std::set<std::string> names;
   for (const RgbdCamera& camera : site.cameras) {
     if (!names.insert(camera.name).second) throw JsonError(where + ": two cameras are named '" + camera.name + "'");
-    const std::string why = camera.why_unseen(site.seat.head_centre_m);
+    const std::string why = camera.why_unseen(site.seat.chest_m());
     if (!why.empty())
-      throw JsonError(where + ": camera '" + camera.name + "' cannot see the seated user's head at " +
-                      point_text(site.seat.head_centre_m) + ": " + why);
+      throw JsonError(where + ": camera '" + camera.name + "' cannot see the seated user's chest at " +
+                      point_text(site.seat.chest_m()) + ": " + why);
   }
   const Eigen::Vector2d half_screen(site.screen.width_m / 2, site.screen.height_m / 2);
   const Eigen::Vector2d region_far_corner = site.touch_region.centre_m.cwiseAbs() + site.touch_region.half_size_m;

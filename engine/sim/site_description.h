@@ -66,6 +66,9 @@ struct TrackerPlacement {
 // Where the seated user's head rests (its centre, about eye height).
 struct Seat {
   Eigen::Vector3d head_centre_m = Eigen::Vector3d(0.0, 0.1, 0.7);
+  // The middle of the chest, which every camera of a site must see (a camera that does not is
+  // turned the wrong way or miscalibrated): the one part of the user both camera rows look at.
+  Eigen::Vector3d chest_m() const { return head_centre_m - Eigen::Vector3d(0.0, 0.3, 0.0); }
 };
 
 // The part of the glass where the user is expected to touch; the tracker must cover it.
