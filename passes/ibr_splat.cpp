@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -12,8 +13,10 @@ namespace rt::passes {
 namespace {
 
 const SplatSettings& check(const SplatSettings& s) {
-  if (!(s.footprint_scale > 0.0f) || !(s.max_footprint_px >= 1.0f) || !(s.average_tolerance_m >= 0.0f))
-    throw std::invalid_argument("depth splatting: footprint_scale > 0, max_footprint_px >= 1, average_tolerance_m >= 0");
+  if (!(s.footprint_scale > 0.0f) || !(s.max_footprint_px >= 1.0f) || !(s.average_tolerance_m >= 0.0f) ||
+      !(s.plane_tolerance_m >= 0.0f))
+    throw std::invalid_argument(
+        "depth splatting: footprint_scale > 0, max_footprint_px >= 1, average_tolerance_m >= 0, plane_tolerance_m >= 0");
   return s;
 }
 
@@ -21,7 +24,8 @@ std::vector<vk::Knob> knobs(const SplatSettings& s, bool accumulate) {
   return {{"accumulate_average", accumulate},
           {"footprint_scale", s.footprint_scale},
           {"max_footprint_px", s.max_footprint_px},
-          {"average_tolerance_m", s.average_tolerance_m}};
+          {"average_tolerance_m", s.average_tolerance_m},
+          {"plane_tolerance_m", s.plane_tolerance_m}};
 }
 
 }  // namespace
@@ -59,35 +63,88 @@ void IbrSplatPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Imag
     graph.add_compute_pass({.name = "ibr_splat_average", .kernel = &average_, .bindings = bindings, .threads = threads});
 }
 
+namespace {
+
+struct Projected {
+  float x = 0, y = 0, z = 0;
+};
+
+// The shader's project_point: where a foreground point lands in the target view.
+std::optional<Projected> project_point(const IbrSceneTable& table, const HostImage& points, int x, int y, uint32_t view,
+                                       int width, int height) {
+  if (x < 0 || y < 0 || x >= width || y >= height) return std::nullopt;
+  const float* point = &points.texels[points.index(uint32_t(x), uint32_t(y) + view * uint32_t(height))];
+  if (!(point[3] > 0.0f)) return std::nullopt;
+  const Float3 p = transform_point(table.target.camera_from_site, {point[0], point[1], point[2]});
+  if (!(p.z > 1e-4f)) return std::nullopt;
+  const Projected projected{table.target.pinhole[0] * (p.x / p.z) + table.target.pinhole[2],
+                            table.target.pinhole[1] * (p.y / p.z) + table.target.pinhole[3], p.z};
+  if (!std::isfinite(projected.x) || !std::isfinite(projected.y)) return std::nullopt;
+  return projected;
+}
+
+// The shader's surface_neighbour: the offset to a neighbour on the same surface along `step`, or
+// (mirrored) along -step.
+std::optional<Projected> surface_neighbour(const IbrSceneTable& table, const HostImage& points, int x, int y, int dx,
+                                           int dy, uint32_t view, int width, int height, Projected centre,
+                                           float tolerance) {
+  if (auto q = project_point(table, points, x + dx, y + dy, view, width, height); q && std::abs(q->z - centre.z) <= tolerance)
+    return Projected{q->x - centre.x, q->y - centre.y, q->z - centre.z};
+  if (auto q = project_point(table, points, x - dx, y - dy, view, width, height); q && std::abs(q->z - centre.z) <= tolerance)
+    return Projected{centre.x - q->x, centre.y - q->y, centre.z - q->z};
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const HostImage& points, const SplatSettings& s) {
   const int target_width = int(table.target.size[0]), target_height = int(table.target.size[1]);
   const size_t n = size_t(target_width) * size_t(target_height);
   std::vector<uint32_t> fusion(3 * n, 0u);
   std::fill_n(fusion.begin(), n, RT_IBR_EMPTY_DEPTH_BITS);
-  // Each splat covers these pixels with this depth; the two passes visit the same splats.
+  // Each splat covers these pixels with these depths; the two passes visit the same splats.
   auto for_each_splat = [&](auto&& visit) {
     for (uint32_t view = 0; view < table.camera_count; ++view) {
       const shader_abi::IbrCamera& camera = table.cameras[view];
-      const uint32_t width = uint32_t(camera.depth.tangential[2]), height = uint32_t(camera.depth.tangential[3]);
-      for (uint32_t y = 0; y < height; ++y)
-        for (uint32_t x = 0; x < width; ++x) {
-          const float* point = &points.texels[points.index(x, y + view * height)];
-          if (!(point[3] > 0.0f)) continue;
-          const Float3 p = transform_point(table.target.camera_from_site, {point[0], point[1], point[2]});
-          if (!(p.z > 1e-4f)) continue;
-          const float cx = table.target.pinhole[0] * (p.x / p.z) + table.target.pinhole[2];
-          const float cy = table.target.pinhole[1] * (p.y / p.z) + table.target.pinhole[3];
-          if (!std::isfinite(cx) || !std::isfinite(cy)) continue;
-          if (cx < -s.max_footprint_px || cy < -s.max_footprint_px || cx > table.target.size[0] + s.max_footprint_px ||
-              cy > table.target.size[1] + s.max_footprint_px)
+      const int width = int(camera.depth.tangential[2]), height = int(camera.depth.tangential[3]);
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+          const auto centre = project_point(table, points, x, y, view, width, height);
+          if (!centre) continue;
+          if (centre->x < -s.max_footprint_px || centre->y < -s.max_footprint_px ||
+              centre->x > table.target.size[0] + s.max_footprint_px || centre->y > table.target.size[1] + s.max_footprint_px)
             continue;
-          const float footprint = s.footprint_scale * (point[3] / camera.depth.pinhole[0]) * table.target.pinhole[0] / p.z;
-          const float half_side = 0.5f * std::clamp(footprint, 1.0f, s.max_footprint_px);
-          const int x0 = std::max(int(std::ceil(cx - half_side)), 0), y0 = std::max(int(std::ceil(cy - half_side)), 0);
-          const int x1 = std::min(int(std::floor(cx + half_side)), target_width - 1);
-          const int y1 = std::min(int(std::floor(cy + half_side)), target_height - 1);
+          const auto along_x = surface_neighbour(table, points, x, y, 1, 0, view, width, height, *centre, s.plane_tolerance_m);
+          const auto along_y = surface_neighbour(table, points, x, y, 0, 1, view, width, height, *centre, s.plane_tolerance_m);
+          const float det = along_x && along_y ? along_x->x * along_y->y - along_x->y * along_y->x : 0.0f;
+          const bool on_surface = along_x && along_y &&
+                                  std::abs(det) > 0.01f * std::hypot(along_x->x, along_x->y) * std::hypot(along_y->x, along_y->y) &&
+                                  std::abs(det) > 1e-8f;
+          float half_x, half_y;
+          if (on_surface) {
+            half_x = std::min(0.5f * s.footprint_scale * (std::abs(along_x->x) + std::abs(along_y->x)), 0.5f * s.max_footprint_px);
+            half_y = std::min(0.5f * s.footprint_scale * (std::abs(along_x->y) + std::abs(along_y->y)), 0.5f * s.max_footprint_px);
+          } else {
+            const float depth = points.texels[points.index(uint32_t(x), uint32_t(y) + view * uint32_t(height)) + 3];
+            const float footprint = s.footprint_scale * (depth / camera.depth.pinhole[0]) * table.target.pinhole[0] / centre->z;
+            half_x = half_y = 0.5f * std::clamp(footprint, 1.0f, s.max_footprint_px);
+          }
+          const int x0 = std::max(int(std::ceil(centre->x - half_x)), 0), y0 = std::max(int(std::ceil(centre->y - half_y)), 0);
+          const int x1 = std::min(int(std::floor(centre->x + half_x)), target_width - 1);
+          const int y1 = std::min(int(std::floor(centre->y + half_y)), target_height - 1);
+          const float limit = 0.5f * s.footprint_scale + 1e-3f;
           for (int ty = y0; ty <= y1; ++ty)
-            for (int tx = x0; tx <= x1; ++tx) visit(size_t(ty) * size_t(target_width) + size_t(tx), p.z);
+            for (int tx = x0; tx <= x1; ++tx) {
+              float z = centre->z;
+              if (on_surface) {
+                const float ox = float(tx) - centre->x, oy = float(ty) - centre->y;
+                const float a = (ox * along_y->y - oy * along_y->x) / det;
+                const float b = (along_x->x * oy - along_x->y * ox) / det;
+                if (std::abs(a) > limit || std::abs(b) > limit) continue;
+                z = std::max(centre->z + a * along_x->z + b * along_y->z, 1e-4f);
+              }
+              visit(size_t(ty) * size_t(target_width) + size_t(tx), z);
+            }
         }
     }
   };

@@ -19,6 +19,9 @@ struct SplatSettings {
   float footprint_scale = 1.0f;   // splat side over a depth pixel's projected size
   float max_footprint_px = 6.0f;
   float average_tolerance_m = 0.1f;
+  // A splat is a piece of its surface's tangent plane, spanned by the neighbouring points within
+  // this depth of it; without two such neighbours it is flat. Its depth stays within this of the point's.
+  float plane_tolerance_m = 0.03f;
 };
 
 // A fusion buffer for a target of this size: usable as storage and as a fill destination.

@@ -15,10 +15,40 @@ layout(constant_id = 0) const bool accumulate_average = false;
 layout(constant_id = 1) const float footprint_scale = 1.0;   // splat side over the projected pixel size
 layout(constant_id = 2) const float max_footprint_px = 6.0;
 layout(constant_id = 3) const float average_tolerance_m = 0.1;  // depths this far behind the nearest join its average
+layout(constant_id = 4) const float plane_tolerance_m = 0.03;   // neighbours this close span the splat's plane
 
 layout(binding = 0, rgba32f) uniform readonly image2D points;  // site xyz, camera z; 0 = none
 // [0, n): nearest depth bits; [n, 2n): sum of agreeing depths (10 micrometre units); [2n, 3n): their count.
 layout(std430, binding = 1) buffer Fusion { uint fusion[]; };
+
+// Where a foreground point lands in the target view: (pixel x, pixel y, camera z); false when
+// it is missing, behind the eye or far outside the image.
+bool project_point(ivec2 pixel, int view, ivec2 size, out vec3 projected) {
+  projected = vec3(0.0);
+  if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, size))) return false;
+  vec4 point = imageLoad(points, ivec2(pixel.x, pixel.y + view * size.y));
+  if (point.w <= 0.0) return false;
+  vec3 p = transform_point(target.camera_from_site, point.xyz);
+  if (p.z <= 1e-4) return false;
+  projected = vec3(target.pinhole.xy * (p.xy / p.z) + target.pinhole.zw, p.z);
+  return is_finite(projected.x) && is_finite(projected.y);
+}
+
+// A neighbour on the same surface along `step` (or, failing that, along -step): its offset from
+// `centre` in target pixels and depth.
+bool surface_neighbour(ivec2 pixel, ivec2 step, int view, ivec2 size, vec3 centre, out vec3 offset) {
+  vec3 q;
+  if (project_point(pixel + step, view, size, q) && abs(q.z - centre.z) <= plane_tolerance_m) {
+    offset = q - centre;
+    return true;
+  }
+  if (project_point(pixel - step, view, size, q) && abs(q.z - centre.z) <= plane_tolerance_m) {
+    offset = centre - q;
+    return true;
+  }
+  offset = vec3(0.0);
+  return false;
+}
 
 void main() {
   int view = int(gl_GlobalInvocationID.z);
@@ -33,22 +63,48 @@ void main() {
   // Far outside the image (grazing the eye plane): skip before converting to integers.
   if (!is_finite(centre.x) || !is_finite(centre.y)) return;
   if (any(lessThan(centre, vec2(-max_footprint_px))) || any(greaterThan(centre, target.size.xy + max_footprint_px))) return;
-  // A depth pixel is point.w / fx_depth metres wide at its surface; seen from the eye that is
-  // this many target pixels (up to the surface's tilt, which the hole filling absorbs).
-  float footprint = footprint_scale * (point.w / cameras[view].depth.pinhole.x) * target.pinhole.x / p.z;
-  float half_side = 0.5 * clamp(footprint, 1.0, max_footprint_px);
+  // The splat is the depth pixel's own piece of the surface: the parallelogram its neighbours in
+  // the depth image span, half-way to each, on the plane through them. Neighbouring splats of one
+  // surface then tile the target without overlapping or spilling past a silhouette, whatever
+  // the angles of the camera and the eye to the surface, and their depths agree instead of the
+  // min-filter picking the front step of a staircase.
+  vec3 here = vec3(centre, p.z);
+  vec3 along_x, along_y;
+  bool on_surface = surface_neighbour(pixel, ivec2(1, 0), view, size, here, along_x) &&
+               surface_neighbour(pixel, ivec2(0, 1), view, size, here, along_y);
+  float det = along_x.x * along_y.y - along_x.y * along_y.x;
+  // Seen edge-on from the eye, the parallelogram has no area to test against.
+  on_surface = on_surface && abs(det) > 0.01 * length(along_x.xy) * length(along_y.xy) && abs(det) > 1e-8;
+  vec2 half_extent;
+  if (on_surface) {
+    half_extent = min(0.5 * footprint_scale * (abs(along_x.xy) + abs(along_y.xy)), vec2(0.5 * max_footprint_px));
+  } else {
+    // No surface around it (an edge, a thin finger): a square of the depth pixel's width at
+    // its depth (point.w / fx_depth metres) as the eye sees it, at least a pixel, at one depth.
+    float footprint = footprint_scale * (point.w / cameras[view].depth.pinhole.x) * target.pinhole.x / p.z;
+    half_extent = vec2(0.5 * clamp(footprint, 1.0, max_footprint_px));
+  }
   ivec2 target_size = ivec2(target.size.xy);
-  ivec2 first = max(ivec2(ceil(centre - half_side)), ivec2(0));
-  ivec2 last = min(ivec2(floor(centre + half_side)), target_size - 1);
-  uint bits = floatBitsToUint(p.z);
+  ivec2 first = max(ivec2(ceil(centre - half_extent)), ivec2(0));
+  ivec2 last = min(ivec2(floor(centre + half_extent)), target_size - 1);
+  float patch_limit = 0.5 * footprint_scale + 1e-3;  // a hair over half-way: no cracks between neighbours
   uint n = uint(target_size.x * target_size.y);
   for (int y = first.y; y <= last.y; ++y)
     for (int x = first.x; x <= last.x; ++x) {
+      float z = p.z;
+      if (on_surface) {
+        // The pixel in the on_surface's own coordinates: offset = a * along_x + b * along_y.
+        vec2 offset = vec2(x, y) - centre;
+        float a = (offset.x * along_y.y - offset.y * along_y.x) / det;
+        float b = (along_x.x * offset.y - along_x.y * offset.x) / det;
+        if (abs(a) > patch_limit || abs(b) > patch_limit) continue;
+        z = max(p.z + a * along_x.z + b * along_y.z, 1e-4);
+      }
       uint index = uint(y * target_size.x + x);
       if (!accumulate_average) {
-        atomicMin(fusion[index], bits);
-      } else if (p.z <= uintBitsToFloat(fusion[index]) + average_tolerance_m) {
-        atomicAdd(fusion[n + index], uint(floor(p.z * 1e5 + 0.5)));
+        atomicMin(fusion[index], floatBitsToUint(z));
+      } else if (z <= uintBitsToFloat(fusion[index]) + average_tolerance_m) {
+        atomicAdd(fusion[n + index], uint(floor(z * 1e5 + 0.5)));
         atomicAdd(fusion[2u * n + index], 1u);
       }
     }

@@ -212,3 +212,59 @@ TEST_CASE("ibr_splat and ibr_fuse hard cases", "[ibr_splat][ibr_fuse][gpu]") {
     REQUIRE_THROWS_WITH(passes::IbrFusePass(test::gpu()).add_to(graph, small, fused), Catch::Contains("does not match"));
   }
 }
+
+TEST_CASE("ibr_splat: splats of a tilted plane tile it at its own depths", "[ibr_splat][gpu]") {
+  // One camera sees a disc of a plane face-on; the eye sees it at about 50 degrees. Each splat is
+  // the parallelogram of its depth pixel on the plane, so every covered target pixel has the
+  // plane's depth along its ray (to float precision, stated: 0.5 mm). Squares at one depth each,
+  // as a splat without neighbours on the surface is drawn (plane_tolerance_m = 0), miss by
+  // centimetres: the test can tell the two apart.
+  test::NoValidationErrors no_errors;
+  const test::IbrRig rig = test::ibr_rig(1, 16, 9, 121, 91, 321, 181, false);
+  const Eigen::Vector3d centre(0.0, 0.0, 0.7);
+  const Eigen::Vector3d normal = (rig.cameras[0].depth.position_in_site() - centre).normalized();
+  HostImage points(121, 91, PixelFormat::RGBA32F, 0.0f);
+  for (uint32_t y = 0; y < 91; ++y)
+    for (uint32_t x = 0; x < 121; ++x) {
+      const Camera& depth_camera = rig.cameras[0].depth;
+      const Eigen::Vector3d origin = depth_camera.position_in_site(), ray = depth_camera.ray_in_site({x, y});
+      const Eigen::Vector3d site = origin + ray * ((centre - origin).dot(normal) / ray.dot(normal));
+      if ((site - centre).norm() > 0.15) continue;
+      float* p = &points.texels[points.index(x, y)];
+      p[0] = float(site.x()), p[1] = float(site.y()), p[2] = float(site.z());
+      p[3] = float((depth_camera.camera_from_site * site).z());
+    }
+  // The plane's depth along each target pixel's ray.
+  const Camera& eye = rig.target;
+  auto plane_depth = [&](uint32_t x, uint32_t y) {
+    const Eigen::Vector3d origin = eye.position_in_site(), ray = eye.ray_in_site({x, y});
+    return (eye.camera_from_site * (origin + ray * ((centre - origin).dot(normal) / ray.dot(normal)))).z();
+  };
+  auto worst_error_mm = [&](const std::vector<uint32_t>& fusion, size_t& covered_pixels) {
+    double worst = 0;
+    covered_pixels = 0;
+    for (uint32_t y = 0; y < 181; ++y)
+      for (uint32_t x = 0; x < 321; ++x) {
+        const uint32_t bits = fusion[size_t(y) * 321 + x];
+        if (bits == RT_IBR_EMPTY_DEPTH_BITS) continue;
+        ++covered_pixels;
+        worst = std::max(worst, std::abs(double(std::bit_cast<float>(bits)) - plane_depth(x, y)) * 1000.0);
+      }
+    return worst;
+  };
+  INFO("eye to plane: " << std::acos(std::abs(normal.dot((eye.position_in_site() - centre).normalized()))) * 180 / 3.14159
+                        << " degrees");
+  const SplatResult gpu = run_gpu(rig, points);
+  const auto reference = passes::ibr_splat_reference(rig.table, points);
+  require_fusion_matches(gpu.fusion, reference, 321 * 181);
+  size_t covered_gpu = 0, covered_reference = 0;
+  CHECK(worst_error_mm(gpu.fusion, covered_gpu) < 0.5);
+  CHECK(worst_error_mm(reference, covered_reference) < 0.5);
+  CHECK(covered_reference > 500);  // the disc is about 0.3 m across
+  CHECK(covered_gpu > 500);
+
+  passes::SplatSettings squares;
+  squares.plane_tolerance_m = 0.0f;
+  size_t covered_squares = 0;
+  CHECK(worst_error_mm(passes::ibr_splat_reference(rig.table, points, squares), covered_squares) > 5.0);
+}
