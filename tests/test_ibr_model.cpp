@@ -149,4 +149,16 @@ TEST_CASE("portrait metrics on known images", "[ibr_model]") {
   REQUIRE(missing.depth_mae_edge_mm() == Approx(10.0).epsilon(1e-3));
   REQUIRE(missing.depth_bias_mm() == Approx(10.0).epsilon(1e-3));
   REQUIRE_THROWS(missing.add(portrait, depth, truth, depth, HostImage(3, 3, PixelFormat::R32F)));
+
+  // A truth edge pixel half covered is premultiplied (half its colour, alpha 0.5), as the
+  // simulator box-filters it: a portrait with the same straight colour and alpha matches it.
+  HostImage edge_truth = truth;
+  edge_truth.at(5, 2, 0) = edge_truth.at(5, 2, 1) = edge_truth.at(5, 2, 2) = 0.25f;
+  edge_truth.at(5, 2, 3) = 0.5f;
+  HostImage edge_portrait(w, h, PixelFormat::RGBA32F, 0.0f);
+  for (size_t i = 0; i < edge_portrait.texels.size(); ++i) edge_portrait.texels[i] = truth.texels[i];
+  edge_portrait.at(5, 2, 3) = 0.5f;  // straight colour 0.5, alpha 0.5
+  ibr::PortraitMetrics edge;
+  edge.add(edge_portrait, depth, edge_truth, depth, part);
+  REQUIRE(edge.psnr_fg_db() == 99.0);
 }

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "app/simulate.h"
+#include "app/site_display.h"
 #include "app/site_eye.h"
 #include "app/site_inputs.h"
 #include "app/site_motor.h"
@@ -368,4 +369,19 @@ TEST_CASE("site config: replay relative to the config's folder, motor checked", 
   CHECK(options.motor == "simulated");
   std::ofstream(dir / "bad.json") << R"({"motor": "serial"})";
   CHECK_THROWS_WITH(app::apply_site_config(dir / "bad.json", options), Contains("bad.json") && Contains("'motor'"));
+}
+
+TEST_CASE("the ground truth over the background: premultiplied edges are not darkened twice", "[site]") {
+  HostImage truth(2, 1, PixelFormat::RGBA8, 0.0f), background(2, 1, PixelFormat::RGBA8, 0.0f);
+  for (uint32_t c = 0; c < 3; ++c) {
+    truth.at(0, 0, c) = 0.8f;    // fully covered
+    truth.at(1, 0, c) = 0.4f;    // half covered: 0.8 premultiplied by 0.5
+    background.at(0, 0, c) = background.at(1, 0, c) = 0.2f;
+  }
+  truth.at(0, 0, 3) = 1.0f;
+  truth.at(1, 0, 3) = 0.5f;
+  const HostImage shown = app::truth_over_background(truth, background);
+  CHECK(shown.at(0, 0, 0) == Approx(0.8f));
+  CHECK(shown.at(1, 0, 0) == Approx(0.4f + 0.2f * 0.5f));
+  CHECK(shown.at(1, 0, 3) == Approx(1.0f));
 }

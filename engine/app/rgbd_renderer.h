@@ -46,7 +46,7 @@ class RgbdRenderer {
 
   bool has_target_view() const;
   const std::optional<Camera>& target_view() const { return target_view_; }
-  HostImage target_colour() const;  // rgba8: alpha 1 on the person, 0 elsewhere
+  HostImage target_colour() const;  // rgba8 premultiplied: the person over a zero background, alpha its coverage
   HostImage target_depth_m() const; // r32f camera z from the eye, 0 where nothing is
   HostImage target_part() const;    // r32f RT_PART_* (the hand mask is part == RT_PART_HAND)
 

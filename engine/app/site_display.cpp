@@ -39,7 +39,7 @@ HostImage truth_over_background(const HostImage& truth, const HostImage& backgro
   for (uint32_t y = 0; y < truth.height; ++y)
     for (uint32_t x = 0; x < truth.width; ++x) {
       const float a = std::clamp(truth.at(x, y, 3), 0.0f, 1.0f);
-      for (uint32_t c = 0; c < 3; ++c) out.at(x, y, c) = truth.at(x, y, c) * a + background.at(x, y, c) * (1.0f - a);
+      for (uint32_t c = 0; c < 3; ++c) out.at(x, y, c) = truth.at(x, y, c) + background.at(x, y, c) * (1.0f - a);
       out.at(x, y, 3) = 1.0f;
     }
   return out;

@@ -38,8 +38,9 @@ void label_link_lost(cv::Mat& bgr, const std::string& reason);
 
 std::string frame_name(uint64_t index);  // frame_NNNN.png
 
-// The simulator's ground truth (rgba8, alpha 1 on the person) over the display's background, as
-// the receiver's composite shows it: linear colour, no gamma, like shaders/composite.comp.
+// The simulator's ground truth (rgba8 premultiplied by coverage: the person box-filtered over a
+// zero background) over the display's background, as the receiver's composite shows it: linear
+// colour, no gamma, like shaders/composite.comp.
 HostImage truth_over_background(const HostImage& truth, const HostImage& background);
 
 cv::Mat to_bgr8(const HostImage& image);

@@ -63,11 +63,12 @@ PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& d
     for (uint32_t x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       const float alpha = std::clamp(portrait.at(x, y, 3), 0.0f, 1.0f);
-      const float truth_alpha = truth_colour.at(x, y, 3);
       double squared = 0, absolute = 0;
       for (uint32_t c = 0; c < 3; ++c) {
-        // Both over black: a missing portrait pixel costs its full colour.
-        const double difference = double(portrait.at(x, y, c)) * alpha - double(truth_colour.at(x, y, c)) * truth_alpha;
+        // Both over black: a missing portrait pixel costs its full colour. The truth is over
+        // black already (premultiplied); multiplying it by its alpha again would darken every
+        // partly covered edge pixel a second time.
+        const double difference = double(portrait.at(x, y, c)) * alpha - double(truth_colour.at(x, y, c));
         squared += difference * difference;
         absolute += std::abs(difference);
       }

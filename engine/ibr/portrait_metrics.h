@@ -24,8 +24,10 @@ class PortraitMetrics {
  public:
   explicit PortraitMetrics(MetricRegions regions = {}) : regions_(regions) {}
 
-  // portrait rgba32f (straight alpha), depth r32f metres; truth: colour rgba8 (alpha 1 on the
-  // person), depth r32f metres (0 = nothing), part r32f (RT_PART_HAND marks the hand).
+  // portrait rgba32f (straight alpha), depth r32f metres; truth: colour rgba8 premultiplied by
+  // its coverage (the simulator box-filters the person over a zero background, so an edge pixel
+  // half covered is half its colour with alpha 0.5), depth r32f metres (0 = nothing), part r32f
+  // (RT_PART_HAND marks the hand). Both are compared over black.
   // Returns this frame's error images.
   PortraitError add(const HostImage& portrait, const HostImage& depth, const HostImage& truth_colour,
                     const HostImage& truth_depth, const HostImage& truth_part);
