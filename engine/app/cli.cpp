@@ -120,6 +120,12 @@ int run_cli(int argc, char** argv) {
   eval_ibr_command->add_option("--supersample", eval_ibr_options.supersample,
                                "Simulated colour and ground truth rendered at N x N samples per pixel, box-filtered (odd)")
       ->check(CLI::IsMember({1u, 3u, 5u, 7u}))->capture_default_str();
+  eval_ibr_command->add_option("--portrait-supersample", eval_ibr_options.portrait_supersample,
+                               "Portrait rendered at N x N samples per pixel and resolved (partial alpha on edges)")
+      ->check(CLI::Range(1u, 4u))->capture_default_str();
+  eval_ibr_command->add_option("--resolution-scale", eval_ibr_options.resolution_scale,
+                               "Camera resolution scale (default: the scene's; 1 is the site's own)")
+      ->check(CLI::Range(0.01, 1.0));
   eval_ibr_command->add_option("--site", eval_ibr_options.site, "Whose user is rendered")
       ->check(CLI::IsMember({"A", "B"}))->capture_default_str();
   add_common_options(*eval_ibr_command, eval_ibr, "out/eval-ibr");

@@ -52,6 +52,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   sim::Scene scene = sim::load_scene(resolve_scene(eval.scene));
   if (eval.frames_given) scene.frame_count = options.frames;
   scene.colour_supersampling = eval.supersample;
+  if (eval.resolution_scale > 0) scene.resolution_scale = eval.resolution_scale;
   const Site site = eval.site == "B" ? Site::B : Site::A;
   GpuSession session(options);
   vk::Context& context = session.context();
@@ -63,6 +64,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   settings.height = options.height;
   settings.views = eval.views;
   settings.refine = eval.refine_hypotheses > 0;
+  settings.supersample = eval.portrait_supersample;
   settings.splat.average_tolerance_m = eval.average_tolerance_m;
   if (settings.refine) settings.refinement.hypotheses = eval.refine_hypotheses;
   std::vector<FusionRun> runs;
@@ -78,10 +80,13 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   std::filesystem::create_directories(images_dir);
   const uint32_t frames = scene.frame_count;
   const uint32_t save_every = std::max(1u, frames / 4);
-  std::printf("eval ibr: scene %s, site %s's user for the other site's eye, %ux%u, %u of %zu cameras, %u frames, "
-              "colour supersampled %ux%u, on %s\n",
-              eval.scene.c_str(), eval.site.c_str(), options.width, options.height, eval.views, positions.size(), frames,
-              eval.supersample, eval.supersample, context.device_name().c_str());
+  const CameraIntrinsics& colour = simulator.renderer().camera(0).colour.intrinsics;
+  const CameraIntrinsics& depth = simulator.renderer().camera(0).depth.intrinsics;
+  std::printf("eval ibr: scene %s, site %s's user for the other site's eye, %ux%u (portrait supersampled %ux%u), "
+              "%u of %zu cameras (colour %ux%u, depth %ux%u), %u frames, simulated colour supersampled %ux%u, on %s\n",
+              eval.scene.c_str(), eval.site.c_str(), options.width, options.height, eval.portrait_supersample,
+              eval.portrait_supersample, eval.views, positions.size(), colour.width, colour.height, depth.width,
+              depth.height, frames, eval.supersample, eval.supersample, context.device_name().c_str());
   for (uint32_t index = 0; index < frames; ++index) {
     const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
     if (!frame) break;
@@ -118,6 +123,10 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"views", eval.views},
                            {"refine_hypotheses", eval.refine_hypotheses},
                            {"colour_supersampling", eval.supersample},
+                           {"portrait_supersampling", eval.portrait_supersample},
+                           {"resolution_scale", scene.resolution_scale},
+                           {"camera_colour", {colour.width, colour.height}},
+                           {"camera_depth", {depth.width, depth.height}},
                            {"average_tolerance_m", eval.average_tolerance_m},
                            {"frames", frames},
                            {"device", context.device_name()},

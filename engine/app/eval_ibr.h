@@ -14,6 +14,8 @@ struct EvalIbrOptions {
   int refine_hypotheses = 0;   // plane-sweep refinement; 0 = off
   float average_tolerance_m = 0.1f;  // avg fusion: depths this far behind the nearest join the mean
   uint32_t supersample = 3;    // the simulator's colour supersampling (scene's own is overridden)
+  double resolution_scale = 0; // of the cameras' resolutions; 0 = the scene's own
+  uint32_t portrait_supersample = 1;  // the portrait rendered at N x N samples per pixel and resolved
   bool frames_given = false;   // else the scene's own frame count
 };
 

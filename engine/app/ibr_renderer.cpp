@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "app/site_simulator.h"
+
 namespace rt::app {
 namespace {
 
@@ -10,6 +12,9 @@ IbrSettings with_fusion(IbrSettings settings) {
   if (settings.views == 0 || settings.views > RT_IBR_MAX_VIEWS)
     throw std::invalid_argument("image-based model: views must be 1.." + std::to_string(RT_IBR_MAX_VIEWS));
   if (settings.width == 0 || settings.height == 0) throw std::invalid_argument("image-based model: empty target view");
+  if (settings.supersample == 0 || settings.supersample > 4)
+    throw std::invalid_argument("image-based model: supersample must be 1..4");
+  settings.splat.max_footprint_px *= float(settings.supersample);
   settings.splat.fusion = settings.fusion;
   settings.fuse.fusion = settings.fusion;
   return settings;
@@ -22,6 +27,7 @@ struct IbrRenderer::Images {
   vk::Buffer fusion;
   vk::Image fused_depth, refined_depth, warped, features;  // target sized (atlases: bands)
 
+  // `s.width` x `s.height` here are the rendered (supersampled) size.
   Images(vk::Context& context, const passes::IbrCameraModel& camera, const IbrSettings& s)
       : depth_mm(context, {"ibr depth mm", camera.depth.intrinsics.width, camera.depth.intrinsics.height * s.views,
                            PixelFormat::R16U}),
@@ -57,10 +63,19 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     const size_t count = std::min<size_t>(RT_IBR_MAX_VIEWS, cameras_.size() - first);
     (void)passes::make_scene_table(cameras_[0].colour, std::span(cameras_).subspan(first, count));
   }
-  images_ = std::make_unique<Images>(context, cameras_[0], settings_);
+  IbrSettings rendered = settings_;
+  rendered.width *= settings_.supersample;
+  rendered.height *= settings_.supersample;
+  images_ = std::make_unique<Images>(context, cameras_[0], rendered);
   portrait_ = std::make_unique<vk::Image>(context, vk::ImageDesc{"portrait", settings_.width, settings_.height});
   portrait_depth_ = std::make_unique<vk::Image>(
       context, vk::ImageDesc{"portrait depth", settings_.width, settings_.height, PixelFormat::R32F});
+  if (settings_.supersample > 1) {
+    resolve_ = std::make_unique<passes::IbrResolvePass>(context, settings_.supersample);
+    fine_portrait_ = std::make_unique<vk::Image>(context, vk::ImageDesc{"fine portrait", rendered.width, rendered.height});
+    fine_portrait_depth_ = std::make_unique<vk::Image>(
+        context, vk::ImageDesc{"fine portrait depth", rendered.width, rendered.height, PixelFormat::R32F});
+  }
 
   graph_ = std::make_unique<vk::FrameGraph>(context, "image-based model");
   Images& i = *images_;
@@ -74,7 +89,12 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     depth = &i.refined_depth;
   }
   warp_.add_to(*graph_, scene_, *depth, i.colour, i.points, i.warped, i.features, views);
-  blend_.add_to(*graph_, *depth, i.warped, i.features, *portrait_, *portrait_depth_, views);
+  if (resolve_) {
+    blend_.add_to(*graph_, *depth, i.warped, i.features, *fine_portrait_, *fine_portrait_depth_, views);
+    resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, *portrait_, *portrait_depth_);
+  } else {
+    blend_.add_to(*graph_, *depth, i.warped, i.features, *portrait_, *portrait_depth_, views);
+  }
 }
 
 IbrRenderer::~IbrRenderer() = default;
@@ -105,7 +125,9 @@ void IbrRenderer::prepare(std::span<const sim::RgbdImage> images, std::span<cons
     colours.push_back(image.colour);
     depths.push_back(image.depth_mm);
   }
-  scene_.write(passes::make_scene_table(target_view, selected));
+  Camera rendered_view = target_view;
+  if (settings_.supersample > 1) rendered_view.intrinsics = scaled_intrinsics(target_view.intrinsics, settings_.supersample);
+  scene_.write(passes::make_scene_table(rendered_view, selected));
   if (uploaded_selection_ != std::vector<size_t>(selection.begin(), selection.end())) {
     vk::upload(context_, images_->depth_rays, passes::depth_ray_atlas(selected));
     uploaded_selection_.assign(selection.begin(), selection.end());

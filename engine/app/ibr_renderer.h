@@ -11,6 +11,7 @@
 #include "passes/ibr_foreground.h"
 #include "passes/ibr_fuse.h"
 #include "passes/ibr_refine.h"
+#include "passes/ibr_resolve.h"
 #include "passes/ibr_scene.h"
 #include "passes/ibr_splat.h"
 #include "passes/ibr_warp.h"
@@ -21,6 +22,10 @@ namespace rt::app {
 struct IbrSettings {
   uint32_t width = 640, height = 360;  // the target view
   uint32_t views = 4;                  // cameras used per frame (the paper: 4 of 6)
+  // The portrait rendered at this many times the target's resolution per axis and resolved
+  // (ibr_resolve): partial alpha on silhouettes, texture filtered over each pixel; 1 = off.
+  // The splats' largest footprint scales with it.
+  uint32_t supersample = 1;
   passes::DepthFusion fusion = passes::DepthFusion::Min;
   bool refine = false;  // plane sweep, off by default
   passes::ForegroundSettings foreground;
@@ -64,9 +69,11 @@ class IbrRenderer {
   std::unique_ptr<passes::IbrRefinePass> refine_;
   passes::IbrWarpPass warp_;
   passes::IbrBlendPass blend_;
+  std::unique_ptr<passes::IbrResolvePass> resolve_;
   passes::IbrSceneBuffer scene_;
   std::unique_ptr<Images> images_;
   std::unique_ptr<vk::Image> portrait_, portrait_depth_;
+  std::unique_ptr<vk::Image> fine_portrait_, fine_portrait_depth_;  // with supersampling
   std::unique_ptr<vk::FrameGraph> graph_;
   std::vector<size_t> uploaded_selection_;  // whose depth rays the ray atlas holds
 };

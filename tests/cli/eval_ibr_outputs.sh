@@ -19,4 +19,9 @@ for f in 0000_truth.png 0000_min_portrait.png 0000_avg_portrait.png 0001_min_col
   [ -s "$out/images/$f" ] || { echo "missing $out/images/$f" >&2; exit 1; }
 done
 grep -Eq '^min +[0-9.]+' "$out.log" && grep -Eq '^avg +[0-9.]+' "$out.log"
+# A supersampled portrait at the site's own camera resolution: the resolve pass runs and is timed.
+"$binary" eval ibr --scene wave --frames 1 --width 41 --height 23 --portrait-supersample 2 --resolution-scale 0.25 \
+  --out "$out-supersampled" --validation | tee "$out-supersampled.log"
+grep -q '"portrait_supersampling": 2' "$out-supersampled/metrics.json" || { echo "no portrait_supersampling" >&2; exit 1; }
+grep -q 'ibr_resolve' "$out-supersampled.log" || { echo "no ibr_resolve timing" >&2; exit 1; }
 echo "eval ibr outputs ok"
