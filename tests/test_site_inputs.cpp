@@ -94,8 +94,8 @@ std::filesystem::path write_recording(const std::string& name, int frames = 3) {
     frame.index = uint64_t(i);
     frame.timestamp_us = 1'000'000 + uint64_t(i) * 33'333;
     for (const auto& camera : site.cameras) {
-      const CameraIntrinsics colour = app::scaled_intrinsics(camera.colour, 0.02);
-      const CameraIntrinsics depth = app::scaled_intrinsics(camera.depth, 0.02);
+      const CameraIntrinsics colour = scaled_intrinsics(camera.colour, 0.02);
+      const CameraIntrinsics depth = scaled_intrinsics(camera.depth, 0.02);
       sim::RgbdImage image;
       image.camera = camera.name;
       image.timestamp_us = frame.timestamp_us;
@@ -218,7 +218,7 @@ TEST_CASE("eye finder: a thread over offered frames, deciding once", "[site_inpu
   std::vector<Camera> cameras;
   for (const auto& camera : site.cameras) {
     Camera colour = camera.colour_camera();
-    colour.intrinsics = app::scaled_intrinsics(camera.colour, 0.1);
+    colour.intrinsics = scaled_intrinsics(camera.colour, 0.1);
     cameras.push_back(colour);
   }
   std::vector<sim::RgbdImage> images(cameras.size());

@@ -3,8 +3,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "app/site_simulator.h"
-
 namespace rt::app {
 namespace {
 

@@ -12,9 +12,6 @@
 
 namespace rt::app {
 
-// The intrinsics at a scene's resolution scale (the principal point moves with the pixels).
-CameraIntrinsics scaled_intrinsics(const CameraIntrinsics& intrinsics, double scale);
-
 // The per-camera sensor models that a scene's effects ask for (all off by default).
 RgbdCameraSpec camera_spec(const sim::RgbdCamera& camera, const sim::Effects& effects, double resolution_scale);
 

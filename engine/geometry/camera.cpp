@@ -1,11 +1,30 @@
 #include "geometry/camera.h"
 
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
 #include "config/json_fields.h"
 
 namespace rt {
+
+CameraIntrinsics scaled_intrinsics(const CameraIntrinsics& k, double scale) {
+  if (!(scale > 0) || !std::isfinite(scale)) throw std::invalid_argument("resolution scale must be > 0");
+  CameraIntrinsics out = k;
+  out.width = std::max<uint32_t>(1, uint32_t(std::lround(k.width * scale)));
+  out.height = std::max<uint32_t>(1, uint32_t(std::lround(k.height * scale)));
+  const double sx = double(out.width) / k.width, sy = double(out.height) / k.height;
+  out.fx = k.fx * sx;
+  out.fy = k.fy * sy;
+  // Pixel centres: OpenCV's pixel (0, 0) covers [-0.5, 0.5], so scale about the image corner.
+  out.cx = (k.cx + 0.5) * sx - 0.5;
+  out.cy = (k.cy + 0.5) * sy - 0.5;
+  return out;
+}
+
 
 Distortion Distortion::from_opencv(const double* c, size_t count) {
   Distortion d;

@@ -36,6 +36,11 @@ struct Camera {
   Eigen::Vector3d ray_in_site(const Eigen::Vector2d& pixel) const;
 };
 
+// The intrinsics of the same camera at `scale` times its resolution (a scene's resolution
+// scale, a supersampled view): the principal point moves with the pixels. Throws
+// std::invalid_argument unless scale > 0.
+CameraIntrinsics scaled_intrinsics(const CameraIntrinsics& intrinsics, double scale);
+
 // JSON: {"name", "width", "height", "fx", "fy", "cx", "cy", "distortion": {"k1", ...},
 // "camera_from_site": 4x4 row-major (optional)}. Errors name the camera and the field.
 nlohmann::json intrinsics_to_json(const CameraIntrinsics& intrinsics);

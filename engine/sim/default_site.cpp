@@ -27,6 +27,13 @@ const Eigen::Vector2d kTrackerXY(0.2, -0.3);
 // The tracker's axis points at the touch region, a little above the glass, where hands are.
 constexpr double kTrackerAimHeightM = 0.07;
 
+// Where a camera at `mount_position` looks: from the top row between the seated user's face and
+// chest, from the bottom row (below the screen centre) at the waist.
+Eigen::Vector3d camera_aim_point(const Seat& seat, const Eigen::Vector3d& mount_position) {
+  const double below_head = mount_position.y() < 0 ? kBottomAimBelowHeadM : kTopAimBelowHeadM;
+  return seat.head_centre_m - Eigen::Vector3d(0, below_head, 0);
+}
+
 }  // namespace
 
 std::vector<CameraMount> camera_stand_mounts(const Screen& screen, const CameraStandGeometry& geometry) {
@@ -36,11 +43,6 @@ std::vector<CameraMount> camera_stand_mounts(const Screen& screen, const CameraS
   // x is the site's +x, the seated user's right.
   return {{"top-left", {-x, y, z}},     {"top-centre", {0, y, z}},     {"top-right", {x, y, z}},
           {"bottom-left", {-x, -y, z}}, {"bottom-centre", {0, -y, z}}, {"bottom-right", {x, -y, z}}};
-}
-
-Eigen::Vector3d camera_aim_point(const Seat& seat, const Eigen::Vector3d& mount_position) {
-  const double below_head = mount_position.y() < 0 ? kBottomAimBelowHeadM : kTopAimBelowHeadM;
-  return seat.head_centre_m - Eigen::Vector3d(0, below_head, 0);
 }
 
 Eigen::Isometry3d camera_from_site_looking_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {

@@ -43,10 +43,6 @@ struct DefaultSiteOptions {
 // from the screen below the right hand facing up at the touch region, the motor on the top-left corner.
 SiteDescription make_default_site(const DefaultSiteOptions& options = {});
 
-// Where a default site's camera at `mount_position` looks: from the top row between the seated
-// user's face and chest, from the bottom row (below the screen centre) at the waist.
-Eigen::Vector3d camera_aim_point(const Seat& seat, const Eigen::Vector3d& mount_position);
-
 // Pose of a camera at `position` looking at `target`, image "up" towards +y of the site (OpenCV
 // axes: x right, y down, z forward). Throws std::invalid_argument when the points coincide or
 // the view is vertical (the roll is undefined then).
