@@ -149,6 +149,12 @@ TEST_CASE("portrait metrics on known images", "[ibr_model]") {
   REQUIRE(missing.depth_mae_edge_mm() == Approx(10.0).epsilon(1e-3));
   REQUIRE(missing.depth_bias_mm() == Approx(10.0).epsilon(1e-3));
   REQUIRE_THROWS(missing.add(portrait, depth, truth, depth, HostImage(3, 3, PixelFormat::R32F)));
+  // All of that error is the uncovered row's.
+  REQUIRE(missing.region_pixel_share(ibr::ErrorRegion::Uncovered) == Approx(10.0 / 60.0));
+  REQUIRE(missing.region_error_share(ibr::ErrorRegion::Uncovered) == Approx(1.0));
+  REQUIRE(missing.region_psnr_db(ibr::ErrorRegion::Uncovered) == Approx(10 * std::log10(1.0 / 0.25)).epsilon(1e-6));
+  REQUIRE(missing.region_error_share(ibr::ErrorRegion::Outline) == 0.0);
+  REQUIRE(missing.to_json()["fg_error_by_region"]["uncovered"]["error_share"] == Approx(1.0));
 
   // A truth edge pixel half covered is premultiplied (half its colour, alpha 0.5), as the
   // simulator box-filters it: a portrait with the same straight colour and alpha matches it.
@@ -161,4 +167,43 @@ TEST_CASE("portrait metrics on known images", "[ibr_model]") {
   ibr::PortraitMetrics edge;
   edge.add(edge_portrait, depth, edge_truth, depth, part);
   REQUIRE(edge.psnr_fg_db() == 99.0);
+}
+
+TEST_CASE("portrait metrics split the foreground's error by region", "[ibr_model]") {
+  // A 10x6 person, its hand (x < 8) 10 cm in front of its body; 1-pixel bands so that an
+  // interior exists: outline = the outer two rings, depth edge = x 6..9 inside them, interior =
+  // x 10..12, y 4..5.
+  const uint32_t w = 20, h = 10;
+  HostImage truth(w, h, PixelFormat::RGBA8, 0.0f), part(w, h, PixelFormat::R32F, 0.0f), depth(w, h, PixelFormat::R32F, 0.0f);
+  for (uint32_t y = 2; y < 8; ++y)
+    for (uint32_t x = 5; x < 15; ++x) {
+      for (uint32_t c = 0; c < 4; ++c) truth.at(x, y, c) = c == 3 ? 1.0f : 0.5f;
+      part.at(x, y) = x < 8 ? float(RT_PART_HAND) : float(RT_PART_BODY);
+      depth.at(x, y) = x < 8 ? 0.9f : 1.0f;
+    }
+  ibr::MetricRegions bands;
+  bands.edge_band_px = 1;
+  auto metrics_with_error_at = [&](uint32_t x, uint32_t y) {
+    HostImage portrait(w, h, PixelFormat::RGBA32F, 0.0f);
+    for (size_t i = 0; i < portrait.texels.size(); ++i) portrait.texels[i] = truth.texels[i];
+    portrait.at(x, y, 0) = 1.0f;  // one channel off by 0.5
+    ibr::PortraitMetrics metrics(bands);
+    metrics.add(portrait, depth, truth, depth, part);
+    return metrics;
+  };
+  const std::pair<std::pair<uint32_t, uint32_t>, ibr::ErrorRegion> cases[] = {
+      {{11, 4}, ibr::ErrorRegion::Interior}, {{8, 4}, ibr::ErrorRegion::DepthEdge}, {{5, 5}, ibr::ErrorRegion::Outline}};
+  for (const auto& [at, region] : cases) {
+    INFO("error at " << at.first << "," << at.second);
+    const ibr::PortraitMetrics metrics = metrics_with_error_at(at.first, at.second);
+    REQUIRE(metrics.region_error_share(region) == Approx(1.0));
+    double pixel_shares = 0;
+    for (size_t r = 0; r < ibr::kErrorRegionCount; ++r) pixel_shares += metrics.region_pixel_share(ibr::ErrorRegion(r));
+    REQUIRE(pixel_shares == Approx(1.0));
+  }
+  const ibr::PortraitMetrics interior = metrics_with_error_at(11, 4);
+  REQUIRE(interior.region_pixel_share(ibr::ErrorRegion::Interior) == Approx(6.0 / 60.0));  // x 10..12, y 4..5
+  REQUIRE(interior.region_pixel_share(ibr::ErrorRegion::Uncovered) == 0.0);
+  REQUIRE(std::isnan(interior.region_psnr_db(ibr::ErrorRegion::Uncovered)));  // no such pixels: no figure
+  REQUIRE(interior.to_json()["fg_error_by_region"]["uncovered"]["psnr_db"].is_null());
 }

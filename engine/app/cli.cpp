@@ -115,7 +115,7 @@ int run_cli(int argc, char** argv) {
                                "Plane-sweep refinement with this many depth hypotheses (0 = off)")
       ->check(CLI::Range(0, 64))->capture_default_str();
   eval_ibr_command->add_option("--average-tolerance", eval_ibr_options.average_tolerance_m,
-                               "avg fusion: depths up to this many metres behind the nearest join the mean (large = plain mean)")
+                               "avg fusion: depths up to this many metres behind the nearest agree with it and join the mean (large, e.g. 0.1 = a plain mean that blurs edges)")
       ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();
   eval_ibr_command->add_option("--supersample", eval_ibr_options.supersample,
                                "Simulated colour and ground truth rendered at N x N samples per pixel, box-filtered (odd)")

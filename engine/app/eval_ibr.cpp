@@ -148,6 +148,16 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                 run.metrics.depth_bias_mm(), total_ms);
     report["by_fusion"][run.name] = result;
   }
+  std::printf("\nforeground error by region (share of pixels, share of squared error, PSNR dB):\n");
+  for (FusionRun& run : runs) {
+    std::printf("[%s]", run.name.c_str());
+    for (size_t r = 0; r < ibr::kErrorRegionCount; ++r) {
+      const auto region = ibr::ErrorRegion(r);
+      std::printf("  %s %.1f%% %.1f%% %.2f", ibr::kErrorRegionNames[r], 100 * run.metrics.region_pixel_share(region),
+                  100 * run.metrics.region_error_share(region), run.metrics.region_psnr_db(region));
+    }
+    std::printf("\n");
+  }
   // The first mode's figures at the top level, where scripts look first.
   for (const auto& [key, value] : report["by_fusion"][runs.front().name].items()) report[key] = value;
   report["fusion"] = runs.front().name;

@@ -40,7 +40,7 @@ PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& d
   for (const HostImage* image : {&depth, &truth_colour, &truth_depth, &truth_part})
     if (image->width != w || image->height != h) throw std::invalid_argument("portrait metrics: images differ in size");
   const size_t n = size_t(w) * h;
-  std::vector<uint8_t> foreground(n), hand(n), edge(n);
+  std::vector<uint8_t> foreground(n), hand(n), edge(n), outline(n);
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
@@ -51,12 +51,14 @@ PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& d
       for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
         if (x + uint32_t(dx) >= w || y + uint32_t(dy) >= h) continue;
         const float other = truth_depth.at(x + uint32_t(dx), y + uint32_t(dy));
-        if ((z > 0) != (other > 0) || (z > 0 && std::abs(z - other) > regions_.depth_edge_m))
-          edge[i] = edge[size_t(y + uint32_t(dy)) * w + x + uint32_t(dx)] = 1;
+        const size_t j = size_t(y + uint32_t(dy)) * w + x + uint32_t(dx);
+        if ((z > 0) != (other > 0)) outline[i] = outline[j] = 1;
+        if ((z > 0) != (other > 0) || (z > 0 && std::abs(z - other) > regions_.depth_edge_m)) edge[i] = edge[j] = 1;
       }
     }
   hand = dilate(hand, w, h, regions_.hand_dilation_px);
   edge = dilate(edge, w, h, regions_.edge_band_px);
+  outline = dilate(outline, w, h, regions_.edge_band_px);
 
   PortraitError error{HostImage(w, h, PixelFormat::R32F), HostImage(w, h, PixelFormat::R32F)};
   for (uint32_t y = 0; y < h; ++y)
@@ -73,7 +75,15 @@ PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& d
         absolute += std::abs(difference);
       }
       error.colour_error.at(x, y) = float(absolute / 3.0);
-      if (foreground[i]) fg_squared_error_ += squared, fg_values_ += 3;
+      if (foreground[i]) {
+        fg_squared_error_ += squared, fg_values_ += 3;
+        const ErrorRegion region = alpha < 0.5f ? ErrorRegion::Uncovered
+                                   : outline[i] ? ErrorRegion::Outline
+                                   : edge[i]    ? ErrorRegion::DepthEdge
+                                                : ErrorRegion::Interior;
+        region_squared_error_[size_t(region)] += squared;
+        ++region_pixels_[size_t(region)];
+      }
       if (hand[i]) hand_squared_error_ += squared, hand_values_ += 3;
       const float z = depth.at(x, y), truth_z = truth_depth.at(x, y);
       if (z > 0 && truth_z > 0) {
@@ -103,9 +113,27 @@ double PortraitMetrics::alpha_iou() const {
   return union_ ? double(intersection_) / double(union_) : std::numeric_limits<double>::quiet_NaN();
 }
 
+double PortraitMetrics::region_pixel_share(ErrorRegion region) const {
+  return fg_values_ ? double(region_pixels_[size_t(region)]) * 3.0 / double(fg_values_) : std::numeric_limits<double>::quiet_NaN();
+}
+double PortraitMetrics::region_error_share(ErrorRegion region) const {
+  return fg_squared_error_ > 0 ? region_squared_error_[size_t(region)] / fg_squared_error_ : std::numeric_limits<double>::quiet_NaN();
+}
+double PortraitMetrics::region_psnr_db(ErrorRegion region) const {
+  return psnr(region_squared_error_[size_t(region)], region_pixels_[size_t(region)] * 3);
+}
+
 nlohmann::json PortraitMetrics::to_json() const {
   auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-  return {{"psnr_fg_db", number(psnr_fg_db())},
+  nlohmann::json regions;
+  for (size_t r = 0; r < kErrorRegionCount; ++r) {
+    const auto region = ErrorRegion(r);
+    regions[kErrorRegionNames[r]] = {{"pixel_share", number(region_pixel_share(region))},
+                                     {"error_share", number(region_error_share(region))},
+                                     {"psnr_db", number(region_psnr_db(region))}};
+  }
+  return {{"fg_error_by_region", regions},
+          {"psnr_fg_db", number(psnr_fg_db())},
           {"psnr_hand_db", number(psnr_hand_db())},
           {"depth_mae_edge_mm", number(depth_mae_edge_mm())},
           {"alpha_iou", number(alpha_iou())},

@@ -20,6 +20,13 @@ struct PortraitError {
   HostImage depth_error_mm;  // r32f: |depth - truth| where both are set, else 0
 };
 
+// Where the foreground's squared error lies (each truth-foreground pixel in the first that
+// applies): pixels the portrait leaves uncovered (alpha < 0.5), the band around the person's
+// outline, the band around depth jumps inside it (hand over body), and the rest.
+enum class ErrorRegion { Uncovered, Outline, DepthEdge, Interior };
+inline constexpr const char* kErrorRegionNames[] = {"uncovered", "outline", "depth_edge", "interior"};
+inline constexpr size_t kErrorRegionCount = 4;
+
 class PortraitMetrics {
  public:
   explicit PortraitMetrics(MetricRegions regions = {}) : regions_(regions) {}
@@ -37,6 +44,10 @@ class PortraitMetrics {
   double depth_mae_edge_mm() const;
   double alpha_iou() const;
   double depth_bias_mm() const;  // mean signed error (portrait - truth) where both are set
+  // The region's share of the foreground's pixels and of its squared error, and its own PSNR.
+  double region_pixel_share(ErrorRegion region) const;
+  double region_error_share(ErrorRegion region) const;
+  double region_psnr_db(ErrorRegion region) const;
   nlohmann::json to_json() const;
 
  private:
@@ -46,6 +57,8 @@ class PortraitMetrics {
   size_t depth_pixels_ = 0;
   size_t fg_values_ = 0, hand_values_ = 0, edge_pixels_ = 0, intersection_ = 0, union_ = 0;
   size_t frames_ = 0;
+  double region_squared_error_[kErrorRegionCount] = {};
+  size_t region_pixels_[kErrorRegionCount] = {};
 };
 
 }  // namespace rt::ibr

@@ -6,7 +6,7 @@ binary=$1 out=$2
 rm -rf "$out"
 "$binary" eval ibr --scene wave --frames 2 --fusion both --width 81 --height 45 --out "$out" --validation | tee "$out.log"
 [ -s "$out/metrics.json" ] || { echo "missing $out/metrics.json" >&2; exit 1; }
-for key in psnr_fg_db psnr_hand_db depth_mae_edge_mm alpha_iou gpu_ms by_fusion; do
+for key in psnr_fg_db psnr_hand_db depth_mae_edge_mm alpha_iou gpu_ms by_fusion fg_error_by_region interior; do
   grep -q "\"$key\"" "$out/metrics.json" || { echo "metrics.json lacks $key" >&2; exit 1; }
 done
 # Every figure is a number (null would mean an empty region: not expected on wave).
