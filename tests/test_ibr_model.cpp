@@ -37,6 +37,22 @@ Simulated simulate(uint32_t width, uint32_t height) {
   return s;
 }
 
+// Ground truth of a 10x6 grey person at x 5..14, y 2..7, 1 m away; its hand (x < 8) at hand_depth_m.
+struct TruthImages {
+  HostImage colour, depth, part;
+};
+TruthImages person_box(uint32_t w, uint32_t h, float hand_depth_m) {
+  TruthImages truth{HostImage(w, h, PixelFormat::RGBA8, 0.0f), HostImage(w, h, PixelFormat::R32F, 0.0f),
+                    HostImage(w, h, PixelFormat::R32F, 0.0f)};
+  for (uint32_t y = 2; y < 8; ++y)
+    for (uint32_t x = 5; x < 15; ++x) {
+      for (uint32_t c = 0; c < 4; ++c) truth.colour.at(x, y, c) = c == 3 ? 1.0f : 0.5f;
+      truth.part.at(x, y) = x < 8 ? float(RT_PART_HAND) : float(RT_PART_BODY);
+      truth.depth.at(x, y) = x < 8 ? hand_depth_m : 1.0f;
+    }
+  return truth;
+}
+
 }  // namespace
 
 TEST_CASE("the image-based model renders a simulated frame close to ground truth", "[ibr_model][gpu]") {
@@ -122,13 +138,7 @@ TEST_CASE("camera selection: the two central cameras and two on the side opposit
 
 TEST_CASE("portrait metrics on known images", "[ibr_model]") {
   const uint32_t w = 20, h = 10;
-  HostImage truth(w, h, PixelFormat::RGBA8, 0.0f), part(w, h, PixelFormat::R32F, 0.0f), depth(w, h, PixelFormat::R32F, 0.0f);
-  for (uint32_t y = 2; y < 8; ++y)
-    for (uint32_t x = 5; x < 15; ++x) {
-      for (uint32_t c = 0; c < 4; ++c) truth.at(x, y, c) = c == 3 ? 1.0f : 0.5f;
-      part.at(x, y) = x < 8 ? float(RT_PART_HAND) : float(RT_PART_BODY);
-      depth.at(x, y) = 1.0f;
-    }
+  const auto [truth, depth, part] = person_box(w, h, 1.0f);
   HostImage portrait(w, h, PixelFormat::RGBA32F, 0.0f);
   for (size_t i = 0; i < portrait.texels.size(); ++i) portrait.texels[i] = truth.texels[i];
   ibr::PortraitMetrics exact;
@@ -174,13 +184,7 @@ TEST_CASE("portrait metrics split the foreground's error by region", "[ibr_model
   // interior exists: outline = the outer two rings, depth edge = x 6..9 inside them, interior =
   // x 10..12, y 4..5.
   const uint32_t w = 20, h = 10;
-  HostImage truth(w, h, PixelFormat::RGBA8, 0.0f), part(w, h, PixelFormat::R32F, 0.0f), depth(w, h, PixelFormat::R32F, 0.0f);
-  for (uint32_t y = 2; y < 8; ++y)
-    for (uint32_t x = 5; x < 15; ++x) {
-      for (uint32_t c = 0; c < 4; ++c) truth.at(x, y, c) = c == 3 ? 1.0f : 0.5f;
-      part.at(x, y) = x < 8 ? float(RT_PART_HAND) : float(RT_PART_BODY);
-      depth.at(x, y) = x < 8 ? 0.9f : 1.0f;
-    }
+  const auto [truth, depth, part] = person_box(w, h, 0.9f);
   ibr::MetricRegions bands;
   bands.edge_band_px = 1;
   auto metrics_with_error_at = [&](uint32_t x, uint32_t y) {
