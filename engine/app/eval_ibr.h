@@ -3,6 +3,7 @@
 #include <string>
 
 #include "app/options.h"
+#include "passes/ibr_splat.h"
 
 namespace rt::app {
 
@@ -12,7 +13,8 @@ struct EvalIbrOptions {
   std::string site = "A";      // whose user is rendered, for the other site's eye
   uint32_t views = 4;
   int refine_hypotheses = 0;   // plane-sweep refinement; 0 = off
-  float average_tolerance_m = 0.015f;  // avg fusion: depths this far behind the nearest join the mean
+  // avg fusion: depths this far behind the nearest join the mean; the pass's own default
+  float average_tolerance_m = passes::SplatSettings{}.average_tolerance_m;
   uint32_t supersample = 3;    // the simulator's colour supersampling (scene's own is overridden)
   double resolution_scale = 0; // of the cameras' resolutions; 0 = the scene's own
   uint32_t portrait_supersample = 1;  // the portrait rendered at N x N samples per pixel and resolved
