@@ -13,11 +13,15 @@ namespace {
 const RefineSettings& check(const RefineSettings& s) {
   if (s.hypotheses < 1 || s.hypotheses > 64 || !(s.step_m > 0.0f) || !std::isfinite(s.step_m))
     throw std::invalid_argument("depth refinement: hypotheses must be 1..64 and step_m a positive number of metres");
+  if (!(s.visibility_tolerance_m >= 0.0f) || !(s.visibility_tolerance_rel >= 0.0f))
+    throw std::invalid_argument("depth refinement: visibility tolerances must be >= 0");
   return s;
 }
 
-// Colour variance across the views that see `site` inside their colour image; -1 with fewer than two.
-float disagreement(const IbrSceneTable& table, const HostImage& colour, Float3 site) {
+// Colour variance across the views that see `site` (inside their colour and depth images, their
+// own depth agreeing); -1 with fewer than two.
+float disagreement(const IbrSceneTable& table, const HostImage& colour, const HostImage& points, Float3 site,
+                   const RefineSettings& s) {
   std::array<float, 3> sum{}, squares{};
   int seen = 0;
   for (uint32_t v = 0; v < table.camera_count; ++v) {
@@ -26,7 +30,12 @@ float disagreement(const IbrSceneTable& table, const HostImage& colour, Float3 s
     if (!(q.z > 1e-4f)) continue;
     const Float2 at = lens_project(camera.colour, q);
     const Float2 size{camera.colour.tangential[2], camera.colour.tangential[3]};
-    if (!inside_image(at, size, 0.0f)) continue;
+    const Float2 depth_size{camera.depth.tangential[2], camera.depth.tangential[3]};
+    const Float2 depth_pixel = lens_project(camera.depth, q);
+    if (!inside_image(at, size, 0.0f) || !inside_image(depth_pixel, depth_size, 0.0f)) continue;
+    if (!view_sees(points, v, uint32_t(depth_size.y), depth_pixel, q.z, s.visibility_tolerance_m,
+                   s.visibility_tolerance_rel))
+      continue;
     const auto c = bilinear_rgb(colour, at, v * uint32_t(size.y), uint32_t(size.x), uint32_t(size.y));
     for (size_t i = 0; i < 3; ++i) sum[i] += c[i], squares[i] += c[i] * c[i];
     ++seen;
@@ -44,16 +53,19 @@ float disagreement(const IbrSceneTable& table, const HostImage& colour, Float3 s
 
 IbrRefinePass::IbrRefinePass(vk::Context& context, const RefineSettings& settings)
     : kernel_(context, "ibr_refine", ibr_refine_comp_spirv,
-              {{"hypotheses", int32_t(check(settings).hypotheses)}, {"step_m", settings.step_m}}) {}
+              {{"hypotheses", int32_t(check(settings).hypotheses)},
+               {"step_m", settings.step_m},
+               {"visibility_tolerance_m", settings.visibility_tolerance_m},
+               {"visibility_tolerance_rel", settings.visibility_tolerance_rel}}) {}
 
 void IbrRefinePass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
-                           vk::Image& refined_depth, uint32_t view_count) const {
+                           vk::Image& points, vk::Image& refined_depth, uint32_t view_count) const {
   if (refined_depth.width() != fused_depth.width() || refined_depth.height() != fused_depth.height())
     throw std::invalid_argument("ibr_refine: refined and fused depth differ in size");
   graph.add_compute_pass({
       .name = "ibr_refine",
       .kernel = &kernel_,
-      .bindings = {{"fused_depth", &fused_depth}, {"colour", &colour}, {"refined_depth", &refined_depth},
+      .bindings = {{"fused_depth", &fused_depth}, {"colour", &colour}, {"refined_depth", &refined_depth}, {"points", &points},
                    {"IbrSceneTable", &scene.buffer()}},
       .threads = {fused_depth.width(), fused_depth.height(), 1},
       .push_constants = vk::push_constants_from<shader_abi::IbrBlendParams>(
@@ -62,7 +74,7 @@ void IbrRefinePass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Ima
 }
 
 HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
-                               const RefineSettings& s) {
+                               const HostImage& points, const RefineSettings& s) {
   HostImage refined = fused_depth;
   const shader_abi::IbrTarget& target = table.target;
   for (uint32_t y = 0; y < fused_depth.height; ++y)
@@ -77,7 +89,8 @@ HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fuse
         const float candidate = z + offset;
         if (candidate <= 1e-3f) continue;
         const float score =
-            disagreement(table, colour, transform_point(target.site_from_camera, {rx * candidate, ry * candidate, candidate}));
+            disagreement(table, colour, points,
+                         transform_point(target.site_from_camera, {rx * candidate, ry * candidate, candidate}), s);
         if (score < 0.0f) continue;
         if (score < best_score || (score == best_score && std::abs(offset) < best_offset)) {
           best_score = score;

@@ -1,8 +1,10 @@
 #pragma once
 // Pass (optional, off by default): plane-sweep refinement of the fused depth
 // (shaders/ibr_refine.comp): `hypotheses` depths `step_m` apart around each fused depth, the
-// one where the views' colours agree best wins. The knob of the accuracy-versus-time table.
-//   in:  fused_depth r32f, colour rgba8 atlas, the camera table
+// one where the colours of the views that see it (warping's visibility test) agree best wins.
+// The knob of the accuracy-versus-time table.
+//   in:  fused_depth r32f, colour rgba8 atlas, points rgba32f atlas (each view's own depth in w),
+//        the camera table
 //   out: refined_depth r32f
 #include "passes/ibr_scene.h"
 #include "vulkan/frame_graph.h"
@@ -11,20 +13,26 @@ namespace rt::passes {
 
 struct RefineSettings {
   int hypotheses = 9;
-  float step_m = 0.004f;
+  // 1 mm: the fused depth is within a few millimetres of the surface (millimetre depth, planar
+  // splats), and half a millimetre of depth already moves a stripe by a fraction of a pixel.
+  float step_m = 0.001f;
+  // Warping's visibility test (the renderer copies WarpSettings'): a view that does not see the
+  // point would score the colour of whatever hides it.
+  float visibility_tolerance_m = 0.03f;
+  float visibility_tolerance_rel = 0.01f;
 };
 
 class IbrRefinePass {
  public:
   IbrRefinePass(vk::Context& context, const RefineSettings& settings = {});
   void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
-              vk::Image& refined_depth, uint32_t view_count) const;
+              vk::Image& points, vk::Image& refined_depth, uint32_t view_count) const;
 
  private:
   vk::ComputeKernel kernel_;
 };
 
 HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
-                               const RefineSettings& settings = {});
+                               const HostImage& points, const RefineSettings& settings = {});
 
 }  // namespace rt::passes

@@ -70,9 +70,9 @@ WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fuse
         const Float2 colour_pixel = lens_project(camera.colour, q);
         const Float2 depth_pixel = lens_project(camera.depth, q);
         if (!inside_image(colour_pixel, colour_size, 0.0f) || !inside_image(depth_pixel, depth_size, 0.0f)) continue;
-        const int dx = int(std::floor(depth_pixel.x + 0.5f)), dy = int(std::floor(depth_pixel.y + 0.5f));
-        const float seen = points.at(uint32_t(dx), uint32_t(dy) + view * uint32_t(depth_size.y), 3);
-        if (!(seen > 0.0f) || std::abs(q.z - seen) > s.visibility_tolerance_m + s.visibility_tolerance_rel * seen) continue;
+        if (!view_sees(points, view, uint32_t(depth_size.y), depth_pixel, q.z, s.visibility_tolerance_m,
+                       s.visibility_tolerance_rel))
+          continue;
         const Float3 to_eye{site.x - eye.x, site.y - eye.y, site.z - eye.z};
         const Float3 to_camera{site.x - centre.x, site.y - centre.y, site.z - centre.z};
         const float cosine = (to_eye.x * to_camera.x + to_eye.y * to_camera.y + to_eye.z * to_camera.z) /

@@ -2,25 +2,28 @@
 #extension GL_GOOGLE_include_directive : require
 // Optional refinement (the paper refines with a multi-view-stereo network; this is the classic
 // plane sweep in its place): around each fused depth, `hypotheses` depths `step_m` apart are
-// scored by how well the views' colours agree there (their variance, over views that see the
-// point inside their image); the best-scoring depth wins, ties going to the fused depth.
-// Visibility is not tested: the search stays within a few millimetres of a surface all views
-// agreed on in fusion.
+// scored by how well the views' colours agree there (their variance, over the views that see the
+// point: inside their images, their own depth agreeing as in warping, so that a view whose line
+// of sight a hand blocks does not score the hand's colour); the best-scoring depth wins, ties
+// going to the fused depth.
 #include "shared/config.h"
 #include "common/ibr_camera.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
 layout(constant_id = 0) const int hypotheses = 9;
-layout(constant_id = 1) const float step_m = 0.004;
+layout(constant_id = 1) const float step_m = 0.001;
+layout(constant_id = 2) const float visibility_tolerance_m = 0.03;
+layout(constant_id = 3) const float visibility_tolerance_rel = 0.01;  // of the camera's depth
 
 layout(binding = 0, r32f) uniform readonly image2D fused_depth;
 layout(binding = 1, rgba8) uniform readonly image2D colour;  // views stacked in bands
 #define RT_BILINEAR_IMAGE colour
 #include "common/bilinear.glsl"
 layout(binding = 2, r32f) uniform writeonly image2D refined_depth;
+layout(binding = 3, rgba32f) uniform readonly image2D points;  // w: each view's own depth
 layout(push_constant) uniform Push { IbrBlendParams params; };
 
-// Colour variance across the views that see `site` inside their image; -1 with fewer than two.
+// Colour variance across the views that see `site`; -1 with fewer than two.
 float disagreement(vec3 site) {
   vec3 sum = vec3(0.0), sum_squares = vec3(0.0);
   int seen = 0;
@@ -30,7 +33,11 @@ float disagreement(vec3 site) {
     if (q.z <= 1e-4) continue;
     vec2 at = lens_project(cameras[v].colour, q);
     vec2 size = lens_size(cameras[v].colour);
-    if (!inside_image(at, size, 0.0)) continue;
+    vec2 depth_size = lens_size(cameras[v].depth);
+    vec2 depth_pixel = lens_project(cameras[v].depth, q);
+    if (!inside_image(at, size, 0.0) || !inside_image(depth_pixel, depth_size, 0.0)) continue;
+    float own = imageLoad(points, ivec2(floor(depth_pixel + 0.5)) + ivec2(0, v * int(depth_size.y))).w;
+    if (!(own > 0.0) || abs(q.z - own) > visibility_tolerance_m + visibility_tolerance_rel * own) continue;
     vec3 c = bilinear_rgb(at, v * int(size.y), ivec2(size));
     sum += c;
     sum_squares += c * c;

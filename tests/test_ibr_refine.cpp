@@ -1,6 +1,7 @@
 // ibr_refine (plane sweep): GPU against the C++ reference. The winner among hypotheses is an
 // argmin of colour variances; two hypotheses within float rounding of each other may swap, so
 // at most 1% of pixels (and at least one) may pick another hypothesis (stated tolerance); the rest match to 1e-5.
+// Only views that see a point score it (warping's visibility test on each view's own depth).
 #include "passes/ibr_refine.h"
 #include "support/gpu_test.h"
 #include "support/ibr_rig.h"
@@ -9,20 +10,39 @@ using namespace rt;
 
 namespace {
 
+// Each view's own depth (w of the points atlas, 9x7 per view): `own_depth` everywhere, or random
+// in 0.3-1.2 m with a fifth of the texels invalid when `own_depth` is negative.
+HostImage points_atlas(std::mt19937& rng, const test::IbrRig& rig, float own_depth) {
+  HostImage points(9, 7 * uint32_t(rig.cameras.size()), PixelFormat::RGBA32F, 0.0f);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (size_t i = 3; i < points.texels.size(); i += 4)
+    points.texels[i] = own_depth >= 0.0f ? own_depth : unit(rng) < 0.2f ? 0.0f : 0.3f + 0.9f * unit(rng);
+  return points;
+}
+
+// A tolerance that accepts any valid own depth, to test the sweep apart from occlusion.
+passes::RefineSettings seeing_every_valid_depth() {
+  passes::RefineSettings settings;
+  settings.visibility_tolerance_m = 10.0f;
+  return settings;
+}
+
 HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused_in, const HostImage& colour_in,
-                  const passes::RefineSettings& settings = {}) {
+                  const HostImage& points_in, const passes::RefineSettings& settings) {
   vk::Context& context = test::gpu();
   const uint32_t w = fused_in.width, h = fused_in.height;
   vk::Image fused(context, {"fused depth", w, h, PixelFormat::R32F});
   vk::Image colour(context, {"colour", colour_in.width, colour_in.height, PixelFormat::RGBA8});
+  vk::Image points(context, {"points", points_in.width, points_in.height, PixelFormat::RGBA32F});
   vk::Image refined(context, {"refined depth", w, h, PixelFormat::R32F});
   vk::upload(context, fused, fused_in);
   vk::upload(context, colour, colour_in);
+  vk::upload(context, points, points_in);
   passes::IbrSceneBuffer scene(context);
   scene.write(rig.table);
   const passes::IbrRefinePass pass(context, settings);
   vk::FrameGraph graph(context, "test ibr_refine");
-  pass.add_to(graph, scene, fused, colour, refined, uint32_t(rig.cameras.size()));
+  pass.add_to(graph, scene, fused, colour, points, refined, uint32_t(rig.cameras.size()));
   graph.run();
   return vk::download(context, refined);
 }
@@ -39,13 +59,15 @@ TEST_CASE("ibr_refine on random inputs, odd sizes", "[ibr_refine][gpu]") {
     HostImage fused = test::random_image(rng, width, height, PixelFormat::R32F, 1.3f, 1.5f);
     for (size_t i = 0; i < fused.texels.size(); i += 5) fused.texels[i] = 0.0f;
     const HostImage colour = test::random_image(rng, 37, 63, PixelFormat::RGBA8);
-    const HostImage gpu = run_gpu(rig, fused, colour);
-    const HostImage reference = passes::ibr_refine_reference(rig.table, fused, colour);
+    const HostImage points = points_atlas(rng, rig, -1.0f);
+    const passes::RefineSettings settings = seeing_every_valid_depth();
+    const HostImage gpu = run_gpu(rig, fused, colour, points, settings);
+    const HostImage reference = passes::ibr_refine_reference(rig.table, fused, colour, points, settings);
     const auto comparison = test::compare_pixels(gpu, reference, 1e-5, 1e-5);
     REQUIRE(comparison.non_finite == 0);
     REQUIRE(comparison.mismatched_pixels <= 1 + size_t(width) * height / 100);
     for (size_t i = 0; i < fused.texels.size(); ++i) {
-      REQUIRE(std::abs(gpu.texels[i] - fused.texels[i]) <= 4 * 0.004f + 1e-5f);  // within the sweep
+      REQUIRE(std::abs(gpu.texels[i] - fused.texels[i]) <= 4 * settings.step_m + 1e-5f);  // within the sweep
       moved += gpu.texels[i] != fused.texels[i];
     }
   }
@@ -56,21 +78,36 @@ TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
   test::NoValidationErrors no_errors;
   std::mt19937 rng(42);
   const test::IbrRig rig = test::ibr_rig(2, 37, 21, 9, 7, 13, 11);
+  const HostImage seen_everywhere = points_atlas(rng, rig, 0.7f);
   SECTION("uniform colour: every hypothesis ties, the fused depth stays") {
     const HostImage fused = test::random_image(rng, 13, 11, PixelFormat::R32F, 1.3f, 1.5f);
     const HostImage grey(37, 42, PixelFormat::RGBA8, 0.5f);
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, grey), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu(rig, fused, grey, seen_everywhere, seeing_every_valid_depth()), fused, 0.0, 0.0);
+  }
+  SECTION("occluded views do not score: with an occluder 10 cm before each camera the depth stays") {
+    const HostImage fused = test::random_image(rng, 13, 11, PixelFormat::R32F, 1.3f, 1.5f);
+    const HostImage colour = test::random_image(rng, 37, 42, PixelFormat::RGBA8);
+    const HostImage moved = run_gpu(rig, fused, colour, seen_everywhere, seeing_every_valid_depth());
+    REQUIRE(moved.texels != fused.texels);  // the same colours do move depths where the views see
+    const HostImage occluded = points_atlas(rng, rig, 0.1f);
+    RT_REQUIRE_MATCHES(run_gpu(rig, fused, colour, occluded, {}), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(passes::ibr_refine_reference(rig.table, fused, colour, occluded), fused, 0.0, 0.0);
   }
   SECTION("no depth stays no depth; one hypothesis is the identity") {
     HostImage fused(13, 11, PixelFormat::R32F, 0.0f);
     fused.at(3, 3) = 1.4f;
     passes::RefineSettings one;
     one.hypotheses = 1;
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, test::random_image(rng, 37, 42, PixelFormat::RGBA8), one), fused, 0.0, 0.0);
+    one.visibility_tolerance_m = 10.0f;
+    RT_REQUIRE_MATCHES(run_gpu(rig, fused, test::random_image(rng, 37, 42, PixelFormat::RGBA8), seen_everywhere, one),
+                       fused, 0.0, 0.0);
   }
   SECTION("bad settings are refused") {
     passes::RefineSettings bad;
     bad.hypotheses = 0;
     REQUIRE_THROWS_WITH(passes::IbrRefinePass(test::gpu(), bad), Catch::Contains("hypotheses"));
+    passes::RefineSettings negative;
+    negative.visibility_tolerance_rel = -0.01f;
+    REQUIRE_THROWS_WITH(passes::IbrRefinePass(test::gpu(), negative), Catch::Contains("visibility"));
   }
 }

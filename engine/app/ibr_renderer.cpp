@@ -15,6 +15,8 @@ IbrSettings with_fusion(IbrSettings settings) {
   settings.splat.max_footprint_px *= float(settings.supersample);
   settings.splat.fusion = settings.fusion;
   settings.fuse.fusion = settings.fusion;
+  settings.refinement.visibility_tolerance_m = settings.warp.visibility_tolerance_m;
+  settings.refinement.visibility_tolerance_rel = settings.warp.visibility_tolerance_rel;
   return settings;
 }
 
@@ -83,7 +85,7 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   fuse_.add_to(*graph_, i.fusion, i.fused_depth);
   vk::Image* depth = &i.fused_depth;
   if (refine_) {
-    refine_->add_to(*graph_, scene_, i.fused_depth, i.colour, i.refined_depth, views);
+    refine_->add_to(*graph_, scene_, i.fused_depth, i.colour, i.points, i.refined_depth, views);
     depth = &i.refined_depth;
   }
   warp_.add_to(*graph_, scene_, *depth, i.colour, i.points, i.warped, i.features, views);
