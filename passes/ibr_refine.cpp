@@ -62,10 +62,16 @@ void IbrRefinePass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Ima
                            vk::Image& points, vk::Image& refined_depth, uint32_t view_count) const {
   if (refined_depth.width() != fused_depth.width() || refined_depth.height() != fused_depth.height())
     throw std::invalid_argument("ibr_refine: refined and fused depth differ in size");
+  if (view_count == 0 || colour.height() % view_count != 0 || points.height() % view_count != 0)
+    throw std::invalid_argument("ibr_refine: the colour and points atlases must hold " + std::to_string(view_count) +
+                                " bands");
   graph.add_compute_pass({
       .name = "ibr_refine",
       .kernel = &kernel_,
-      .bindings = {{"fused_depth", &fused_depth}, {"colour", &colour}, {"refined_depth", &refined_depth}, {"points", &points},
+      .bindings = {{"fused_depth", &fused_depth},
+                   {"colour", &colour},
+                   {"points", &points},
+                   {"refined_depth", &refined_depth},
                    {"IbrSceneTable", &scene.buffer()}},
       .threads = {fused_depth.width(), fused_depth.height(), 1},
       .push_constants = vk::push_constants_from<shader_abi::IbrBlendParams>(

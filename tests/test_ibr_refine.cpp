@@ -109,5 +109,9 @@ TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
     passes::RefineSettings negative;
     negative.visibility_tolerance_rel = -0.01f;
     REQUIRE_THROWS_WITH(passes::IbrRefinePass(test::gpu(), negative), Catch::Contains("visibility"));
+    HostImage odd_points(9, 15, PixelFormat::RGBA32F, 0.0f);  // not two bands
+    REQUIRE_THROWS_WITH(run_gpu(rig, HostImage(13, 11, PixelFormat::R32F, 1.4f),
+                                test::random_image(rng, 37, 42, PixelFormat::RGBA8), odd_points, {}),
+                        Catch::Contains("bands"));
   }
 }
