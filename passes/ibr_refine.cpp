@@ -10,18 +10,17 @@
 namespace rt::passes {
 namespace {
 
-const RefineSettings& check(const RefineSettings& s) {
+const RefineSettings& check(const RefineSettings& s, VisibilityTolerance visibility) {
   if (s.hypotheses < 1 || s.hypotheses > 64 || !(s.step_m > 0.0f) || !std::isfinite(s.step_m))
     throw std::invalid_argument("depth refinement: hypotheses must be 1..64 and step_m a positive number of metres");
-  if (!(s.visibility_tolerance_m >= 0.0f) || !(s.visibility_tolerance_rel >= 0.0f))
-    throw std::invalid_argument("depth refinement: visibility tolerances must be >= 0");
+  if (!visibility.valid()) throw std::invalid_argument("depth refinement: visibility tolerances must be >= 0");
   return s;
 }
 
 // Colour variance across the views that see `site` (inside their colour and depth images, their
 // own depth agreeing); -1 with fewer than two.
 float disagreement(const IbrSceneTable& table, const HostImage& colour, const HostImage& points, Float3 site,
-                   const RefineSettings& s) {
+                   VisibilityTolerance visibility) {
   std::array<float, 3> sum{}, squares{};
   int seen = 0;
   for (uint32_t v = 0; v < table.camera_count; ++v) {
@@ -33,9 +32,7 @@ float disagreement(const IbrSceneTable& table, const HostImage& colour, const Ho
     const Float2 depth_size{camera.depth.tangential[2], camera.depth.tangential[3]};
     const Float2 depth_pixel = lens_project(camera.depth, q);
     if (!inside_image(at, size, 0.0f) || !inside_image(depth_pixel, depth_size, 0.0f)) continue;
-    if (!view_sees(points, v, uint32_t(depth_size.y), depth_pixel, q.z, s.visibility_tolerance_m,
-                   s.visibility_tolerance_rel))
-      continue;
+    if (!view_sees(points, v, uint32_t(depth_size.y), depth_pixel, q.z, visibility)) continue;
     const auto c = bilinear_rgb(colour, at, v * uint32_t(size.y), uint32_t(size.x), uint32_t(size.y));
     for (size_t i = 0; i < 3; ++i) sum[i] += c[i], squares[i] += c[i] * c[i];
     ++seen;
@@ -51,12 +48,12 @@ float disagreement(const IbrSceneTable& table, const HostImage& colour, const Ho
 
 }  // namespace
 
-IbrRefinePass::IbrRefinePass(vk::Context& context, const RefineSettings& settings)
+IbrRefinePass::IbrRefinePass(vk::Context& context, const RefineSettings& settings, VisibilityTolerance visibility)
     : kernel_(context, "ibr_refine", ibr_refine_comp_spirv,
-              {{"hypotheses", int32_t(check(settings).hypotheses)},
+              {{"hypotheses", int32_t(check(settings, visibility).hypotheses)},
                {"step_m", settings.step_m},
-               {"visibility_tolerance_m", settings.visibility_tolerance_m},
-               {"visibility_tolerance_rel", settings.visibility_tolerance_rel}}) {}
+               {"visibility_tolerance_m", visibility.metres},
+               {"visibility_tolerance_rel", visibility.relative}}) {}
 
 void IbrRefinePass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
                            vk::Image& points, vk::Image& refined_depth, uint32_t view_count) const {
@@ -80,7 +77,7 @@ void IbrRefinePass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Ima
 }
 
 HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
-                               const HostImage& points, const RefineSettings& s) {
+                               const HostImage& points, const RefineSettings& s, VisibilityTolerance visibility) {
   HostImage refined = fused_depth;
   const shader_abi::IbrTarget& target = table.target;
   for (uint32_t y = 0; y < fused_depth.height; ++y)
@@ -96,7 +93,7 @@ HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fuse
         if (candidate <= 1e-3f) continue;
         const float score =
             disagreement(table, colour, points,
-                         transform_point(target.site_from_camera, {rx * candidate, ry * candidate, candidate}), s);
+                         transform_point(target.site_from_camera, {rx * candidate, ry * candidate, candidate}), visibility);
         if (score < 0.0f) continue;
         if (score < best_score || (score == best_score && std::abs(offset) < best_offset)) {
           best_score = score;

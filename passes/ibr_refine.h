@@ -1,7 +1,8 @@
 #pragma once
 // Pass (optional, off by default): plane-sweep refinement of the fused depth
 // (shaders/ibr_refine.comp): `hypotheses` depths `step_m` apart around each fused depth, the
-// one where the colours of the views that see it (warping's visibility test) agree best wins.
+// one where the colours of the views that see it (warping's visibility test, with warping's
+// tolerance) agree best wins.
 // The knob of the accuracy-versus-time table.
 //   in:  fused_depth r32f, colour rgba8 atlas, points rgba32f atlas (each view's own depth in w),
 //        the camera table
@@ -16,15 +17,13 @@ struct RefineSettings {
   // 1 mm: the fused depth is within a few millimetres of the surface (millimetre depth, planar
   // splats), and half a millimetre of depth already moves a stripe by a fraction of a pixel.
   float step_m = 0.001f;
-  // Warping's visibility test (the renderer copies WarpSettings'): a view that does not see the
-  // point would score the colour of whatever hides it.
-  float visibility_tolerance_m = 0.03f;
-  float visibility_tolerance_rel = 0.01f;
 };
 
 class IbrRefinePass {
  public:
-  IbrRefinePass(vk::Context& context, const RefineSettings& settings = {});
+  // `visibility`: warping's (WarpSettings::visibility); a view that does not see the point would
+  // score the colour of whatever hides it.
+  IbrRefinePass(vk::Context& context, const RefineSettings& settings = {}, VisibilityTolerance visibility = {});
   void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
               vk::Image& points, vk::Image& refined_depth, uint32_t view_count) const;
 
@@ -33,6 +32,7 @@ class IbrRefinePass {
 };
 
 HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
-                               const HostImage& points, const RefineSettings& settings = {});
+                               const HostImage& points, const RefineSettings& settings = {},
+                               VisibilityTolerance visibility = {});
 
 }  // namespace rt::passes

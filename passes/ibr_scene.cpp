@@ -162,10 +162,10 @@ std::array<float, 3> bilinear_rgb(const HostImage& atlas, Float2 at, uint32_t ba
 }
 
 bool view_sees(const HostImage& points, uint32_t view, uint32_t depth_height, Float2 depth_pixel, float z,
-               float tolerance_m, float tolerance_rel) {
+               VisibilityTolerance tolerance) {
   const int x = int(std::floor(depth_pixel.x + 0.5f)), y = int(std::floor(depth_pixel.y + 0.5f));
   const float own = points.at(uint32_t(x), uint32_t(y) + view * depth_height, 3);
-  return own > 0.0f && std::abs(z - own) <= tolerance_m + tolerance_rel * own;
+  return own > 0.0f && std::abs(z - own) <= tolerance.metres + tolerance.relative * own;
 }
 
 }  // namespace rt::passes

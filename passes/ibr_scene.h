@@ -59,10 +59,17 @@ bool inside_image(Float2 pixel, Float2 size, float margin);
 float length(Float3 v);
 // Bilinear rgb of band `band` of an rgba8 atlas at pixel coordinates `at`, clamped to the band.
 std::array<float, 3> bilinear_rgb(const HostImage& atlas, Float2 at, uint32_t band_row, uint32_t width, uint32_t height);
-// The per-view visibility test of warping and refinement: view `view` sees its camera-frame point
-// at depth `z`, projected to `depth_pixel`, when its own depth at the nearest texel (w of the
-// `points` atlas, bands of `depth_height` rows) is valid and within tolerance_m + tolerance_rel * that depth.
+// The per-view visibility test of warping and refinement (one setting, WarpSettings::visibility,
+// serves both): a view sees a surface point when its own depth at the point's nearest depth texel
+// is valid and within metres + relative * that depth of the point's depth in that camera.
+struct VisibilityTolerance {
+  float metres = 0.03f;
+  float relative = 0.01f;  // of the camera's own depth
+  bool valid() const { return metres >= 0.0f && relative >= 0.0f; }  // false for NaN too
+};
+// View `view` sees its camera-frame point at depth `z`, projected to `depth_pixel`; its own depth
+// is w of the `points` atlas (bands of `depth_height` rows).
 bool view_sees(const HostImage& points, uint32_t view, uint32_t depth_height, Float2 depth_pixel, float z,
-               float tolerance_m, float tolerance_rel);
+               VisibilityTolerance tolerance);
 
 }  // namespace rt::passes

@@ -11,7 +11,7 @@ namespace rt::passes {
 namespace {
 
 const WarpSettings& check(const WarpSettings& s) {
-  if (!(s.visibility_tolerance_m >= 0.0f) || !(s.visibility_tolerance_rel >= 0.0f) || !(s.feather_px > 0.0f))
+  if (!s.visibility.valid() || !(s.feather_px > 0.0f))
     throw std::invalid_argument("warping: visibility tolerances must be >= 0 and feather_px > 0");
   return s;
 }
@@ -27,8 +27,8 @@ void require_bands(const vk::Image& atlas, uint32_t width, uint32_t band_height,
 
 IbrWarpPass::IbrWarpPass(vk::Context& context, const WarpSettings& settings)
     : kernel_(context, "ibr_warp", ibr_warp_comp_spirv,
-              {{"visibility_tolerance_m", check(settings).visibility_tolerance_m},
-               {"visibility_tolerance_rel", settings.visibility_tolerance_rel},
+              {{"visibility_tolerance_m", check(settings).visibility.metres},
+               {"visibility_tolerance_rel", settings.visibility.relative},
                {"feather_px", settings.feather_px}}) {}
 
 void IbrWarpPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
@@ -70,9 +70,7 @@ WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fuse
         const Float2 colour_pixel = lens_project(camera.colour, q);
         const Float2 depth_pixel = lens_project(camera.depth, q);
         if (!inside_image(colour_pixel, colour_size, 0.0f) || !inside_image(depth_pixel, depth_size, 0.0f)) continue;
-        if (!view_sees(points, view, uint32_t(depth_size.y), depth_pixel, q.z, s.visibility_tolerance_m,
-                       s.visibility_tolerance_rel))
-          continue;
+        if (!view_sees(points, view, uint32_t(depth_size.y), depth_pixel, q.z, s.visibility)) continue;
         const Float3 to_eye{site.x - eye.x, site.y - eye.y, site.z - eye.z};
         const Float3 to_camera{site.x - centre.x, site.y - centre.y, site.z - centre.z};
         const float cosine = (to_eye.x * to_camera.x + to_eye.y * to_camera.y + to_eye.z * to_camera.z) /

@@ -7,15 +7,14 @@
 //        resolution penalty in metres, field-of-view feather, visible), one target-sized band per
 //        view: the inputs of any blending, the lumigraph weights or a learned one.
 // A view sees a surface point when it projects inside its colour and depth images and its own
-// depth there agrees within visibility_tolerance_m + visibility_tolerance_rel * depth.
+// depth there agrees (passes::VisibilityTolerance).
 #include "passes/ibr_scene.h"
 #include "vulkan/frame_graph.h"
 
 namespace rt::passes {
 
 struct WarpSettings {
-  float visibility_tolerance_m = 0.03f;
-  float visibility_tolerance_rel = 0.01f;
+  VisibilityTolerance visibility;  // refinement uses the same
   float feather_px = 16.0f;
 };
 

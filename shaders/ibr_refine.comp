@@ -37,7 +37,7 @@ float disagreement(vec3 site) {
     vec2 depth_pixel = lens_project(cameras[v].depth, q);
     if (!inside_image(at, size, 0.0) || !inside_image(depth_pixel, depth_size, 0.0)) continue;
     float own = imageLoad(points, ivec2(floor(depth_pixel + 0.5)) + ivec2(0, v * int(depth_size.y))).w;
-    if (!(own > 0.0) || abs(q.z - own) > visibility_tolerance_m + visibility_tolerance_rel * own) continue;
+    if (!own_depth_agrees(q.z, own, visibility_tolerance_m, visibility_tolerance_rel)) continue;
     vec3 c = bilinear_rgb(at, v * int(size.y), ivec2(size));
     sum += c;
     sum_squares += c * c;

@@ -45,8 +45,7 @@ void main() {
       if (inside_image(colour_pixel, colour_size, 0.0) && inside_image(depth_pixel, depth_size, 0.0)) {
         ivec2 depth_texel = ivec2(floor(depth_pixel + 0.5));
         float seen = imageLoad(points, depth_texel + ivec2(0, view * int(depth_size.y))).w;
-        float tolerance = visibility_tolerance_m + visibility_tolerance_rel * seen;
-        if (seen > 0.0 && abs(q.z - seen) <= tolerance) {
+        if (own_depth_agrees(q.z, seen, visibility_tolerance_m, visibility_tolerance_rel)) {
           vec3 eye = transform_point(target.site_from_camera, vec3(0.0));
           vec3 centre = transform_point(camera.site_from_camera, vec3(0.0));
           vec3 to_eye = site - eye, to_camera = site - centre;

@@ -21,14 +21,11 @@ HostImage points_atlas(std::mt19937& rng, const test::IbrRig& rig, float own_dep
 }
 
 // A tolerance that accepts any valid own depth, to test the sweep apart from occlusion.
-passes::RefineSettings seeing_every_valid_depth() {
-  passes::RefineSettings settings;
-  settings.visibility_tolerance_m = 10.0f;
-  return settings;
-}
+constexpr passes::VisibilityTolerance kSeesEveryValidDepth{10.0f, 0.01f};
 
 HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused_in, const HostImage& colour_in,
-                  const HostImage& points_in, const passes::RefineSettings& settings) {
+                  const HostImage& points_in, const passes::RefineSettings& settings,
+                  passes::VisibilityTolerance visibility) {
   vk::Context& context = test::gpu();
   const uint32_t w = fused_in.width, h = fused_in.height;
   vk::Image fused(context, {"fused depth", w, h, PixelFormat::R32F});
@@ -40,7 +37,7 @@ HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused_in, const Host
   vk::upload(context, points, points_in);
   passes::IbrSceneBuffer scene(context);
   scene.write(rig.table);
-  const passes::IbrRefinePass pass(context, settings);
+  const passes::IbrRefinePass pass(context, settings, visibility);
   vk::FrameGraph graph(context, "test ibr_refine");
   pass.add_to(graph, scene, fused, colour, points, refined, uint32_t(rig.cameras.size()));
   graph.run();
@@ -60,9 +57,10 @@ TEST_CASE("ibr_refine on random inputs, odd sizes", "[ibr_refine][gpu]") {
     for (size_t i = 0; i < fused.texels.size(); i += 5) fused.texels[i] = 0.0f;
     const HostImage colour = test::random_image(rng, 37, 63, PixelFormat::RGBA8);
     const HostImage points = points_atlas(rng, rig, -1.0f);
-    const passes::RefineSettings settings = seeing_every_valid_depth();
-    const HostImage gpu = run_gpu(rig, fused, colour, points, settings);
-    const HostImage reference = passes::ibr_refine_reference(rig.table, fused, colour, points, settings);
+    const passes::RefineSettings settings;
+    const HostImage gpu = run_gpu(rig, fused, colour, points, settings, kSeesEveryValidDepth);
+    const HostImage reference =
+        passes::ibr_refine_reference(rig.table, fused, colour, points, settings, kSeesEveryValidDepth);
     const auto comparison = test::compare_pixels(gpu, reference, 1e-5, 1e-5);
     REQUIRE(comparison.non_finite == 0);
     REQUIRE(comparison.mismatched_pixels <= 1 + size_t(width) * height / 100);
@@ -82,15 +80,15 @@ TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
   SECTION("uniform colour: every hypothesis ties, the fused depth stays") {
     const HostImage fused = test::random_image(rng, 13, 11, PixelFormat::R32F, 1.3f, 1.5f);
     const HostImage grey(37, 42, PixelFormat::RGBA8, 0.5f);
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, grey, seen_everywhere, seeing_every_valid_depth()), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu(rig, fused, grey, seen_everywhere, {}, kSeesEveryValidDepth), fused, 0.0, 0.0);
   }
   SECTION("occluded views do not score: with an occluder 10 cm before each camera the depth stays") {
     const HostImage fused = test::random_image(rng, 13, 11, PixelFormat::R32F, 1.3f, 1.5f);
     const HostImage colour = test::random_image(rng, 37, 42, PixelFormat::RGBA8);
-    const HostImage moved = run_gpu(rig, fused, colour, seen_everywhere, seeing_every_valid_depth());
+    const HostImage moved = run_gpu(rig, fused, colour, seen_everywhere, {}, kSeesEveryValidDepth);
     REQUIRE(moved.texels != fused.texels);  // the same colours do move depths where the views see
     const HostImage occluded = points_atlas(rng, rig, 0.1f);
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, colour, occluded, {}), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu(rig, fused, colour, occluded, {}, {}), fused, 0.0, 0.0);
     RT_REQUIRE_MATCHES(passes::ibr_refine_reference(rig.table, fused, colour, occluded), fused, 0.0, 0.0);
   }
   SECTION("no depth stays no depth; one hypothesis is the identity") {
@@ -98,20 +96,18 @@ TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
     fused.at(3, 3) = 1.4f;
     passes::RefineSettings one;
     one.hypotheses = 1;
-    one.visibility_tolerance_m = 10.0f;
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, test::random_image(rng, 37, 42, PixelFormat::RGBA8), seen_everywhere, one),
+    RT_REQUIRE_MATCHES(run_gpu(rig, fused, test::random_image(rng, 37, 42, PixelFormat::RGBA8), seen_everywhere, one,
+                               kSeesEveryValidDepth),
                        fused, 0.0, 0.0);
   }
   SECTION("bad settings are refused") {
     passes::RefineSettings bad;
     bad.hypotheses = 0;
     REQUIRE_THROWS_WITH(passes::IbrRefinePass(test::gpu(), bad), Catch::Contains("hypotheses"));
-    passes::RefineSettings negative;
-    negative.visibility_tolerance_rel = -0.01f;
-    REQUIRE_THROWS_WITH(passes::IbrRefinePass(test::gpu(), negative), Catch::Contains("visibility"));
+    REQUIRE_THROWS_WITH(passes::IbrRefinePass(test::gpu(), {}, {0.03f, -0.01f}), Catch::Contains("visibility"));
     HostImage odd_points(9, 15, PixelFormat::RGBA32F, 0.0f);  // not two bands
     REQUIRE_THROWS_WITH(run_gpu(rig, HostImage(13, 11, PixelFormat::R32F, 1.4f),
-                                test::random_image(rng, 37, 42, PixelFormat::RGBA8), odd_points, {}),
+                                test::random_image(rng, 37, 42, PixelFormat::RGBA8), odd_points, {}, {}),
                         Catch::Contains("bands"));
   }
 }

@@ -15,8 +15,6 @@ IbrSettings with_fusion(IbrSettings settings) {
   settings.splat.max_footprint_px *= float(settings.supersample);
   settings.splat.fusion = settings.fusion;
   settings.fuse.fusion = settings.fusion;
-  settings.refinement.visibility_tolerance_m = settings.warp.visibility_tolerance_m;
-  settings.refinement.visibility_tolerance_rel = settings.warp.visibility_tolerance_rel;
   return settings;
 }
 
@@ -51,7 +49,8 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
       foreground_(context, settings_.foreground),
       splat_(context, settings_.splat),
       fuse_(context, settings_.fuse),
-      refine_(settings_.refine ? std::make_unique<passes::IbrRefinePass>(context, settings_.refinement) : nullptr),
+      refine_(settings_.refine ? std::make_unique<passes::IbrRefinePass>(context, settings_.refinement,
+                                                                                 settings_.warp.visibility) : nullptr),
       warp_(context, settings_.warp),
       blend_(context, settings_.blend),
       scene_(context) {

@@ -25,7 +25,6 @@ CameraIntrinsics scaled_intrinsics(const CameraIntrinsics& k, double scale) {
   return out;
 }
 
-
 Distortion Distortion::from_opencv(const double* c, size_t count) {
   Distortion d;
   double* fields[] = {&d.k1, &d.k2, &d.p1, &d.p2, &d.k3, &d.k4, &d.k5, &d.k6};
