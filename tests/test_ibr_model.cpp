@@ -142,11 +142,12 @@ TEST_CASE("portrait metrics on known images", "[ibr_model]") {
   HostImage portrait(w, h, PixelFormat::RGBA32F, 0.0f);
   for (size_t i = 0; i < portrait.texels.size(); ++i) portrait.texels[i] = truth.texels[i];
   ibr::PortraitMetrics exact;
-  exact.add(portrait, depth, truth, depth, part);
+  REQUIRE(exact.add(portrait, depth, truth, depth, part).psnr_fg_db == 99.0);
   REQUIRE(exact.alpha_iou() == 1.0);
   REQUIRE(exact.depth_mae_edge_mm() == 0.0);
   REQUIRE(exact.psnr_fg_db() == 99.0);  // identical: capped, finite
 
+  const HostImage exact_portrait = portrait;
   for (uint32_t x = 5; x < 15; ++x) portrait.at(x, 2, 3) = 0.0f;  // one missing row of 6
   HostImage deeper = depth;
   for (float& z : deeper.texels)
@@ -164,6 +165,10 @@ TEST_CASE("portrait metrics on known images", "[ibr_model]") {
   REQUIRE(missing.region_error_share(ibr::ErrorRegion::Uncovered) == Approx(1.0));
   REQUIRE(missing.region_psnr_db(ibr::ErrorRegion::Uncovered) == Approx(10 * std::log10(1.0 / 0.25)).epsilon(1e-6));
   REQUIRE(missing.region_error_share(ibr::ErrorRegion::Outline) == 0.0);
+  // Each frame's own PSNR next to the running one: an exact frame after it is 99 dB on its own,
+  // while the total halves its mean squared error.
+  REQUIRE(missing.add(exact_portrait, depth, truth, depth, part).psnr_fg_db == 99.0);
+  REQUIRE(missing.psnr_fg_db() == Approx(10 * std::log10(12.0 / 0.25)).epsilon(1e-6));
   REQUIRE(missing.to_json()["fg_error_by_region"]["uncovered"]["error_share"] == Approx(1.0));
 
   // A truth edge pixel half covered is premultiplied (half its colour, alpha 0.5), as the

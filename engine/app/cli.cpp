@@ -109,8 +109,13 @@ int run_cli(int argc, char** argv) {
       ->capture_default_str();
   eval_ibr_command->add_option("--fusion", eval_ibr_options.fusion, "Depth fusion: min (the paper), avg (baseline), both")
       ->check(CLI::IsMember({"min", "avg", "both"}))->capture_default_str();
-  eval_ibr_command->add_option("--views", eval_ibr_options.views, "Cameras used per frame")
+  CLI::Option* views_option = eval_ibr_command->add_option("--views", eval_ibr_options.views, "Cameras used per frame")
       ->check(CLI::Range(1u, 6u))->capture_default_str();
+  eval_ibr_command
+      ->add_option("--cameras", eval_ibr_options.cameras,
+                   "These cameras (site names, comma-separated) in every frame, instead of the ones opposite the touching hand")
+      ->delimiter(',')
+      ->excludes(views_option);
   eval_ibr_command->add_option("--refine", eval_ibr_options.refine_hypotheses,
                                "Plane-sweep refinement with this many depth hypotheses (0 = off)")
       ->check(CLI::Range(0, 64))->capture_default_str();

@@ -3,6 +3,8 @@
 // simulator's ground truth of the same target view (engine/ibr/portrait_metrics.h).
 #include "app/eval_ibr.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -24,6 +26,7 @@ struct FusionRun {
   std::string name;
   std::unique_ptr<IbrRenderer> renderer;
   ibr::PortraitMetrics metrics;
+  std::vector<double> frame_psnr_fg_db;  // each frame's own, to find the frames that fail
 };
 
 std::vector<passes::IbrCameraModel> camera_models(RgbdRenderer& renderer) {
@@ -59,10 +62,17 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   SiteSimulator simulator(context, scene, site, options.width, options.height);
   const Camera target = *simulator.renderer().target_view();
 
+  std::vector<std::string> camera_names;
+  for (const auto& camera : simulator.site().cameras) camera_names.push_back(camera.name);
+  // A fixed selection by name (throws naming an unknown camera), else per frame by the hand.
+  const std::vector<size_t> fixed_selection =
+      eval.cameras.empty() ? std::vector<size_t>{} : ibr::cameras_by_name(camera_names, eval.cameras);
+  const uint32_t views = fixed_selection.empty() ? eval.views : uint32_t(fixed_selection.size());
+
   IbrSettings settings;
   settings.width = options.width;
   settings.height = options.height;
-  settings.views = eval.views;
+  settings.views = views;
   settings.refine = eval.refine_hypotheses > 0;
   settings.supersample = eval.portrait_supersample;
   settings.splat.average_tolerance_m = eval.average_tolerance_m;
@@ -71,7 +81,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   for (const std::string& name : {std::string("min"), std::string("avg")}) {
     if (eval.fusion != name && eval.fusion != "both") continue;
     settings.fusion = name == "min" ? passes::DepthFusion::Min : passes::DepthFusion::Average;
-    runs.push_back({name, std::make_unique<IbrRenderer>(context, camera_models(simulator.renderer()), settings), ibr::PortraitMetrics()});
+    runs.push_back({name, std::make_unique<IbrRenderer>(context, camera_models(simulator.renderer()), settings), ibr::PortraitMetrics(), {}});
   }
   std::vector<Eigen::Vector3d> positions;
   for (const auto& camera : simulator.site().cameras) positions.push_back(camera.colour_camera().position_in_site());
@@ -87,12 +97,18 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
               eval.scene.c_str(), eval.site.c_str(), options.width, options.height, eval.portrait_supersample,
               eval.portrait_supersample, eval.views, positions.size(), colour.width, colour.height, depth.width,
               depth.height, frames, eval.supersample, eval.supersample, context.device_name().c_str());
+  if (!fixed_selection.empty()) {
+    std::string names;
+    for (const std::string& name : eval.cameras) names += (names.empty() ? "" : ", ") + name;
+    std::printf("cameras fixed: %s\n", names.c_str());
+  }
   for (uint32_t index = 0; index < frames; ++index) {
     const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
     if (!frame) break;
     const sim::PersonPose& pose = simulator.last_pose();
-    const auto selection =
-        ibr::select_cameras(positions, ibr::touching_hand(pose.right_hand, pose.left_hand), eval.views);
+    const auto selection = fixed_selection.empty()
+                               ? ibr::select_cameras(positions, ibr::touching_hand(pose.right_hand, pose.left_hand), views)
+                               : fixed_selection;
     const HostImage truth_colour = simulator.renderer().target_colour();
     const HostImage truth_depth = simulator.renderer().target_depth_m();
     const HostImage truth_part = simulator.renderer().target_part();
@@ -106,6 +122,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
       const HostImage portrait = vk::download(context, run.renderer->portrait());
       const HostImage depth = vk::download(context, run.renderer->portrait_depth());
       const ibr::PortraitError error = run.metrics.add(portrait, depth, truth_colour, truth_depth, truth_part);
+      run.frame_psnr_fg_db.push_back(error.psnr_fg_db);
       if (!save) continue;
       const std::string prefix = std::string(stem) + "_" + run.name;
       write_image(images_dir / (prefix + "_portrait.png"), as_png(portrait));
@@ -120,7 +137,9 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"site", eval.site},
                            {"width", options.width},
                            {"height", options.height},
-                           {"views", eval.views},
+                           {"views", views},
+                           {"cameras", fixed_selection.empty() ? nlohmann::json("opposite the touching hand, each frame")
+                                                               : nlohmann::json(eval.cameras)},
                            {"refine_hypotheses", eval.refine_hypotheses},
                            {"colour_supersampling", eval.supersample},
                            {"portrait_supersampling", eval.portrait_supersample},
@@ -143,6 +162,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
       total_ms += timing.median_ms;
     }
     result["gpu_ms_total"] = total_ms;
+    result["frame_psnr_fg_db"] = run.frame_psnr_fg_db;
     std::printf("%-6s %11.2f %13.2f %18.2f %10.4f %14.2f %14.2f\n", run.name.c_str(), run.metrics.psnr_fg_db(),
                 run.metrics.psnr_hand_db(), run.metrics.depth_mae_edge_mm(), run.metrics.alpha_iou(),
                 run.metrics.depth_bias_mm(), total_ms);
@@ -156,6 +176,17 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
       std::printf("  %s %.1f%% %.1f%% %.2f", ibr::kErrorRegionNames[r], 100 * run.metrics.region_pixel_share(region),
                   100 * run.metrics.region_error_share(region), run.metrics.region_psnr_db(region));
     }
+    std::printf("\n");
+  }
+  std::printf("\nworst frames (foreground PSNR dB):\n");
+  for (FusionRun& run : runs) {
+    std::vector<size_t> order;
+    for (size_t f = 0; f < run.frame_psnr_fg_db.size(); ++f)
+      if (std::isfinite(run.frame_psnr_fg_db[f])) order.push_back(f);
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return run.frame_psnr_fg_db[a] < run.frame_psnr_fg_db[b]; });
+    std::printf("[%s]", run.name.c_str());
+    for (size_t k = 0; k < std::min<size_t>(order.size(), 5); ++k)
+      std::printf("  %04zu %.2f", order[k], run.frame_psnr_fg_db[order[k]]);
     std::printf("\n");
   }
   // The first mode's figures at the top level, where scripts look first.

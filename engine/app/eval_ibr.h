@@ -1,6 +1,7 @@
 #pragma once
 // `remotetouch eval ibr`: the image-based model against the simulator's ground truth.
 #include <string>
+#include <vector>
 
 #include "app/options.h"
 #include "passes/ibr_splat.h"
@@ -12,6 +13,7 @@ struct EvalIbrOptions {
   std::string fusion = "min";  // min, avg, or both (each frame rendered with both, compared)
   std::string site = "A";      // whose user is rendered, for the other site's eye
   uint32_t views = 4;
+  std::vector<std::string> cameras;  // a fixed selection by name; empty = opposite the touching hand
   int refine_hypotheses = 0;   // plane-sweep refinement; 0 = off
   // avg fusion: depths this far behind the nearest join the mean; the pass's own default
   float average_tolerance_m = passes::SplatSettings{}.average_tolerance_m;

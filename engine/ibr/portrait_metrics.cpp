@@ -61,6 +61,8 @@ PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& d
   outline = dilate(outline, w, h, regions_.edge_band_px);
 
   PortraitError error{HostImage(w, h, PixelFormat::R32F), HostImage(w, h, PixelFormat::R32F)};
+  double frame_squared_error = 0;
+  size_t frame_values = 0;
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
@@ -77,6 +79,7 @@ PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& d
       error.colour_error.at(x, y) = float(absolute / 3.0);
       if (foreground[i]) {
         fg_squared_error_ += squared, fg_values_ += 3;
+        frame_squared_error += squared, frame_values += 3;
         const ErrorRegion region = alpha < 0.5f ? ErrorRegion::Uncovered
                                    : outline[i] ? ErrorRegion::Outline
                                    : edge[i]    ? ErrorRegion::DepthEdge
@@ -98,6 +101,7 @@ PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& d
       union_ += covered || foreground[i];
     }
   ++frames_;
+  error.psnr_fg_db = psnr(frame_squared_error, frame_values);
   return error;
 }
 

@@ -18,6 +18,7 @@ struct MetricRegions {
 struct PortraitError {
   HostImage colour_error;  // r32f: mean absolute RGB error of (premultiplied) portrait vs truth
   HostImage depth_error_mm;  // r32f: |depth - truth| where both are set, else 0
+  double psnr_fg_db = 0;     // this frame's own (NaN without foreground)
 };
 
 // Where the foreground's squared error lies (each truth-foreground pixel in the first that

@@ -19,6 +19,15 @@ for f in 0000_truth.png 0000_min_portrait.png 0000_avg_portrait.png 0001_min_col
   [ -s "$out/images/$f" ] || { echo "missing $out/images/$f" >&2; exit 1; }
 done
 grep -Eq '^min +[0-9.]+' "$out.log" && grep -Eq '^avg +[0-9.]+' "$out.log"
+# Each frame's own PSNR (two frames) and the worst frames printed.
+grep -Eq '"frame_psnr_fg_db": \[$' "$out/metrics.json" || { echo "metrics.json lacks frame_psnr_fg_db" >&2; exit 1; }
+grep -Eq '^\[min\]  000[01] [0-9.]+  000[01] [0-9.]+$' "$out.log" || { echo "no worst frames printed" >&2; exit 1; }
+# A fixed selection by camera name is used and recorded.
+"$binary" eval ibr --scene wave --frames 1 --width 41 --height 23 --cameras top-centre,bottom-right \
+  --out "$out-cameras" --validation | tee "$out-cameras.log"
+grep -q 'cameras fixed: top-centre, bottom-right' "$out-cameras.log" || { echo "fixed cameras not printed" >&2; exit 1; }
+grep -q '"views": 2' "$out-cameras/metrics.json" || { echo "fixed cameras: not 2 views" >&2; exit 1; }
+grep -q '"bottom-right"' "$out-cameras/metrics.json" || { echo "fixed cameras not recorded" >&2; exit 1; }
 # A supersampled portrait at the site's own camera resolution: the resolve pass runs and is timed.
 "$binary" eval ibr --scene wave --frames 1 --width 41 --height 23 --portrait-supersample 2 --resolution-scale 0.25 \
   --out "$out-supersampled" --validation | tee "$out-supersampled.log"
