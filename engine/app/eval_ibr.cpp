@@ -95,7 +95,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   std::printf("eval ibr: scene %s, site %s's user for the other site's eye, %ux%u (portrait supersampled %ux%u), "
               "%u of %zu cameras (colour %ux%u, depth %ux%u), %u frames, simulated colour supersampled %ux%u, on %s\n",
               eval.scene.c_str(), eval.site.c_str(), options.width, options.height, eval.portrait_supersample,
-              eval.portrait_supersample, eval.views, positions.size(), colour.width, colour.height, depth.width,
+              eval.portrait_supersample, views, positions.size(), colour.width, colour.height, depth.width,
               depth.height, frames, eval.supersample, eval.supersample, context.device_name().c_str());
   if (!fixed_selection.empty()) {
     std::string names;
