@@ -21,6 +21,8 @@ layout(binding = 1, rgba8) uniform readonly image2D colour;  // views stacked in
 #include "common/bilinear.glsl"
 layout(binding = 2, r32f) uniform writeonly image2D refined_depth;
 layout(binding = 3, rgba32f) uniform readonly image2D points;  // w: each view's own depth
+#define RT_POINTS_IMAGE points
+#include "common/view_sees.glsl"
 layout(push_constant) uniform Push { IbrBlendParams params; };
 
 // Colour variance across the views that see `site`; -1 with fewer than two.
@@ -36,8 +38,7 @@ float disagreement(vec3 site) {
     vec2 depth_size = lens_size(cameras[v].depth);
     vec2 depth_pixel = lens_project(cameras[v].depth, q);
     if (!inside_image(at, size, 0.0) || !inside_image(depth_pixel, depth_size, 0.0)) continue;
-    float own = imageLoad(points, ivec2(floor(depth_pixel + 0.5)) + ivec2(0, v * int(depth_size.y))).w;
-    if (!own_depth_agrees(q.z, own, visibility_tolerance_m, visibility_tolerance_rel)) continue;
+    if (!view_sees(v, int(depth_size.y), depth_pixel, q.z, visibility_tolerance_m, visibility_tolerance_rel)) continue;
     vec3 c = bilinear_rgb(at, v * int(size.y), ivec2(size));
     sum += c;
     sum_squares += c * c;

@@ -19,6 +19,8 @@ layout(binding = 1, rgba8) uniform readonly image2D colour;       // views stack
 #define RT_BILINEAR_IMAGE colour
 #include "common/bilinear.glsl"
 layout(binding = 2, rgba32f) uniform readonly image2D points;     // w: each view's own depth
+#define RT_POINTS_IMAGE points
+#include "common/view_sees.glsl"
 layout(binding = 3, rgba32f) uniform writeonly image2D warped;    // rgb, visible; bands of the target size
 layout(binding = 4, rgba32f) uniform writeonly image2D features;  // angle (rad), resolution (m), feather, visible
 
@@ -43,9 +45,7 @@ void main() {
       vec2 depth_pixel = lens_project(camera.depth, q);
       // Tested in float before the conversion to integers, which is undefined far outside.
       if (inside_image(colour_pixel, colour_size, 0.0) && inside_image(depth_pixel, depth_size, 0.0)) {
-        ivec2 depth_texel = ivec2(floor(depth_pixel + 0.5));
-        float seen = imageLoad(points, depth_texel + ivec2(0, view * int(depth_size.y))).w;
-        if (own_depth_agrees(q.z, seen, visibility_tolerance_m, visibility_tolerance_rel)) {
+        if (view_sees(view, int(depth_size.y), depth_pixel, q.z, visibility_tolerance_m, visibility_tolerance_rel)) {
           vec3 eye = transform_point(target.site_from_camera, vec3(0.0));
           vec3 centre = transform_point(camera.site_from_camera, vec3(0.0));
           vec3 to_eye = site - eye, to_camera = site - centre;

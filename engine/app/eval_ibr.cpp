@@ -63,7 +63,11 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   const Camera target = *simulator.renderer().target_view();
 
   std::vector<std::string> camera_names;
-  for (const auto& camera : simulator.site().cameras) camera_names.push_back(camera.name);
+  std::vector<Eigen::Vector3d> positions;
+  for (const auto& camera : simulator.site().cameras) {
+    camera_names.push_back(camera.name);
+    positions.push_back(camera.colour_camera().position_in_site());
+  }
   // A fixed selection by name (throws naming an unknown camera), else per frame by the hand.
   const std::vector<size_t> fixed_selection =
       eval.cameras.empty() ? std::vector<size_t>{} : ibr::cameras_by_name(camera_names, eval.cameras);
@@ -83,8 +87,6 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
     settings.fusion = name == "min" ? passes::DepthFusion::Min : passes::DepthFusion::Average;
     runs.push_back({name, std::make_unique<IbrRenderer>(context, camera_models(simulator.renderer()), settings), ibr::PortraitMetrics(), {}});
   }
-  std::vector<Eigen::Vector3d> positions;
-  for (const auto& camera : simulator.site().cameras) positions.push_back(camera.colour_camera().position_in_site());
 
   const std::filesystem::path images_dir = options.out / "images";
   std::filesystem::create_directories(images_dir);

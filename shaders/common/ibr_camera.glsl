@@ -33,10 +33,4 @@ bool inside_image(vec2 pixel, vec2 size, float margin) {
   return all(greaterThanEqual(pixel, vec2(-0.5 + margin))) && all(lessThan(pixel, size - 0.5 - margin));
 }
 
-// Warping's and refinement's visibility test: `own` is the view's own depth at the point's
-// nearest depth texel (0 = none), `z` the point's depth in that camera (passes::view_sees).
-bool own_depth_agrees(float z, float own, float tolerance_m, float tolerance_rel) {
-  return own > 0.0 && abs(z - own) <= tolerance_m + tolerance_rel * own;
-}
-
 #endif
