@@ -14,9 +14,10 @@ namespace {
 
 const SplatSettings& check(const SplatSettings& s) {
   if (!(s.footprint_scale > 0.0f) || !(s.max_footprint_px >= 1.0f) || !(s.average_tolerance_m >= 0.0f) ||
-      !(s.plane_tolerance_m >= 0.0f))
+      !(s.plane_tolerance_m >= 0.0f) || !(s.edge_inset >= 0.0f && s.edge_inset < 0.5f))
     throw std::invalid_argument(
-        "depth splatting: footprint_scale > 0, max_footprint_px >= 1, average_tolerance_m >= 0, plane_tolerance_m >= 0");
+        "depth splatting: footprint_scale > 0, max_footprint_px >= 1, average_tolerance_m >= 0, plane_tolerance_m >= 0, "
+        "0 <= edge_inset < 0.5");
   return s;
 }
 
@@ -25,7 +26,8 @@ std::vector<vk::Knob> knobs(const SplatSettings& s, bool accumulate) {
           {"footprint_scale", s.footprint_scale},
           {"max_footprint_px", s.max_footprint_px},
           {"average_tolerance_m", s.average_tolerance_m},
-          {"plane_tolerance_m", s.plane_tolerance_m}};
+          {"plane_tolerance_m", s.plane_tolerance_m},
+          {"edge_inset", s.edge_inset}};
 }
 
 }  // namespace
@@ -83,21 +85,21 @@ std::optional<Projected> project_point(const IbrSceneTable& table, const HostIma
   return projected;
 }
 
-// The shader's surface_neighbour: the offset to a neighbour on the same surface along `step`, or
-// (mirrored) along -step.
-std::optional<Projected> surface_neighbour(const IbrSceneTable& table, const HostImage& points, int x, int y, int dx,
-                                           int dy, uint32_t view, int width, int height, Projected centre,
-                                           float tolerance) {
-  if (auto q = project_point(table, points, x + dx, y + dy, view, width, height); q && std::abs(q->z - centre.z) <= tolerance)
-    return Projected{q->x - centre.x, q->y - centre.y, q->z - centre.z};
-  if (auto q = project_point(table, points, x - dx, y - dy, view, width, height); q && std::abs(q->z - centre.z) <= tolerance)
-    return Projected{centre.x - q->x, centre.y - q->y, centre.z - q->z};
-  return std::nullopt;
+// The shader's surface_neighbour: the offset to the neighbour at (x, y) when it lies on the same
+// surface as `centre`.
+std::optional<Projected> surface_neighbour(const IbrSceneTable& table, const HostImage& points, int x, int y,
+                                           uint32_t view, int width, int height, Projected centre, float tolerance) {
+  const auto q = project_point(table, points, x, y, view, width, height);
+  if (!q || std::abs(q->z - centre.z) > tolerance) return std::nullopt;
+  return Projected{q->x - centre.x, q->y - centre.y, q->z - centre.z};
 }
+
+Projected negated(const Projected& p) { return {-p.x, -p.y, -p.z}; }
 
 }  // namespace
 
 std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const HostImage& points, const SplatSettings& s) {
+  check(s);
   const int target_width = int(table.target.size[0]), target_height = int(table.target.size[1]);
   const size_t n = size_t(target_width) * size_t(target_height);
   std::vector<uint32_t> fusion(3 * n, 0u);
@@ -114,34 +116,43 @@ std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const Host
           if (centre->x < -s.max_footprint_px || centre->y < -s.max_footprint_px ||
               centre->x > table.target.size[0] + s.max_footprint_px || centre->y > table.target.size[1] + s.max_footprint_px)
             continue;
-          const auto along_x = surface_neighbour(table, points, x, y, 1, 0, view, width, height, *centre, s.plane_tolerance_m);
-          const auto along_y = surface_neighbour(table, points, x, y, 0, 1, view, width, height, *centre, s.plane_tolerance_m);
-          const float det = along_x && along_y ? along_x->x * along_y->y - along_x->y * along_y->x : 0.0f;
-          const bool on_surface = along_x && along_y &&
-                                  std::abs(det) > 0.01f * std::hypot(along_x->x, along_x->y) * std::hypot(along_y->x, along_y->y) &&
+          auto neighbour = [&](int nx, int ny) {
+            return surface_neighbour(table, points, nx, ny, view, width, height, *centre, s.plane_tolerance_m);
+          };
+          const auto right = neighbour(x + 1, y), left = neighbour(x - 1, y);
+          const auto below = neighbour(x, y + 1), above = neighbour(x, y - 1);
+          const Projected along_x = right ? *right : left ? negated(*left) : Projected{};
+          const Projected along_y = below ? *below : above ? negated(*above) : Projected{};
+          const float det = along_x.x * along_y.y - along_x.y * along_y.x;
+          const bool on_surface = (right || left) && (below || above) &&
+                                  std::abs(det) > 0.01f * std::hypot(along_x.x, along_x.y) * std::hypot(along_y.x, along_y.y) &&
                                   std::abs(det) > 1e-8f;
           float half_x, half_y;
           if (on_surface) {
-            half_x = std::min(0.5f * s.footprint_scale * (std::abs(along_x->x) + std::abs(along_y->x)), 0.5f * s.max_footprint_px);
-            half_y = std::min(0.5f * s.footprint_scale * (std::abs(along_x->y) + std::abs(along_y->y)), 0.5f * s.max_footprint_px);
+            half_x = std::min(0.5f * s.footprint_scale * (std::abs(along_x.x) + std::abs(along_y.x)), 0.5f * s.max_footprint_px);
+            half_y = std::min(0.5f * s.footprint_scale * (std::abs(along_x.y) + std::abs(along_y.y)), 0.5f * s.max_footprint_px);
           } else {
             const float depth = points.texels[points.index(uint32_t(x), uint32_t(y) + view * uint32_t(height)) + 3];
-            const float footprint = s.footprint_scale * (depth / camera.depth.pinhole[0]) * table.target.pinhole[0] / centre->z;
+            const float footprint = s.footprint_scale * (1.0f - 2.0f * s.edge_inset) * (depth / camera.depth.pinhole[0]) *
+                                    table.target.pinhole[0] / centre->z;
             half_x = half_y = 0.5f * std::clamp(footprint, 1.0f, s.max_footprint_px);
           }
           const int x0 = std::max(int(std::ceil(centre->x - half_x)), 0), y0 = std::max(int(std::ceil(centre->y - half_y)), 0);
           const int x1 = std::min(int(std::floor(centre->x + half_x)), target_width - 1);
           const int y1 = std::min(int(std::floor(centre->y + half_y)), target_height - 1);
           const float limit = 0.5f * s.footprint_scale + 1e-3f;
+          auto side_limit = [&](const std::optional<Projected>& side) { return side ? limit : limit - s.edge_inset; };
+          const float right_limit = side_limit(right), left_limit = side_limit(left);
+          const float below_limit = side_limit(below), above_limit = side_limit(above);
           for (int ty = y0; ty <= y1; ++ty)
             for (int tx = x0; tx <= x1; ++tx) {
               float z = centre->z;
               if (on_surface) {
                 const float ox = float(tx) - centre->x, oy = float(ty) - centre->y;
-                const float a = (ox * along_y->y - oy * along_y->x) / det;
-                const float b = (along_x->x * oy - along_x->y * ox) / det;
-                if (std::abs(a) > limit || std::abs(b) > limit) continue;
-                z = std::max(centre->z + a * along_x->z + b * along_y->z, 1e-4f);
+                const float a = (ox * along_y.y - oy * along_y.x) / det;
+                const float b = (along_x.x * oy - along_x.y * ox) / det;
+                if (a > right_limit || -a > left_limit || b > below_limit || -b > above_limit) continue;
+                z = std::max(centre->z + a * along_x.z + b * along_y.z, 1e-4f);
               }
               visit(size_t(ty) * size_t(target_width) + size_t(tx), z);
             }

@@ -16,6 +16,7 @@ layout(constant_id = 1) const float footprint_scale = 1.0;   // splat side over 
 layout(constant_id = 2) const float max_footprint_px = 6.0;
 layout(constant_id = 3) const float average_tolerance_m = 0.1;  // depths this far behind the nearest join its average
 layout(constant_id = 4) const float plane_tolerance_m = 0.03;   // neighbours this close span the splat's plane
+layout(constant_id = 5) const float edge_inset = 0.0;           // of a depth pixel, on sides without a neighbour
 
 layout(binding = 0, rgba32f) uniform readonly image2D points;  // site xyz, camera z; 0 = none
 // [0, n): nearest depth bits; [n, 2n): sum of agreeing depths (10 micrometre units); [2n, 3n): their count.
@@ -34,20 +35,14 @@ bool project_point(ivec2 pixel, int view, ivec2 size, out vec3 projected) {
   return is_finite(projected.x) && is_finite(projected.y);
 }
 
-// A neighbour on the same surface along `step` (or, failing that, along -step): its offset from
+// The neighbour at `neighbour` when it lies on the same surface as `centre`: its offset from
 // `centre` in target pixels and depth.
-bool surface_neighbour(ivec2 pixel, ivec2 step, int view, ivec2 size, vec3 centre, out vec3 offset) {
+bool surface_neighbour(ivec2 neighbour, int view, ivec2 size, vec3 centre, out vec3 offset) {
   vec3 q;
-  if (project_point(pixel + step, view, size, q) && abs(q.z - centre.z) <= plane_tolerance_m) {
-    offset = q - centre;
-    return true;
-  }
-  if (project_point(pixel - step, view, size, q) && abs(q.z - centre.z) <= plane_tolerance_m) {
-    offset = centre - q;
-    return true;
-  }
   offset = vec3(0.0);
-  return false;
+  if (!project_point(neighbour, view, size, q) || abs(q.z - centre.z) > plane_tolerance_m) return false;
+  offset = q - centre;
+  return true;
 }
 
 void main() {
@@ -69,9 +64,15 @@ void main() {
   // the angles of the camera and the eye to the surface, and their depths agree instead of the
   // min-filter picking the front step of a staircase.
   vec3 here = vec3(centre, p.z);
-  vec3 along_x, along_y;
-  bool on_surface = surface_neighbour(pixel, ivec2(1, 0), view, size, here, along_x) &&
-               surface_neighbour(pixel, ivec2(0, 1), view, size, here, along_y);
+  vec3 to_right, to_left, to_below, to_above;
+  bool right = surface_neighbour(pixel + ivec2(1, 0), view, size, here, to_right);
+  bool left = surface_neighbour(pixel - ivec2(1, 0), view, size, here, to_left);
+  bool below = surface_neighbour(pixel + ivec2(0, 1), view, size, here, to_below);
+  bool above = surface_neighbour(pixel - ivec2(0, 1), view, size, here, to_above);
+  // One step along each axis of the depth image, from either neighbour on the surface.
+  vec3 along_x = right ? to_right : -to_left;
+  vec3 along_y = below ? to_below : -to_above;
+  bool on_surface = (right || left) && (below || above);
   float det = along_x.x * along_y.y - along_x.y * along_y.x;
   // Seen edge-on from the eye, the parallelogram has no area to test against.
   on_surface = on_surface && abs(det) > 0.01 * length(along_x.xy) * length(along_y.xy) && abs(det) > 1e-8;
@@ -81,13 +82,19 @@ void main() {
   } else {
     // No surface around it (an edge, a thin finger): a square of the depth pixel's width at
     // its depth (point.w / fx_depth metres) as the eye sees it, at least a pixel, at one depth.
-    float footprint = footprint_scale * (point.w / cameras[view].depth.pinhole.x) * target.pinhole.x / p.z;
+    float footprint = footprint_scale * (1.0 - 2.0 * edge_inset) * (point.w / cameras[view].depth.pinhole.x) *
+                      target.pinhole.x / p.z;
     half_extent = vec2(0.5 * clamp(footprint, 1.0, max_footprint_px));
   }
   ivec2 target_size = ivec2(target.size.xy);
   ivec2 first = max(ivec2(ceil(centre - half_extent)), ivec2(0));
   ivec2 last = min(ivec2(floor(centre + half_extent)), target_size - 1);
   float patch_limit = 0.5 * footprint_scale + 1e-3;  // a hair over half-way: no cracks between neighbours
+  // Each side that ends the surface (an outline, a depth edge) pulls in by edge_inset: the
+  // min-filter keeps the union of the views' splats, so otherwise every outline grows by the
+  // largest of the views' half-pixel errors (about 0.5 - 1 / (k + 1) depth pixels for k views).
+  vec4 side_limit = patch_limit - edge_inset * vec4(right ? 0.0 : 1.0, left ? 0.0 : 1.0, below ? 0.0 : 1.0,
+                                                    above ? 0.0 : 1.0);
   uint n = uint(target_size.x * target_size.y);
   for (int y = first.y; y <= last.y; ++y)
     for (int x = first.x; x <= last.x; ++x) {
@@ -97,7 +104,7 @@ void main() {
         vec2 offset = vec2(x, y) - centre;
         float a = (offset.x * along_y.y - offset.y * along_y.x) / det;
         float b = (along_x.x * offset.y - along_x.y * offset.x) / det;
-        if (abs(a) > patch_limit || abs(b) > patch_limit) continue;
+        if (a > side_limit.x || -a > side_limit.y || b > side_limit.z || -b > side_limit.w) continue;
         z = max(p.z + a * along_x.z + b * along_y.z, 1e-4);
       }
       uint index = uint(y * target_size.x + x);

@@ -4,6 +4,7 @@
 // coverage (stated tolerance), none may be NaN. Fusion from a given buffer matches to 1e-5.
 #include <bit>
 #include <cstring>
+#include <limits>
 #include <span>
 
 #include "passes/ibr_foreground.h"
@@ -85,12 +86,15 @@ TEST_CASE("ibr_splat min and average fusion on random views, odd target sizes", 
   test::NoValidationErrors no_errors;
   std::mt19937 rng(21);
   for (const auto& [width, height] : test::odd_sizes()) {
-    for (auto mode : {passes::DepthFusion::Min, passes::DepthFusion::Average}) {
-      INFO(width << "x" << height << (mode == passes::DepthFusion::Min ? " min" : " average"));
+    for (auto [mode, edge_inset] : {std::pair{passes::DepthFusion::Min, 0.0f}, std::pair{passes::DepthFusion::Average, 0.0f},
+                                    std::pair{passes::DepthFusion::Min, 0.3f}}) {
+      INFO(width << "x" << height << (mode == passes::DepthFusion::Min ? " min" : " average") << ", edge inset "
+                 << edge_inset);
       const test::IbrRig rig = test::ibr_rig(3, 16, 9, 41, 37, width, height);
       const HostImage points = random_points(rng, rig);
       passes::SplatSettings settings;
       settings.fusion = mode;
+      settings.edge_inset = edge_inset;
       const SplatResult gpu = run_gpu(rig, points, settings);
       const auto reference = passes::ibr_splat_reference(rig.table, points, settings);
       const size_t n = size_t(width) * height;
@@ -267,4 +271,44 @@ TEST_CASE("ibr_splat: splats of a tilted plane tile it at its own depths", "[ibr
   squares.plane_tolerance_m = 0.0f;
   size_t covered_squares = 0;
   CHECK(worst_error_mm(passes::ibr_splat_reference(rig.table, points, squares), covered_squares) > 5.0);
+
+  // Pulling the outline in takes pixels off the disc's rim only: every pixel it drops borders
+  // one the plain splats leave empty, the depths stay the plane's, and the GPU agrees.
+  passes::SplatSettings inset;
+  inset.edge_inset = 0.3f;
+  const SplatResult gpu_inset = run_gpu(rig, points, inset);
+  const auto reference_inset = passes::ibr_splat_reference(rig.table, points, inset);
+  require_fusion_matches(gpu_inset.fusion, reference_inset, 321 * 181);
+  size_t covered_inset = 0;
+  CHECK(worst_error_mm(reference_inset, covered_inset) < 0.5);
+  auto empty = [](const std::vector<uint32_t>& fusion, int x, int y) {
+    return x < 0 || y < 0 || x >= 321 || y >= 181 || fusion[size_t(y) * 321 + size_t(x)] == RT_IBR_EMPTY_DEPTH_BITS;
+  };
+  size_t dropped = 0, dropped_inside = 0, added = 0;
+  for (int y = 0; y < 181; ++y)
+    for (int x = 0; x < 321; ++x) {
+      if (!empty(reference, x, y) && empty(reference_inset, x, y)) {
+        ++dropped;
+        bool on_rim = false;
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) on_rim = on_rim || empty(reference, x + dx, y + dy);
+        dropped_inside += !on_rim;
+      }
+      added += empty(reference, x, y) && !empty(reference_inset, x, y);
+    }
+  INFO(dropped << " rim pixels dropped of " << covered_reference << ", " << dropped_inside << " inside");
+  CHECK(dropped > 0);
+  CHECK(dropped < covered_reference / 5);
+  CHECK(dropped_inside == 0);
+  CHECK(added == 0);
+}
+
+TEST_CASE("ibr_splat: the edge inset is checked", "[ibr_splat]") {
+  passes::SplatSettings settings;
+  for (float bad : {-0.1f, 0.5f, std::numeric_limits<float>::quiet_NaN()}) {
+    settings.edge_inset = bad;
+    CHECK_THROWS_WITH(passes::ibr_splat_reference(test::ibr_rig(1, 16, 9, 5, 5, 7, 5).table,
+                                                  HostImage(5, 5, PixelFormat::RGBA32F, 0.0f), settings),
+                      Catch::Contains("edge_inset"));
+  }
 }
