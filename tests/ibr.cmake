@@ -10,6 +10,8 @@ add_test(NAME cli_eval_ibr_cameras_and_views COMMAND $<TARGET_FILE:remotetouch> 
 set_tests_properties(cli_eval_ibr_cameras_and_views PROPERTIES PASS_REGULAR_EXPRESSION "--views excludes --cameras")
 add_test(NAME cli_eval_ibr_bad_fusion COMMAND $<TARGET_FILE:remotetouch> eval ibr --fusion median)
 set_tests_properties(cli_eval_ibr_bad_fusion PROPERTIES PASS_REGULAR_EXPRESSION "--fusion.*median")
+add_test(NAME cli_eval_ibr_bad_edge_inset COMMAND $<TARGET_FILE:remotetouch> eval ibr --edge-inset 0.5)
+set_tests_properties(cli_eval_ibr_bad_edge_inset PROPERTIES PASS_REGULAR_EXPRESSION "--edge-inset: Value 0.5 not in range")
 add_test(NAME cli_bench_ibr
          COMMAND $<TARGET_FILE:remotetouch> bench ibr --frames 1 --width 65 --height 33 --out ${CMAKE_BINARY_DIR}/test-out/bench-ibr)
 set_tests_properties(cli_bench_ibr PROPERTIES PASS_REGULAR_EXPRESSION "6 views: image-based model.*copy")
