@@ -133,8 +133,7 @@ std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const Host
             half_y = std::min(0.5f * s.footprint_scale * (std::abs(along_x.y) + std::abs(along_y.y)), 0.5f * s.max_footprint_px);
           } else {
             const float depth = points.texels[points.index(uint32_t(x), uint32_t(y) + view * uint32_t(height)) + 3];
-            const float footprint = s.footprint_scale * (1.0f - 2.0f * s.edge_inset) * (depth / camera.depth.pinhole[0]) *
-                                    table.target.pinhole[0] / centre->z;
+            const float footprint = s.footprint_scale * (depth / camera.depth.pinhole[0]) * table.target.pinhole[0] / centre->z;
             half_x = half_y = 0.5f * std::clamp(footprint, 1.0f, s.max_footprint_px);
           }
           const int x0 = std::max(int(std::ceil(centre->x - half_x)), 0), y0 = std::max(int(std::ceil(centre->y - half_y)), 0);

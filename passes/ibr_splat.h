@@ -26,12 +26,12 @@ struct SplatSettings {
   // A splat is a piece of its surface's tangent plane, spanned by the neighbouring points within
   // this depth of it; without two such neighbours it is flat. Its depth stays within this of the point's.
   float plane_tolerance_m = 0.03f;
-  // Each splat's sides without a neighbour on its surface (outlines, depth edges) pull in by this
-  // much of a depth pixel. The min-filter keeps the union of the views' splats, so each outline
-  // otherwise grows by the largest of the views' half-pixel errors, about 0.5 - 1 / (k + 1) depth
-  // pixels for k views: 0.3 for four. Off by default: at one sample per target pixel the
-  // foreground PSNR rewards the fatter outline (an uncovered pixel costs its whole colour);
-  // with a supersampled portrait (partial alpha) 0.3 measured best (README, eval ibr).
+  // A surface splat's sides without a neighbour on its surface (outlines, depth edges) pull in by
+  // this much of a depth pixel (squares keep their size). The min-filter keeps the union of the
+  // views' splats, so each outline otherwise grows by the largest of the views' half-pixel
+  // errors, about 0.5 - 1 / (k + 1) depth pixels for k views that see it (0.36 for six). Off by
+  // default: 0.3 gains with six views and a supersampled portrait, and loses with four views or
+  // one sample per target pixel, where an uncovered pixel costs its whole colour (README).
   float edge_inset = 0.0f;
 };
 

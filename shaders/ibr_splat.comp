@@ -82,8 +82,9 @@ void main() {
   } else {
     // No surface around it (an edge, a thin finger): a square of the depth pixel's width at
     // its depth (point.w / fx_depth metres) as the eye sees it, at least a pixel, at one depth.
-    float footprint = footprint_scale * (1.0 - 2.0 * edge_inset) * (point.w / cameras[view].depth.pinhole.x) *
-                      target.pinhole.x / p.z;
+    // Not inset: which side of the square faces the missing neighbour is not known, and shrinking
+    // all of it would break a thin line of squares (a finger a depth pixel wide) into dots.
+    float footprint = footprint_scale * (point.w / cameras[view].depth.pinhole.x) * target.pinhole.x / p.z;
     half_extent = vec2(0.5 * clamp(footprint, 1.0, max_footprint_px));
   }
   ivec2 target_size = ivec2(target.size.xy);

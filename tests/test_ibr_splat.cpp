@@ -301,6 +301,17 @@ TEST_CASE("ibr_splat: splats of a tilted plane tile it at its own depths", "[ibr
   CHECK(dropped < covered_reference / 5);
   CHECK(dropped_inside == 0);
   CHECK(added == 0);
+
+  // A line one depth pixel wide (a thin finger) is drawn as squares, which keep their size: the
+  // inset must not break it into dots.
+  HostImage line(121, 91, PixelFormat::RGBA32F, 0.0f);
+  for (uint32_t y = 0; y < 91; ++y)
+    for (uint32_t c = 0; c < 4; ++c) line.texels[line.index(60, y) + c] = points.texels[points.index(60, y) + c];
+  const auto line_plain = passes::ibr_splat_reference(rig.table, line);
+  const auto line_inset = passes::ibr_splat_reference(rig.table, line, inset);
+  CHECK(covered(line_plain, 321 * 181) > 50);
+  CHECK(line_inset == line_plain);
+  require_fusion_matches(run_gpu(rig, line, inset).fusion, line_inset, 321 * 181);
 }
 
 TEST_CASE("ibr_splat: the edge inset is checked", "[ibr_splat]") {

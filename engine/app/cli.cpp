@@ -122,9 +122,9 @@ int run_cli(int argc, char** argv) {
   eval_ibr_command->add_option("--average-tolerance", eval_ibr_options.average_tolerance_m,
                                "avg fusion: depths up to this many metres behind the nearest agree with it and join the mean (large, e.g. 0.1 = a plain mean that blurs edges)")
       ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();
-  eval_ibr_command->add_option("--edge-inset", eval_ibr_options.edge_inset_px,
+  eval_ibr_command->add_option("--edge-inset", eval_ibr_options.edge_inset_depth_px,
                                "Splat sides on outlines and depth edges pulled in by this much of a depth pixel "
-                               "(0.3 suits a supersampled portrait from 4-6 views)")
+                               "(0.3 gains with --views 6 and --portrait-supersample 3; loses with four views)")
       ->check(CLI::Range(0.0f, 0.49f))->capture_default_str();
   eval_ibr_command->add_option("--supersample", eval_ibr_options.supersample,
                                "Simulated colour and ground truth rendered at N x N samples per pixel, box-filtered (odd)")

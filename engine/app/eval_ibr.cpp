@@ -80,7 +80,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   settings.refine = eval.refine_hypotheses > 0;
   settings.supersample = eval.portrait_supersample;
   settings.splat.average_tolerance_m = eval.average_tolerance_m;
-  settings.splat.edge_inset = eval.edge_inset_px;
+  settings.splat.edge_inset = eval.edge_inset_depth_px;
   if (settings.refine) settings.refinement.hypotheses = eval.refine_hypotheses;
   std::vector<FusionRun> runs;
   for (const std::string& name : {std::string("min"), std::string("avg")}) {
@@ -144,7 +144,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"cameras", fixed_selection.empty() ? nlohmann::json("opposite the touching hand, each frame")
                                                                : nlohmann::json(eval.cameras)},
                            {"refine_hypotheses", eval.refine_hypotheses},
-                           {"edge_inset_px", eval.edge_inset_px},
+                           {"edge_inset_depth_px", eval.edge_inset_depth_px},
                            {"colour_supersampling", eval.supersample},
                            {"portrait_supersampling", eval.portrait_supersample},
                            {"resolution_scale", scene.resolution_scale},

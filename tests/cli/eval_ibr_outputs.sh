@@ -28,7 +28,7 @@ grep -Eq '^\[min\]  000[01] [0-9.]+  000[01] [0-9.]+$' "$out.log" || { echo "no 
 grep -q "2 of 6 cameras" "$out-cameras.log" && grep -q 'cameras fixed: top-centre, bottom-right' "$out-cameras.log" || { echo "fixed cameras not printed" >&2; exit 1; }
 grep -q '"views": 2' "$out-cameras/metrics.json" || { echo "fixed cameras: not 2 views" >&2; exit 1; }
 grep -q '"bottom-right"' "$out-cameras/metrics.json" || { echo "fixed cameras not recorded" >&2; exit 1; }
-grep -q '"edge_inset_px": 0.3' "$out-cameras/metrics.json" || { echo "edge inset not recorded" >&2; exit 1; }
+grep -q '"edge_inset_depth_px": 0.3' "$out-cameras/metrics.json" || { echo "edge inset not recorded" >&2; exit 1; }
 # A supersampled portrait at the site's own camera resolution: the resolve pass runs and is timed.
 "$binary" eval ibr --scene wave --frames 1 --width 41 --height 23 --portrait-supersample 2 --resolution-scale 0.25 \
   --out "$out-supersampled" --validation | tee "$out-supersampled.log"
