@@ -96,6 +96,12 @@ std::optional<Projected> surface_neighbour(const IbrSceneTable& table, const Hos
 
 Projected negated(const Projected& p) { return {-p.x, -p.y, -p.z}; }
 
+// The shader's spans_area: two steps across the surface that the eye does not see edge-on.
+bool spans_area(const Projected& u, const Projected& v) {
+  const float det = u.x * v.y - u.y * v.x;
+  return std::abs(det) > 0.01f * std::hypot(u.x, u.y) * std::hypot(v.x, v.y) && std::abs(det) > 1e-8f;
+}
+
 }  // namespace
 
 std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const HostImage& points, const SplatSettings& s) {
@@ -121,16 +127,22 @@ std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const Host
           };
           const auto right = neighbour(x + 1, y), left = neighbour(x - 1, y);
           const auto below = neighbour(x, y + 1), above = neighbour(x, y - 1);
-          const Projected along_x = right ? *right : left ? negated(*left) : Projected{};
-          const Projected along_y = below ? *below : above ? negated(*above) : Projected{};
-          const float det = along_x.x * along_y.y - along_x.y * along_y.x;
-          const bool on_surface = (right || left) && (below || above) &&
-                                  std::abs(det) > 0.01f * std::hypot(along_x.x, along_x.y) * std::hypot(along_y.x, along_y.y) &&
-                                  std::abs(det) > 1e-8f;
+          // The shader's steps each way along each axis (a missing side mirrors the other).
+          const Projected step_right = right ? *right : left ? negated(*left) : Projected{};
+          const Projected step_left = left ? *left : right ? negated(*right) : Projected{};
+          const Projected step_below = below ? *below : above ? negated(*above) : Projected{};
+          const Projected step_above = above ? *above : below ? negated(*below) : Projected{};
+          const bool on_surface = (right || left) && (below || above) && spans_area(step_right, step_below);
           float half_x, half_y;
           if (on_surface) {
-            half_x = std::min(0.5f * s.footprint_scale * (std::abs(along_x.x) + std::abs(along_y.x)), 0.5f * s.max_footprint_px);
-            half_y = std::min(0.5f * s.footprint_scale * (std::abs(along_x.y) + std::abs(along_y.y)), 0.5f * s.max_footprint_px);
+            half_x = std::min(0.5f * s.footprint_scale *
+                                  (std::max(std::abs(step_right.x), std::abs(step_left.x)) +
+                                   std::max(std::abs(step_below.x), std::abs(step_above.x))),
+                              0.5f * s.max_footprint_px);
+            half_y = std::min(0.5f * s.footprint_scale *
+                                  (std::max(std::abs(step_right.y), std::abs(step_left.y)) +
+                                   std::max(std::abs(step_below.y), std::abs(step_above.y))),
+                              0.5f * s.max_footprint_px);
           } else {
             const float depth = points.texels[points.index(uint32_t(x), uint32_t(y) + view * uint32_t(height)) + 3];
             const float footprint = s.footprint_scale * (depth / camera.depth.pinhole[0]) * table.target.pinhole[0] / centre->z;
@@ -148,10 +160,22 @@ std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const Host
               float z = centre->z;
               if (on_surface) {
                 const float ox = float(tx) - centre->x, oy = float(ty) - centre->y;
-                const float a = (ox * along_y.y - oy * along_y.x) / det;
-                const float b = (along_x.x * oy - along_x.y * ox) / det;
-                if (a > right_limit || -a > left_limit || b > below_limit || -b > above_limit) continue;
-                z = std::max(centre->z + a * along_x.z + b * along_y.z, 1e-4f);
+                bool inside = false;
+                for (int quarter = 0; quarter < 4 && !inside; ++quarter) {
+                  const bool to_x_left = (quarter & 1) != 0, to_y_above = (quarter & 2) != 0;
+                  const Projected& x_step = to_x_left ? step_left : step_right;
+                  const Projected& y_step = to_y_above ? step_above : step_below;
+                  if (!spans_area(x_step, y_step)) continue;
+                  const float det = x_step.x * y_step.y - x_step.y * y_step.x;
+                  const float a = (ox * y_step.y - oy * y_step.x) / det;
+                  const float b = (x_step.x * oy - x_step.y * ox) / det;
+                  const float a_limit = to_x_left ? left_limit : right_limit;
+                  const float b_limit = to_y_above ? above_limit : below_limit;
+                  if (a < -1e-4f || b < -1e-4f || a > a_limit || b > b_limit) continue;
+                  z = std::max(centre->z + a * x_step.z + b * y_step.z, 1e-4f);
+                  inside = true;
+                }
+                if (!inside) continue;
               }
               visit(size_t(ty) * size_t(target_width) + size_t(tx), z);
             }

@@ -23,8 +23,10 @@ struct SplatSettings {
   // millimetres) and no surface behind it; eval ibr measured it best on wave and clap (10 cm,
   // the plain mean over most of a hand-over-body edge, blurs the edges as the paper says).
   float average_tolerance_m = 0.015f;
-  // A splat is a piece of its surface's tangent plane, spanned by the neighbouring points within
-  // this depth of it; without two such neighbours it is flat. Its depth stays within this of the point's.
+  // A splat is the piece of its surface around the point, spanned by the neighbouring points within
+  // this depth of it: four quarters, each on the plane through the point and the two neighbours
+  // bounding it (a missing neighbour mirrors the opposite one); without a neighbour on both axes
+  // it is a flat square. Its depth stays within about this of the point's.
   float plane_tolerance_m = 0.03f;
   // A surface splat's sides without a neighbour on its surface (outlines, depth edges) pull in by
   // this much of a depth pixel (squares keep their size). The min-filter keeps the union of the

@@ -45,6 +45,12 @@ bool surface_neighbour(ivec2 neighbour, int view, ivec2 size, vec3 centre, out v
   return true;
 }
 
+// Two steps across the surface span an area as the eye sees them (not edge-on).
+bool spans_area(vec3 u, vec3 v) {
+  float det = u.x * v.y - u.y * v.x;
+  return abs(det) > 0.01 * length(u.xy) * length(v.xy) && abs(det) > 1e-8;
+}
+
 void main() {
   int view = int(gl_GlobalInvocationID.z);
   ivec2 size = ivec2(lens_size(cameras[view].depth));
@@ -58,27 +64,30 @@ void main() {
   // Far outside the image (grazing the eye plane): skip before converting to integers.
   if (!is_finite(centre.x) || !is_finite(centre.y)) return;
   if (any(lessThan(centre, vec2(-max_footprint_px))) || any(greaterThan(centre, target.size.xy + max_footprint_px))) return;
-  // The splat is the depth pixel's own piece of the surface: the parallelogram its neighbours in
-  // the depth image span, half-way to each, on the plane through them. Neighbouring splats of one
-  // surface then tile the target without overlapping or spilling past a silhouette, whatever
-  // the angles of the camera and the eye to the surface, and their depths agree instead of the
-  // min-filter picking the front step of a staircase.
+  // The splat is the depth pixel's own piece of the surface: the four quarters between it and
+  // its neighbours in the depth image, half-way to each, each quarter on the plane through the
+  // point and the two neighbours that bound it. Neighbouring splats of one surface then tile the
+  // target without overlapping or spilling past a silhouette, whatever the angles of the camera
+  // and the eye to the surface, and their depths agree instead of the min-filter picking the
+  // front step of a staircase. One plane for the whole splat would extrapolate half of it from
+  // the far side's neighbours: on a curved surface (a finger) that lies in front of the surface,
+  // steeply so where the eye grazes it, and the min-filter keeps exactly those errors.
   vec3 here = vec3(centre, p.z);
   vec3 to_right, to_left, to_below, to_above;
   bool right = surface_neighbour(pixel + ivec2(1, 0), view, size, here, to_right);
   bool left = surface_neighbour(pixel - ivec2(1, 0), view, size, here, to_left);
   bool below = surface_neighbour(pixel + ivec2(0, 1), view, size, here, to_below);
   bool above = surface_neighbour(pixel - ivec2(0, 1), view, size, here, to_above);
-  // One step along each axis of the depth image, from either neighbour on the surface.
-  vec3 along_x = right ? to_right : -to_left;
-  vec3 along_y = below ? to_below : -to_above;
-  bool on_surface = (right || left) && (below || above);
-  float det = along_x.x * along_y.y - along_x.y * along_y.x;
-  // Seen edge-on from the eye, the parallelogram has no area to test against.
-  on_surface = on_surface && abs(det) > 0.01 * length(along_x.xy) * length(along_y.xy) && abs(det) > 1e-8;
+  // One step each way along each axis of the depth image; a side without its neighbour mirrors
+  // the other side's step (the surface continued, up to where it ends).
+  vec3 step_right = right ? to_right : -to_left, step_left = left ? to_left : -to_right;
+  vec3 step_below = below ? to_below : -to_above, step_above = above ? to_above : -to_below;
+  bool on_surface = (right || left) && (below || above) && spans_area(step_right, step_below);
   vec2 half_extent;
   if (on_surface) {
-    half_extent = min(0.5 * footprint_scale * (abs(along_x.xy) + abs(along_y.xy)), vec2(0.5 * max_footprint_px));
+    half_extent = min(0.5 * footprint_scale * (max(abs(step_right.xy), abs(step_left.xy)) +
+                                               max(abs(step_below.xy), abs(step_above.xy))),
+                      vec2(0.5 * max_footprint_px));
   } else {
     // No surface around it (an edge, a thin finger): a square of the depth pixel's width at
     // its depth (point.w / fx_depth metres) as the eye sees it, at least a pixel, at one depth.
@@ -101,12 +110,25 @@ void main() {
     for (int x = first.x; x <= last.x; ++x) {
       float z = p.z;
       if (on_surface) {
-        // The pixel in the on_surface's own coordinates: offset = a * along_x + b * along_y.
+        // The first quarter that holds the pixel: offset = a * x_step + b * y_step, a, b >= 0.
         vec2 offset = vec2(x, y) - centre;
-        float a = (offset.x * along_y.y - offset.y * along_y.x) / det;
-        float b = (along_x.x * offset.y - along_x.y * offset.x) / det;
-        if (a > side_limit.x || -a > side_limit.y || b > side_limit.z || -b > side_limit.w) continue;
-        z = max(p.z + a * along_x.z + b * along_y.z, 1e-4);
+        bool inside = false;
+        for (int quarter = 0; quarter < 4 && !inside; ++quarter) {
+          bool to_x_left = (quarter & 1) != 0, to_y_above = (quarter & 2) != 0;
+          vec3 x_step = to_x_left ? step_left : step_right;
+          vec3 y_step = to_y_above ? step_above : step_below;
+          if (!spans_area(x_step, y_step)) continue;
+          float det = x_step.x * y_step.y - x_step.y * y_step.x;
+          float a = (offset.x * y_step.y - offset.y * y_step.x) / det;
+          float b = (x_step.x * offset.y - x_step.y * offset.x) / det;
+          float a_limit = to_x_left ? side_limit.y : side_limit.x;
+          float b_limit = to_y_above ? side_limit.w : side_limit.z;
+          // The small negative slack keeps pixels on a shared border from falling between quarters.
+          if (a < -1e-4 || b < -1e-4 || a > a_limit || b > b_limit) continue;
+          z = max(p.z + a * x_step.z + b * y_step.z, 1e-4);
+          inside = true;
+        }
+        if (!inside) continue;
       }
       uint index = uint(y * target_size.x + x);
       if (!accumulate_average) {
