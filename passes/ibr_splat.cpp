@@ -1,6 +1,7 @@
 #include "passes/ibr_splat.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <optional>
@@ -102,6 +103,24 @@ bool spans_area(const Projected& u, const Projected& v) {
   return std::abs(det) > 0.01f * std::hypot(u.x, u.y) * std::hypot(v.x, v.y) && std::abs(det) > 1e-8f;
 }
 
+// The shader's quarter_depth: the depth at offset (ox, oy) from the splat's centre at depth z0
+// on the first quarter that holds it. Steps and limits in the order right, left, below, above.
+std::optional<float> quarter_depth(float ox, float oy, float z0, const std::array<Projected, 4>& steps,
+                                   const std::array<float, 4>& limits) {
+  for (int quarter = 0; quarter < 4; ++quarter) {
+    const bool to_x_left = (quarter & 1) != 0, to_y_above = (quarter & 2) != 0;
+    const Projected& x_step = steps[to_x_left ? 1 : 0];
+    const Projected& y_step = steps[to_y_above ? 3 : 2];
+    if (!spans_area(x_step, y_step)) continue;
+    const float det = x_step.x * y_step.y - x_step.y * y_step.x;
+    const float a = (ox * y_step.y - oy * y_step.x) / det;
+    const float b = (x_step.x * oy - x_step.y * ox) / det;
+    if (a < -1e-4f || b < -1e-4f || a > limits[to_x_left ? 1 : 0] || b > limits[to_y_above ? 3 : 2]) continue;
+    return std::max(z0 + a * x_step.z + b * y_step.z, 1e-4f);
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const HostImage& points, const SplatSettings& s) {
@@ -153,29 +172,15 @@ std::vector<uint32_t> ibr_splat_reference(const IbrSceneTable& table, const Host
           const int y1 = std::min(int(std::floor(centre->y + half_y)), target_height - 1);
           const float limit = 0.5f * s.footprint_scale + 1e-3f;
           auto side_limit = [&](const std::optional<Projected>& side) { return side ? limit : limit - s.edge_inset; };
-          const float right_limit = side_limit(right), left_limit = side_limit(left);
-          const float below_limit = side_limit(below), above_limit = side_limit(above);
+          const std::array<float, 4> limits{side_limit(right), side_limit(left), side_limit(below), side_limit(above)};
+          const std::array<Projected, 4> steps{step_right, step_left, step_below, step_above};
           for (int ty = y0; ty <= y1; ++ty)
             for (int tx = x0; tx <= x1; ++tx) {
               float z = centre->z;
               if (on_surface) {
-                const float ox = float(tx) - centre->x, oy = float(ty) - centre->y;
-                bool inside = false;
-                for (int quarter = 0; quarter < 4 && !inside; ++quarter) {
-                  const bool to_x_left = (quarter & 1) != 0, to_y_above = (quarter & 2) != 0;
-                  const Projected& x_step = to_x_left ? step_left : step_right;
-                  const Projected& y_step = to_y_above ? step_above : step_below;
-                  if (!spans_area(x_step, y_step)) continue;
-                  const float det = x_step.x * y_step.y - x_step.y * y_step.x;
-                  const float a = (ox * y_step.y - oy * y_step.x) / det;
-                  const float b = (x_step.x * oy - x_step.y * ox) / det;
-                  const float a_limit = to_x_left ? left_limit : right_limit;
-                  const float b_limit = to_y_above ? above_limit : below_limit;
-                  if (a < -1e-4f || b < -1e-4f || a > a_limit || b > b_limit) continue;
-                  z = std::max(centre->z + a * x_step.z + b * y_step.z, 1e-4f);
-                  inside = true;
-                }
-                if (!inside) continue;
+                const auto quarter = quarter_depth(float(tx) - centre->x, float(ty) - centre->y, centre->z, steps, limits);
+                if (!quarter) continue;
+                z = *quarter;
               }
               visit(size_t(ty) * size_t(target_width) + size_t(tx), z);
             }

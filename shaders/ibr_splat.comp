@@ -51,6 +51,30 @@ bool spans_area(vec3 u, vec3 v) {
   return abs(det) > 0.01 * length(u.xy) * length(v.xy) && abs(det) > 1e-8;
 }
 
+// The depth at `offset` (target pixels from the splat's centre at depth `z0`) on the first
+// quarter that holds it: offset = a * x_step + b * y_step with 0 <= a, b <= the sides' limits
+// (right, left, below, above); false when none does.
+bool quarter_depth(vec2 offset, float z0, vec3 step_right, vec3 step_left, vec3 step_below, vec3 step_above,
+                   vec4 side_limit, out float z) {
+  z = z0;
+  for (int quarter = 0; quarter < 4; ++quarter) {
+    bool to_x_left = (quarter & 1) != 0, to_y_above = (quarter & 2) != 0;
+    vec3 x_step = to_x_left ? step_left : step_right;
+    vec3 y_step = to_y_above ? step_above : step_below;
+    if (!spans_area(x_step, y_step)) continue;
+    float det = x_step.x * y_step.y - x_step.y * y_step.x;
+    float a = (offset.x * y_step.y - offset.y * y_step.x) / det;
+    float b = (x_step.x * offset.y - x_step.y * offset.x) / det;
+    float a_limit = to_x_left ? side_limit.y : side_limit.x;
+    float b_limit = to_y_above ? side_limit.w : side_limit.z;
+    // The small negative slack keeps pixels on a shared border from falling between quarters.
+    if (a < -1e-4 || b < -1e-4 || a > a_limit || b > b_limit) continue;
+    z = max(z0 + a * x_step.z + b * y_step.z, 1e-4);
+    return true;
+  }
+  return false;
+}
+
 void main() {
   int view = int(gl_GlobalInvocationID.z);
   ivec2 size = ivec2(lens_size(cameras[view].depth));
@@ -110,25 +134,8 @@ void main() {
     for (int x = first.x; x <= last.x; ++x) {
       float z = p.z;
       if (on_surface) {
-        // The first quarter that holds the pixel: offset = a * x_step + b * y_step, a, b >= 0.
         vec2 offset = vec2(x, y) - centre;
-        bool inside = false;
-        for (int quarter = 0; quarter < 4 && !inside; ++quarter) {
-          bool to_x_left = (quarter & 1) != 0, to_y_above = (quarter & 2) != 0;
-          vec3 x_step = to_x_left ? step_left : step_right;
-          vec3 y_step = to_y_above ? step_above : step_below;
-          if (!spans_area(x_step, y_step)) continue;
-          float det = x_step.x * y_step.y - x_step.y * y_step.x;
-          float a = (offset.x * y_step.y - offset.y * y_step.x) / det;
-          float b = (x_step.x * offset.y - x_step.y * offset.x) / det;
-          float a_limit = to_x_left ? side_limit.y : side_limit.x;
-          float b_limit = to_y_above ? side_limit.w : side_limit.z;
-          // The small negative slack keeps pixels on a shared border from falling between quarters.
-          if (a < -1e-4 || b < -1e-4 || a > a_limit || b > b_limit) continue;
-          z = max(p.z + a * x_step.z + b * y_step.z, 1e-4);
-          inside = true;
-        }
-        if (!inside) continue;
+        if (!quarter_depth(offset, p.z, step_right, step_left, step_below, step_above, side_limit, z)) continue;
       }
       uint index = uint(y * target_size.x + x);
       if (!accumulate_average) {
