@@ -75,6 +75,25 @@ void require_fusion_matches(const std::vector<uint32_t>& gpu, const std::vector<
   REQUIRE(depth_differs <= pixels / 200 + 1);
 }
 
+// The largest of error(x, y, depth) over the covered pixels of a width x height target where it
+// is given, and in `counted` how many those are.
+template <typename Error>
+double worst_over_covered(const std::vector<uint32_t>& fusion, uint32_t width, uint32_t height, size_t& counted,
+                          Error error) {
+  double worst = 0;
+  counted = 0;
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      const uint32_t bits = fusion[size_t(y) * width + x];
+      if (bits == RT_IBR_EMPTY_DEPTH_BITS) continue;
+      const std::optional<double> e = error(x, y, std::bit_cast<float>(bits));
+      if (!e) continue;
+      ++counted;
+      worst = std::max(worst, *e);
+    }
+  return worst;
+}
+
 size_t covered(const std::vector<uint32_t>& fusion, size_t pixels) {
   size_t count = 0;
   for (size_t i = 0; i < pixels; ++i) count += fusion[i] != RT_IBR_EMPTY_DEPTH_BITS;
@@ -246,16 +265,9 @@ TEST_CASE("ibr_splat: splats of a tilted plane tile it at its own depths", "[ibr
     return (eye.camera_from_site * (origin + ray * ((centre - origin).dot(normal) / ray.dot(normal)))).z();
   };
   auto worst_error_mm = [&](const std::vector<uint32_t>& fusion, size_t& covered_pixels) {
-    double worst = 0;
-    covered_pixels = 0;
-    for (uint32_t y = 0; y < 181; ++y)
-      for (uint32_t x = 0; x < 321; ++x) {
-        const uint32_t bits = fusion[size_t(y) * 321 + x];
-        if (bits == RT_IBR_EMPTY_DEPTH_BITS) continue;
-        ++covered_pixels;
-        worst = std::max(worst, std::abs(double(std::bit_cast<float>(bits)) - plane_depth(x, y)) * 1000.0);
-      }
-    return worst;
+    return worst_over_covered(fusion, 321, 181, covered_pixels, [&](uint32_t x, uint32_t y, float depth) {
+      return std::optional<double>(std::abs(double(depth) - plane_depth(x, y)) * 1000.0);
+    });
   };
   INFO("eye to plane: " << std::acos(std::abs(normal.dot((eye.position_in_site() - centre).normalized()))) * 180 / 3.14159
                         << " degrees");
@@ -357,27 +369,16 @@ TEST_CASE("ibr_splat: splats of a curved surface stay on it, not in front of it"
   // (the outline's splats extrapolate, as they must).
   const Camera& eye = rig.target;
   auto in_front_mm = [&](const std::vector<uint32_t>& fusion, size_t& tested) {
-    double worst = 0;
-    tested = 0;
-    for (uint32_t y = 0; y < 361; ++y)
-      for (uint32_t x = 0; x < 641; ++x) {
-        const uint32_t bits = fusion[size_t(y) * 641 + x];
-        if (bits == RT_IBR_EMPTY_DEPTH_BITS) continue;
-        bool inside = true;
-        std::optional<Eigen::Vector3d> site;
-        for (int dy = -2; dy <= 2 && inside; ++dy)
-          for (int dx = -2; dx <= 2 && inside; ++dx) {
-            const auto around = hit(eye.position_in_site(), eye.ray_in_site({double(x) + dx, double(y) + dy}));
-            inside = around && on_patch(*around);
-            if (dx == 0 && dy == 0) site = around;
-          }
-        if (!inside) continue;
-        ++tested;
-        const double truth = (eye.camera_from_site * *site).z();
-        const double e = (truth - double(std::bit_cast<float>(bits))) * 1000.0;
-        worst = std::max(worst, e);
-      }
-    return worst;
+    return worst_over_covered(fusion, 641, 361, tested, [&](uint32_t x, uint32_t y, float depth) -> std::optional<double> {
+      std::optional<Eigen::Vector3d> site;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const auto around = hit(eye.position_in_site(), eye.ray_in_site({double(x) + dx, double(y) + dy}));
+          if (!around || !on_patch(*around)) return std::nullopt;
+          if (dx == 0 && dy == 0) site = around;
+        }
+      return ((eye.camera_from_site * *site).z() - double(depth)) * 1000.0;
+    });
   };
   const SplatResult gpu = run_gpu(rig, points);
   const auto reference = passes::ibr_splat_reference(rig.table, points);
