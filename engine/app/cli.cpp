@@ -116,9 +116,15 @@ int run_cli(int argc, char** argv) {
                    "These cameras (site names, comma-separated) in every frame, instead of the ones opposite the touching hand")
       ->delimiter(',')
       ->excludes(views_option);
+  eval_ibr_command->add_flag("--carve", eval_ibr_options.carve,
+                             "See-through carving: a fused point that a camera looks straight through takes the surface behind "
+                             "(reopens finger gaps narrower than a depth pixel)");
   eval_ibr_command->add_option("--refine", eval_ibr_options.refine_hypotheses,
                                "Plane-sweep refinement with this many depth hypotheses (0 = off)")
       ->check(CLI::Range(0, 64))->capture_default_str();
+  eval_ibr_command->add_option("--best-views", eval_ibr_options.best_views,
+                               "Blending's k: the k-1 best views blend, the k-th has weight 0 (2 = the best view alone)")
+      ->check(CLI::Range(2, 6))->capture_default_str();
   eval_ibr_command->add_option("--average-tolerance", eval_ibr_options.average_tolerance_m,
                                "avg fusion: depths up to this many metres behind the nearest agree with it and join the mean (large, e.g. 0.1 = a plain mean that blurs edges)")
       ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();
@@ -135,6 +141,13 @@ int run_cli(int argc, char** argv) {
   eval_ibr_command->add_option("--resolution-scale", eval_ibr_options.resolution_scale,
                                "Camera resolution scale (default: the scene's; 1 is the site's own)")
       ->check(CLI::Range(0.01, 1.0));
+  eval_ibr_command->add_flag("--dump-passes", eval_ibr.dump_passes,
+                             "Write every pass output of the last frame (EXR and PNG) to OUT/passes/FUSION/");
+  eval_ibr_command->add_option("--first-frame", eval_ibr_options.first_frame, "Scene frame to start at")
+      ->check(CLI::Range(0u, 1000000u))->capture_default_str();
+  eval_ibr_command->add_option("--frame-step", eval_ibr_options.frame_step,
+                               "Render every Nth scene frame (the whole motion at 1/N of the time)")
+      ->check(CLI::Range(1u, 1000u))->capture_default_str();
   eval_ibr_command->add_option("--site", eval_ibr_options.site, "Whose user is rendered")
       ->check(CLI::IsMember({"A", "B"}))->capture_default_str();
   add_common_options(*eval_ibr_command, eval_ibr, "out/eval-ibr");

@@ -14,15 +14,6 @@
 
 namespace rt::app {
 
-void dump_pass_outputs(vk::Context& context, const vk::FrameGraph& graph, const std::filesystem::path& folder) {
-  for (const auto& [pass, image] : graph.written_images()) {
-    const HostImage pixels = vk::download(context, *image);
-    const std::filesystem::path stem = folder / (pass + "." + image->name());
-    write_image(stem.string() + ".exr", pixels);
-    write_image(stem.string() + ".png", pixels, PngDepth::Sixteen);
-  }
-}
-
 int run_compose(const RunOptions& options) {
   GpuSession session(options);
   vk::Context& context = session.context();

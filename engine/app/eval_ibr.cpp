@@ -53,7 +53,14 @@ HostImage as_png(const HostImage& portrait) {
 
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   sim::Scene scene = sim::load_scene(resolve_scene(eval.scene));
-  if (eval.frames_given) scene.frame_count = options.frames;
+  if (eval.frame_step == 0) throw std::invalid_argument("eval ibr: --frame-step must be at least 1");
+  if (!eval.frames_given && eval.first_frame >= scene.frame_count)
+    throw std::invalid_argument("eval ibr: --first-frame " + std::to_string(eval.first_frame) + " is past the scene's " +
+                                std::to_string(scene.frame_count) + " frames");
+  // How many frames are rendered: --frames, else the rest of the scene at this step.
+  const uint32_t frames =
+      eval.frames_given ? options.frames : (scene.frame_count - eval.first_frame + eval.frame_step - 1) / eval.frame_step;
+  scene.frame_count = eval.first_frame + (frames - 1) * eval.frame_step + 1;
   scene.colour_supersampling = eval.supersample;
   if (eval.resolution_scale > 0) scene.resolution_scale = eval.resolution_scale;
   const Site site = eval.site == "B" ? Site::B : Site::A;
@@ -81,6 +88,8 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   settings.supersample = eval.portrait_supersample;
   settings.splat.average_tolerance_m = eval.average_tolerance_m;
   settings.splat.edge_inset = eval.edge_inset_depth_px;
+  settings.blend.best_views = eval.best_views;
+  settings.carve = eval.carve;
   if (settings.refine) settings.refinement.hypotheses = eval.refine_hypotheses;
   std::vector<FusionRun> runs;
   for (const std::string& name : {std::string("min"), std::string("avg")}) {
@@ -91,7 +100,6 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
 
   const std::filesystem::path images_dir = options.out / "images";
   std::filesystem::create_directories(images_dir);
-  const uint32_t frames = scene.frame_count;
   const uint32_t save_every = std::max(1u, frames / 4);
   const CameraIntrinsics& colour = simulator.renderer().camera(0).colour.intrinsics;
   const CameraIntrinsics& depth = simulator.renderer().camera(0).depth.intrinsics;
@@ -100,12 +108,16 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
               eval.scene.c_str(), eval.site.c_str(), options.width, options.height, eval.portrait_supersample,
               eval.portrait_supersample, views, positions.size(), colour.width, colour.height, depth.width,
               depth.height, frames, eval.supersample, eval.supersample, context.device_name().c_str());
+  if (eval.first_frame > 0 || eval.frame_step > 1)
+    std::printf("scene frames %u, %u, ... (every %u)\n", eval.first_frame, eval.first_frame + eval.frame_step, eval.frame_step);
   if (!fixed_selection.empty()) {
     std::string names;
     for (const std::string& name : eval.cameras) names += (names.empty() ? "" : ", ") + name;
     std::printf("cameras fixed: %s\n", names.c_str());
   }
+  std::vector<uint32_t> scene_frames;  // which scene frame each rendered one is
   for (uint32_t index = 0; index < frames; ++index) {
+    simulator.seek(eval.first_frame + uint64_t(index) * eval.frame_step);
     const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
     if (!frame) break;
     const sim::PersonPose& pose = simulator.last_pose();
@@ -117,7 +129,8 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
     const HostImage truth_part = simulator.renderer().target_part();
     const bool save = index % save_every == 0 || index + 1 == frames;
     char stem[32];
-    std::snprintf(stem, sizeof stem, "%04u", index);
+    scene_frames.push_back(uint32_t(frame->index));
+    std::snprintf(stem, sizeof stem, "%04u", uint32_t(frame->index));
     if (save) write_image(images_dir / (std::string(stem) + "_truth.png"), truth_colour);
     for (FusionRun& run : runs) {
       run.renderer->prepare(frame->cameras, selection, target);
@@ -135,6 +148,11 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
     std::fprintf(stderr, "\r  frame %u/%u", index + 1, frames);
   }
   std::fprintf(stderr, "\n");
+  if (options.dump_passes)
+    for (FusionRun& run : runs) {
+      std::filesystem::create_directories(options.out / "passes" / run.name);
+      dump_pass_outputs(context, run.renderer->graph(), options.out / "passes" / run.name);
+    }
 
   nlohmann::json report = {{"scene", eval.scene},
                            {"site", eval.site},
@@ -144,6 +162,8 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"cameras", fixed_selection.empty() ? nlohmann::json("opposite the touching hand, each frame")
                                                                : nlohmann::json(eval.cameras)},
                            {"refine_hypotheses", eval.refine_hypotheses},
+                           {"best_views", eval.best_views},
+                           {"see_through_carving", eval.carve},
                            {"edge_inset_depth_px", eval.edge_inset_depth_px},
                            {"colour_supersampling", eval.supersample},
                            {"portrait_supersampling", eval.portrait_supersample},
@@ -152,6 +172,9 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"camera_depth", {depth.width, depth.height}},
                            {"average_tolerance_m", eval.average_tolerance_m},
                            {"frames", frames},
+                           {"first_frame", eval.first_frame},
+                           {"frame_step", eval.frame_step},
+                           {"scene_frames", scene_frames},
                            {"device", context.device_name()},
                            {"ground_truth", "the simulator's render of the same target view (no sensor effects), colour box-filtered "
                                             "over colour_supersampling^2 samples per pixel like the cameras' images"},
@@ -190,7 +213,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
     std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return run.frame_psnr_fg_db[a] < run.frame_psnr_fg_db[b]; });
     std::printf("[%s]", run.name.c_str());
     for (size_t k = 0; k < std::min<size_t>(order.size(), 5); ++k)
-      std::printf("  %04zu %.2f", order[k], run.frame_psnr_fg_db[order[k]]);
+      std::printf("  %04u %.2f", scene_frames[order[k]], run.frame_psnr_fg_db[order[k]]);
     std::printf("\n");
   }
   // The first mode's figures at the top level, where scripts look first.

@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "image/image_io.h"
+
 namespace rt::app {
 
 std::string default_pipeline_cache_path() {
@@ -42,6 +44,16 @@ void GpuSession::report_capture() const {
   if (capture_path_) std::cout << "RenderDoc capture of frame " << capture_frame_ << ": " << *capture_path_ << "\n";
   else if (!capture_.available()) std::cout << "no capture taken: " << capture_.why_unavailable() << "\n";
   else std::cout << "no capture taken: frame " << capture_frame_ << " was never run\n";
+}
+
+// Every image each pass of `graph` wrote, as EXR (exact) and 16-bit PNG, named pass.image.
+void dump_pass_outputs(vk::Context& context, const vk::FrameGraph& graph, const std::filesystem::path& folder) {
+  for (const auto& [pass, image] : graph.written_images()) {
+    const HostImage pixels = vk::download(context, *image);
+    const std::filesystem::path stem = folder / (pass + "." + image->name());
+    write_image(stem.string() + ".exr", pixels);
+    write_image(stem.string() + ".png", pixels, PngDepth::Sixteen);
+  }
 }
 
 }  // namespace rt::app

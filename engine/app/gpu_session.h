@@ -34,4 +34,8 @@ class GpuSession {
 
 std::string default_pipeline_cache_path();
 
+// Writes every image the passes of `graph` wrote in its last run, as `folder/pass.image` EXR and
+// 16-bit PNG (--dump-passes).
+void dump_pass_outputs(vk::Context& context, const vk::FrameGraph& graph, const std::filesystem::path& folder);
+
 }  // namespace rt::app

@@ -23,7 +23,7 @@ IbrSettings with_fusion(IbrSettings settings) {
 struct IbrRenderer::Images {
   vk::Image depth_mm, depth_rays, points, colour;        // views in bands
   vk::Buffer fusion;
-  vk::Image fused_depth, refined_depth, warped, features;  // target sized (atlases: bands)
+  vk::Image fused_depth, carved_depth, refined_depth, warped, features;  // target sized (atlases: bands)
 
   // `s.width` x `s.height` here are the rendered (supersampled) size.
   Images(vk::Context& context, const passes::IbrCameraModel& camera, const IbrSettings& s)
@@ -37,6 +37,7 @@ struct IbrRenderer::Images {
                          PixelFormat::RGBA8}),
         fusion(context, passes::fusion_buffer_desc(s.width, s.height)),
         fused_depth(context, {"ibr fused depth", s.width, s.height, PixelFormat::R32F}),
+        carved_depth(context, {"ibr carved depth", s.width, s.height, PixelFormat::R32F}),
         refined_depth(context, {"ibr refined depth", s.width, s.height, PixelFormat::R32F}),
         warped(context, {"ibr warped", s.width, s.height * s.views, PixelFormat::RGBA32F}),
         features(context, {"ibr features", s.width, s.height * s.views, PixelFormat::RGBA32F}) {}
@@ -49,6 +50,8 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
       foreground_(context, settings_.foreground),
       splat_(context, settings_.splat),
       fuse_(context, settings_.fuse),
+      carve_(settings_.carve ? std::make_unique<passes::IbrCarvePass>(context, settings_.carving, settings_.warp.visibility)
+                             : nullptr),
       refine_(settings_.refine ? std::make_unique<passes::IbrRefinePass>(context, settings_.refinement,
                                                                                  settings_.warp.visibility) : nullptr),
       warp_(context, settings_.warp),
@@ -83,8 +86,12 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   splat_.add_to(*graph_, scene_, i.points, i.fusion, views);
   fuse_.add_to(*graph_, i.fusion, i.fused_depth);
   vk::Image* depth = &i.fused_depth;
+  if (carve_) {
+    carve_->add_to(*graph_, scene_, i.fused_depth, i.points, i.carved_depth, views);
+    depth = &i.carved_depth;
+  }
   if (refine_) {
-    refine_->add_to(*graph_, scene_, i.fused_depth, i.colour, i.points, i.refined_depth, views);
+    refine_->add_to(*graph_, scene_, *depth, i.colour, i.points, i.refined_depth, views);
     depth = &i.refined_depth;
   }
   warp_.add_to(*graph_, scene_, *depth, i.colour, i.points, i.warped, i.features, views);

@@ -1,6 +1,7 @@
 #pragma once
 // The sender's image-based model (paper 3.1.1) as one frame graph: background removal, depth
-// reprojection with min (or average) fusion and crack filling, optional plane-sweep refinement,
+// reprojection with min (or average) fusion and crack filling, optional see-through carving and
+// plane-sweep refinement,
 // warping of each selected view, unstructured lumigraph blending. In: the site's RGBD images
 // and the target view of the remote eye; out: the portrait (RGBA, straight alpha) and its depth.
 #include <memory>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "passes/ibr_blend.h"
+#include "passes/ibr_carve.h"
 #include "passes/ibr_foreground.h"
 #include "passes/ibr_fuse.h"
 #include "passes/ibr_refine.h"
@@ -27,10 +29,12 @@ struct IbrSettings {
   // The splats' largest footprint scales with it.
   uint32_t supersample = 1;
   passes::DepthFusion fusion = passes::DepthFusion::Min;
+  bool carve = false;   // see-through carving of the fused depth, off by default
   bool refine = false;  // plane sweep, off by default
   passes::ForegroundSettings foreground;
   passes::SplatSettings splat;  // its `fusion` is set from `fusion`
   passes::FuseSettings fuse;    // likewise
+  passes::CarveSettings carving;
   passes::RefineSettings refinement;
   passes::WarpSettings warp;
   passes::BlendSettings blend;
@@ -66,6 +70,7 @@ class IbrRenderer {
   passes::IbrForegroundPass foreground_;
   passes::IbrSplatPass splat_;
   passes::IbrFusePass fuse_;
+  std::unique_ptr<passes::IbrCarvePass> carve_;
   std::unique_ptr<passes::IbrRefinePass> refine_;
   passes::IbrWarpPass warp_;
   passes::IbrBlendPass blend_;

@@ -34,4 +34,18 @@ grep -q '"edge_inset_depth_px": 0.3' "$out-cameras/metrics.json" || { echo "edge
   --out "$out-supersampled" --validation | tee "$out-supersampled.log"
 grep -q '"portrait_supersampling": 2' "$out-supersampled/metrics.json" || { echo "no portrait_supersampling" >&2; exit 1; }
 grep -q 'ibr_resolve' "$out-supersampled.log" || { echo "no ibr_resolve timing" >&2; exit 1; }
+# Carving and refinement, every third frame from frame 4, k = 4, the last frame's passes dumped.
+"$binary" eval ibr --scene wave --width 41 --height 23 --carve --refine 3 --best-views 4 --first-frame 4 --frame-step 3 \
+  --frames 2 --dump-passes --out "$out-carved" --validation | tee "$out-carved.log"
+grep -q 'ibr_carve' "$out-carved.log" || { echo "no ibr_carve timing" >&2; exit 1; }
+grep -q '"see_through_carving": true' "$out-carved/metrics.json" || { echo "carving not recorded" >&2; exit 1; }
+grep -q '"best_views": 4' "$out-carved/metrics.json" || { echo "best views not recorded" >&2; exit 1; }
+tr -d ' \n' < "$out-carved/metrics.json" | grep -q '"scene_frames":\[4,7\]' || { echo "scene frames not 4, 7" >&2; exit 1; }
+[ -s "$out-carved/images/0007_min_portrait.png" ] || { echo "frame 7 not written" >&2; exit 1; }
+[ -s "$out-carved/passes/min/ibr_carve.ibr carved depth.exr" ] || { echo "carve pass not dumped" >&2; exit 1; }
+# A first frame past the scene's end is refused, naming the option.
+if "$binary" eval ibr --scene wave --first-frame 100000 --out "$out-past" > "$out-past.log" 2>&1; then
+  echo "a first frame past the end was accepted" >&2; exit 1
+fi
+grep -q -- '--first-frame 100000 is past' "$out-past.log" || { echo "no clear error for --first-frame" >&2; exit 1; }
 echo "eval ibr outputs ok"
