@@ -1,6 +1,6 @@
 // ibr_carve (see-through carving): GPU against the C++ reference, and against the geometry of a
-// gap: a view that sees a plane behind the fused surface carves it to that plane; a point within a
-// quarter texel of that view's depth edge is left alone. The decision compares depths against a
+// gap: a view that sees a plane behind the fused surface carves it to that plane; a point within
+// the probes' reach of that view's depth edge is left alone. The decision compares depths against a
 // tolerance, so on random inputs a depth within float rounding of it may go either way: at most
 // 1% of pixels (and at least one) may differ (stated tolerance); the rest match to 1e-5.
 #include "passes/ibr_carve.h"
@@ -115,7 +115,7 @@ TEST_CASE("ibr_carve: a view that sees through the fused surface carves it to wh
       const Eigen::Vector3d finger = ray.at(finger_m);
       const auto pixel = passes::lens_project(rig.table.cameras[0].depth,
                                               {float(finger.x()), float(finger.y()), float(finger.z())});
-      // Where the probes a quarter texel around the finger's projection all fall on the plane's
+      // Where the probes around the finger's projection all fall on the plane's
       // texels (clear of the edge at column edge_column - 0.5 and of the image border), view 0
       // sees through, and the plane point behind is in both of its images: carved to the plane.
       const double behind = ray.target_depth_at(plane_m);
@@ -124,7 +124,8 @@ TEST_CASE("ibr_carve: a view that sees through the fused surface carves it to wh
                                                                                  float(plane_point.y()), plane_m});
       const auto plane_colour = passes::lens_project(rig.table.cameras[0].colour, {float(plane_point.x()),
                                                                                    float(plane_point.y()), plane_m});
-      const bool clear_of_edge = pixel.x + 0.25f < float(edge_column) - 0.5f - 1e-3f;
+      const float probe = passes::CarveSettings{}.probe_texels;
+      const bool clear_of_edge = pixel.x + probe < float(edge_column) - 0.5f - 1e-3f;
       REQUIRE(finger.z() + 0.03 + 0.01 * plane_m < plane_m - 1e-3);  // the plane is behind the finger
       const bool in_images = passes::inside_image(pixel, {float(kDepthW), float(kDepthH)}, 0.0f) &&
                              passes::inside_image(plane_pixel, {float(kDepthW), float(kDepthH)}, 0.0f) &&
@@ -133,10 +134,10 @@ TEST_CASE("ibr_carve: a view that sees through the fused surface carves it to wh
       if (clear_of_edge && in_images) {
         REQUIRE(gpu.at(x, y) == Approx(behind).margin(1e-4));
         ++carved;
-      } else if (pixel.x - 0.25f > float(edge_column) - 0.5f + 1e-3f || !in_images) {
+      } else if (pixel.x - probe > float(edge_column) - 0.5f + 1e-3f || !in_images) {
         REQUIRE(gpu.at(x, y) == finger_m);  // a probe on the occluder's side, or nothing seen behind
         kept_beyond_edge += passes::inside_image(pixel, {float(kDepthW), float(kDepthH)}, 0.0f) &&
-                            pixel.x - 0.25f > float(edge_column) - 0.5f;
+                            pixel.x - probe > float(edge_column) - 0.5f;
       }
     }
   REQUIRE(carved > 0);

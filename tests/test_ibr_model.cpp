@@ -66,7 +66,9 @@ TEST_CASE("the image-based model renders a simulated frame close to ground truth
     settings.width = w;
     settings.height = h;
     settings.fusion = fusion;
-    settings.refine = fusion == passes::DepthFusion::Average;  // the sweep runs in the chain too
+    // The optional passes run in the chain too: carving and the sweep with the average.
+    settings.carve = fusion == passes::DepthFusion::Average;
+    settings.refine = fusion == passes::DepthFusion::Average;
     app::IbrRenderer renderer(test::gpu(), s.cameras, settings);
     renderer.render(s.frame.cameras, selection, target);
     const HostImage portrait = vk::download(test::gpu(), renderer.portrait());
