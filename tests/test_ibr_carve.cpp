@@ -116,7 +116,7 @@ TEST_CASE("ibr_carve: a view that sees through the fused surface carves it to wh
       const auto pixel = passes::lens_project(rig.table.cameras[0].depth,
                                               {float(finger.x()), float(finger.y()), float(finger.z())});
       // Where the probes around the finger's projection all fall on the plane's
-      // texels (clear of the edge at column edge_column - 0.5 and of the image border), view 0
+      // texels (clear of the edge at column edge_column - 0.5; probes past the border clamp), view 0
       // sees through, and the plane point behind is in both of its images: carved to the plane.
       const double behind = ray.target_depth_at(plane_m);
       const Eigen::Vector3d plane_point = ray.at(behind);
@@ -169,9 +169,21 @@ TEST_CASE("ibr_carve hard cases", "[ibr_carve][gpu]") {
     const HostImage empty(kDepthW, kDepthH * 2, PixelFormat::RGBA32F, 0.0f);
     RT_REQUIRE_MATCHES(run_gpu(rig, fused, empty), fused, 0.0, 0.0);
   }
-  SECTION("points behind every camera (next to the eye) stay") {
+  SECTION("points next to the eye, behind the top camera and outside the other's image, stay") {
     const HostImage fused(w, h, PixelFormat::R32F, 0.05f);
+    size_t behind_a_camera = 0;
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x)
+        for (uint32_t view = 0; view < 2; ++view) {
+          const Eigen::Vector3d q = view_ray(rig, view, x, y).at(0.05);
+          const auto pixel = passes::lens_project(rig.table.cameras[view].depth, {float(q.x()), float(q.y()), float(q.z())});
+          const bool behind = q.z() <= 1e-4;
+          REQUIRE((behind || !passes::inside_image(pixel, {float(kDepthW), float(kDepthH)}, 0.0f)));
+          behind_a_camera += behind;
+        }
+    REQUIRE(behind_a_camera > 0);
     RT_REQUIRE_MATCHES(run_gpu(rig, fused, far_planes), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(passes::ibr_carve_reference(rig.table, fused, far_planes), fused, 0.0, 0.0);
   }
   SECTION("a surface behind that no view sees is not taken: carving never uncovers a pixel") {
     // The views see through, but their points lie far off every ray (xyz inconsistent with w) and
@@ -184,7 +196,7 @@ TEST_CASE("ibr_carve hard cases", "[ibr_carve][gpu]") {
     const HostImage gpu = run_gpu(rig, fused, misplaced, no_march);
     RT_REQUIRE_MATCHES(gpu, fused, 0.0, 0.0);
     RT_REQUIRE_MATCHES(passes::ibr_carve_reference(rig.table, fused, misplaced, no_march), fused, 0.0, 0.0);
-    REQUIRE(run_gpu(rig, fused, far_planes).texels != fused.texels);  // consistent points do carve
+    REQUIRE(run_gpu(rig, fused, far_planes, no_march).texels != fused.texels);  // consistent points do carve
   }
   SECTION("bad settings are refused") {
     passes::CarveSettings bad;

@@ -66,8 +66,8 @@ TEST_CASE("the image-based model renders a simulated frame close to ground truth
     settings.width = w;
     settings.height = h;
     settings.fusion = fusion;
-    // The optional passes run in the chain too: carving and the sweep with the average.
-    settings.carve = fusion == passes::DepthFusion::Average;
+    // The optional passes run in the chain too: carving with both fusions, the sweep with the average.
+    settings.carve = true;
     settings.refine = fusion == passes::DepthFusion::Average;
     app::IbrRenderer renderer(test::gpu(), s.cameras, settings);
     renderer.render(s.frame.cameras, selection, target);

@@ -123,8 +123,9 @@ int run_cli(int argc, char** argv) {
                                "Plane-sweep refinement with this many depth hypotheses (0 = off)")
       ->check(CLI::Range(0, 64))->capture_default_str();
   eval_ibr_command->add_option("--best-views", eval_ibr_options.best_views,
-                               "Blending's k: the k-1 best views blend, the k-th has weight 0 (2 = the best view alone)")
-      ->check(CLI::Range(2, 6))->capture_default_str();
+                               "Blending's k: the k-1 best views blend, the k-th has weight 0 (2 = the best view alone; "
+                               "views + 1 = all of them)")
+      ->check(CLI::Range(2, RT_IBR_MAX_VIEWS + 1))->capture_default_str();
   eval_ibr_command->add_option("--average-tolerance", eval_ibr_options.average_tolerance_m,
                                "avg fusion: depths up to this many metres behind the nearest agree with it and join the mean (large, e.g. 0.1 = a plain mean that blurs edges)")
       ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();

@@ -54,7 +54,7 @@ HostImage as_png(const HostImage& portrait) {
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   sim::Scene scene = sim::load_scene(resolve_scene(eval.scene));
   if (eval.frame_step == 0) throw std::invalid_argument("eval ibr: --frame-step must be at least 1");
-  if (!eval.frames_given && eval.first_frame >= scene.frame_count)
+  if (eval.first_frame >= scene.frame_count)
     throw std::invalid_argument("eval ibr: --first-frame " + std::to_string(eval.first_frame) + " is past the scene's " +
                                 std::to_string(scene.frame_count) + " frames");
   // How many frames are rendered: --frames, else the rest of the scene at this step.
@@ -108,7 +108,8 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
               eval.scene.c_str(), eval.site.c_str(), options.width, options.height, eval.portrait_supersample,
               eval.portrait_supersample, views, positions.size(), colour.width, colour.height, depth.width,
               depth.height, frames, eval.supersample, eval.supersample, context.device_name().c_str());
-  if (eval.first_frame > 0 || eval.frame_step > 1)
+  if (frames == 1 && eval.first_frame > 0) std::printf("scene frame %u\n", eval.first_frame);
+  if (frames > 1 && (eval.first_frame > 0 || eval.frame_step > 1))
     std::printf("scene frames %u, %u, ... (every %u)\n", eval.first_frame, eval.first_frame + eval.frame_step, eval.frame_step);
   if (!fixed_selection.empty()) {
     std::string names;
