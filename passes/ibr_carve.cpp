@@ -35,6 +35,8 @@ struct Carver {
   Float3 ray_point(Float2 ray, float z) const {
     return transform_point(table.target.site_from_camera, {ray.x * z, ray.y * z, z});
   }
+  // The target depth where the ray meets the view's depth surface, from `z`; the last estimate if
+  // the ray leaves the view's image or valid depth on the way.
   float march_onto_view(uint32_t view, Float2 ray, float z, int width, int height) const {
     const auto& camera_from_site = table.cameras[view].camera_from_site;
     const float at_eye = transform_point(camera_from_site, ray_point(ray, 0.0f)).z;

@@ -40,7 +40,8 @@ bool farther(float own, float z) {
 
 vec3 ray_point(vec2 ray, float z) { return transform_point(target.site_from_camera, vec3(ray * z, z)); }
 
-// The target depth where the ray meets view `view`'s depth surface, from `z` (0 if it leaves it).
+// The target depth where the ray meets view `view`'s depth surface, from `z`; the last estimate
+// if the ray leaves the view's image or valid depth on the way.
 float march_onto_view(int view, vec2 ray, float z, ivec2 depth_size) {
   mat4 camera_from_site = cameras[view].camera_from_site;
   float at_eye = transform_point(camera_from_site, ray_point(ray, 0.0)).z;
@@ -98,7 +99,10 @@ void main() {
         if (!inside_image(depth_pixel, depth_size, 0.0) ||
             !inside_image(lens_project(cameras[v].colour, q), lens_size(cameras[v].colour), 0.0))
           continue;
-        if (view_sees(v, int(depth_size.y), depth_pixel, q.z, visibility_tolerance_m, visibility_tolerance_rel)) seen = true;
+        if (view_sees(v, int(depth_size.y), depth_pixel, q.z, visibility_tolerance_m, visibility_tolerance_rel)) {
+          seen = true;
+          break;
+        }
       }
       if (seen) carved = behind;
     }

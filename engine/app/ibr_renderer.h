@@ -1,9 +1,9 @@
 #pragma once
 // The sender's image-based model (paper 3.1.1) as one frame graph: background removal, depth
 // reprojection with min (or average) fusion and crack filling, optional see-through carving and
-// plane-sweep refinement,
-// warping of each selected view, unstructured lumigraph blending. In: the site's RGBD images
-// and the target view of the remote eye; out: the portrait (RGBA, straight alpha) and its depth.
+// plane-sweep refinement, warping of each selected view, unstructured lumigraph blending. In: the
+// site's RGBD images and the target view of the remote eye; out: the portrait (RGBA, straight
+// alpha) and its depth.
 #include <memory>
 #include <span>
 #include <vector>
