@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "color_sensor.comp.h"
-#include "passes/reference_math.h"
+#include "passes/common/reference_math.h"
 
 namespace rt::passes {
 namespace {
@@ -19,7 +19,7 @@ const ColorSensorModel& checked(const ColorSensorModel& model) {
 void check_color_sensor_model(const ColorSensorModel& m) {
   for (float value : {m.gain, m.balance_r, m.balance_g, m.balance_b})
     if (!std::isfinite(value) || value < 0.0f)
-      throw std::invalid_argument("colour sensor: gain and white balance must be finite and >= 0");
+      throw std::invalid_argument("color sensor: gain and white balance must be finite and >= 0");
 }
 
 ColorSensorPass::ColorSensorPass(vk::Context& context, const ColorSensorModel& model)

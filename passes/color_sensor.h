@@ -1,5 +1,5 @@
 #pragma once
-// Pass: a colour camera's response to the rendered colour: gain and white balance, clipped.
+// Pass: a color camera's response to the rendered color: gain and white balance, clipped.
 //   in: rendered rgba8   out: sensed rgba8
 #include "image/host_image.h"
 #include "vulkan/frame_graph.h"

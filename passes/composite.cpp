@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "passes/reference_math.h"
+#include "passes/common/reference_math.h"
 
 #include "composite.comp.h"
 

@@ -2,7 +2,7 @@
 // Pass: the fused layer over the background, for the display.
 //   in:  fused rgba32f (premultiplied), background rgba32f (rgb used)
 //   out: display rgba8, c = C_f + c_bg (1 - alpha_f), alpha 1.
-// Non-finite inputs count as 0; a premultiplied colour above its alpha is clamped to it.
+// Non-finite inputs count as 0; a premultiplied color above its alpha is clamped to it.
 #include "image/host_image.h"
 #include "vulkan/frame_graph.h"
 

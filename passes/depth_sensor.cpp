@@ -5,7 +5,7 @@
 #include <string>
 
 #include "depth_sensor.comp.h"
-#include "passes/random_reference.h"
+#include "passes/common/random_reference.h"
 #include "shared/config.h"
 
 namespace rt::passes {

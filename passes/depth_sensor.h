@@ -4,7 +4,7 @@
 //   in:  depth_m r32f (camera z in metres, 0 = no surface), part r32f (RT_PART_*)
 //   out: depth_mm r16ui (millimetres, 0 = invalid)
 // Effects, each off unless set: depth noise with sigma growing as z^2, a skin depth bias,
-// dropped and flying pixels at depth edges, a near-range cutoff, depth/colour misregistration.
+// dropped and flying pixels at depth edges, a near-range cutoff, depth/color misregistration.
 // The noise is a hash of (pixel, seed): reproducible, and the same in the C++ reference.
 #include "image/host_image.h"
 #include "vulkan/frame_graph.h"

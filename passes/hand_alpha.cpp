@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "passes/reference_math.h"
+#include "passes/common/reference_math.h"
 
 #include "hand_alpha.comp.h"
 

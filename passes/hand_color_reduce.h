@@ -1,5 +1,5 @@
 #pragma once
-// Pass: one workgroup adds the colour statistics' partial sums and folds means and standard
+// Pass: one workgroup adds the color statistics' partial sums and folds means and standard
 // deviations of L, alpha, beta into the running appearance state (paper Eq. 3, smoothed over
 // time). Fewer than min_pixels valid pixels, or a non-finite result, leave the state unchanged
 // (header.z still records the pixel count).

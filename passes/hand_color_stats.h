@@ -1,11 +1,11 @@
 #pragma once
-// Pass: per-workgroup colour statistics for appearance adaption (paper Eq. 3).
+// Pass: per-workgroup color statistics for appearance adaption (paper Eq. 3).
 //   in:  portrait_color rgba32f (I_i, straight alpha), portrait_depth r32f (D_i), mesh_color
 //        rgba32f (I_g), mesh_depth r32f (D_g), mesh_mask r32f — all of one target view
 //   out: partials (ColorStatsPartial per workgroup of RT_COLOR_STATS_GROUP x
 //        RT_COLOR_STATS_PIXELS_PER_THREAD pixels)
 // A pixel counts when the mesh covers it, the portrait has alpha > 0.5, both depths are valid
-// and agree within the tolerance, and neither colour is black or saturated in any channel.
+// and agree within the tolerance, and neither color is black or saturated in any channel.
 #include <Eigen/Core>
 #include <functional>
 

@@ -7,7 +7,7 @@
 #include <map>
 #include <vector>
 
-#include "passes/reference_raster.h"
+#include "passes/common/reference_raster.h"
 
 #include "hand_raster.frag.h"
 #include "hand_raster.vert.h"
@@ -129,10 +129,10 @@ HandRasterReference hand_raster_reference(std::span<const SkinnedVertex> skinned
             return (*weights)[0] * get(polygon[ids[0]]) + (*weights)[1] * get(polygon[ids[1]]) +
                    (*weights)[2] * get(polygon[ids[2]]);
           };
-          const Eigen::Vector4f colour = sample_bilinear(texture, float(interpolate([](const ClipVertex& v) { return v.u; })),
+          const Eigen::Vector4f color = sample_bilinear(texture, float(interpolate([](const ClipVertex& v) { return v.u; })),
                                                          float(interpolate([](const ClipVertex& v) { return v.v; })));
           for (uint32_t channel = 0; channel < 3; ++channel)
-            out.color.at(uint32_t(x), uint32_t(y), channel) = std::clamp(colour[channel], 0.0f, 1.0f);
+            out.color.at(uint32_t(x), uint32_t(y), channel) = std::clamp(color[channel], 0.0f, 1.0f);
           out.color.at(uint32_t(x), uint32_t(y), 3) = 1.0f;
           out.depth_m.at(uint32_t(x), uint32_t(y)) = float(interpolate([](const ClipVertex& v) { return v.camera_z; }));
           out.mask.at(uint32_t(x), uint32_t(y)) = 1.0f;

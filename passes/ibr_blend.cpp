@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "passes/reference_math.h"
+#include "passes/common/reference_math.h"
 
 #include "ibr_blend.comp.h"
 
@@ -96,7 +96,7 @@ Portrait ibr_blend_reference(const HostImage& fused_depth, const HostImage& warp
           best = {c[0], c[1], c[2]};
         }
       }
-      float* p = &out.colour.texels[out.colour.index(x, y)];
+      float* p = &out.color.texels[out.color.index(x, y)];
       for (int i = 0; i < 3; ++i)
         p[i] = unit_or_zero(weight_sum > 1e-6f ? sum[size_t(i)] / weight_sum : best[size_t(i)]);
       p[3] = 1.0f;

@@ -3,9 +3,9 @@
 // (shaders/ibr_blend.comp). The blending stage of the image-based model: it reads only the
 // warped views and their features, so a learned blending (Lumi-Net) can replace it.
 //   in:  fused_depth r32f, warped and features rgba32f atlases (ibr_warp), view_count bands
-//   out: portrait rgba32f (straight colour, alpha 1 where a view sees the surface, else 0),
+//   out: portrait rgba32f (straight color, alpha 1 where a view sees the surface, else 0),
 //        portrait_depth r32f (metres, 0 = nothing)
-#include "passes/ibr_scene.h"
+#include "passes/common/ibr_scene.h"
 #include "vulkan/frame_graph.h"
 
 namespace rt::passes {
@@ -26,7 +26,7 @@ class IbrBlendPass {
 };
 
 struct Portrait {
-  HostImage colour;  // rgba32f, straight alpha
+  HostImage color;  // rgba32f, straight alpha
   HostImage depth;   // r32f metres
 };
 Portrait ibr_blend_reference(const HostImage& fused_depth, const HostImage& warped, const HostImage& features,

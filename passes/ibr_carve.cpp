@@ -85,7 +85,7 @@ struct Carver {
       const Float2 depth_size{camera.depth.tangential[2], camera.depth.tangential[3]};
       const Float2 depth_pixel = lens_project(camera.depth, q);
       if (!inside_image(depth_pixel, depth_size, 0.0f) ||
-          !inside_image(lens_project(camera.colour, q), {camera.colour.tangential[2], camera.colour.tangential[3]}, 0.0f))
+          !inside_image(lens_project(camera.color, q), {camera.color.tangential[2], camera.color.tangential[3]}, 0.0f))
         continue;
       if (view_sees(points, v, uint32_t(depth_size.y), depth_pixel, q.z, visibility)) return behind;
     }

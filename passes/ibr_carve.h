@@ -7,7 +7,7 @@
 // gaps narrower than a depth pixel, which the splats of the fingers cover.
 //   in:  fused_depth r32f, points rgba32f atlas (site xyz, each view's own depth in w), the camera table
 //   out: carved_depth r32f
-#include "passes/ibr_scene.h"
+#include "passes/common/ibr_scene.h"
 #include "vulkan/frame_graph.h"
 
 namespace rt::passes {

@@ -7,7 +7,7 @@
 // it within `edge_tolerance_m` in depth (cleans flying pixels and fringes at the silhouette).
 #include <Eigen/Core>
 
-#include "passes/ibr_scene.h"
+#include "passes/common/ibr_scene.h"
 #include "vulkan/frame_graph.h"
 
 namespace rt::passes {

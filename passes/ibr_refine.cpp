@@ -17,9 +17,9 @@ const RefineSettings& check(const RefineSettings& s, VisibilityTolerance visibil
   return s;
 }
 
-// Colour variance across the views that see `site` (inside their colour and depth images, their
+// Color variance across the views that see `site` (inside their color and depth images, their
 // own depth agreeing); -1 with fewer than two.
-float disagreement(const IbrSceneTable& table, const HostImage& colour, const HostImage& points, Float3 site,
+float disagreement(const IbrSceneTable& table, const HostImage& color, const HostImage& points, Float3 site,
                    VisibilityTolerance visibility) {
   std::array<float, 3> sum{}, squares{};
   int seen = 0;
@@ -27,13 +27,13 @@ float disagreement(const IbrSceneTable& table, const HostImage& colour, const Ho
     const shader_abi::IbrCamera& camera = table.cameras[v];
     const Float3 q = transform_point(camera.camera_from_site, site);
     if (!(q.z > 1e-4f)) continue;
-    const Float2 at = lens_project(camera.colour, q);
-    const Float2 size{camera.colour.tangential[2], camera.colour.tangential[3]};
+    const Float2 at = lens_project(camera.color, q);
+    const Float2 size{camera.color.tangential[2], camera.color.tangential[3]};
     const Float2 depth_size{camera.depth.tangential[2], camera.depth.tangential[3]};
     const Float2 depth_pixel = lens_project(camera.depth, q);
     if (!inside_image(at, size, 0.0f) || !inside_image(depth_pixel, depth_size, 0.0f)) continue;
     if (!view_sees(points, v, uint32_t(depth_size.y), depth_pixel, q.z, visibility)) continue;
-    const auto c = bilinear_rgb(colour, at, v * uint32_t(size.y), uint32_t(size.x), uint32_t(size.y));
+    const auto c = bilinear_rgb(color, at, v * uint32_t(size.y), uint32_t(size.x), uint32_t(size.y));
     for (size_t i = 0; i < 3; ++i) sum[i] += c[i], squares[i] += c[i] * c[i];
     ++seen;
   }
@@ -55,18 +55,18 @@ IbrRefinePass::IbrRefinePass(vk::Context& context, const RefineSettings& setting
                {"visibility_tolerance_m", visibility.metres},
                {"visibility_tolerance_rel", visibility.relative}}) {}
 
-void IbrRefinePass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
+void IbrRefinePass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& color,
                            vk::Image& points, vk::Image& refined_depth, uint32_t view_count) const {
   if (refined_depth.width() != fused_depth.width() || refined_depth.height() != fused_depth.height())
     throw std::invalid_argument("ibr_refine: refined and fused depth differ in size");
-  if (view_count == 0 || colour.height() % view_count != 0 || points.height() % view_count != 0)
-    throw std::invalid_argument("ibr_refine: the colour and points atlases must hold " + std::to_string(view_count) +
+  if (view_count == 0 || color.height() % view_count != 0 || points.height() % view_count != 0)
+    throw std::invalid_argument("ibr_refine: the color and points atlases must hold " + std::to_string(view_count) +
                                 " bands");
   graph.add_compute_pass({
       .name = "ibr_refine",
       .kernel = &kernel_,
       .bindings = {{"fused_depth", &fused_depth},
-                   {"colour", &colour},
+                   {"color", &color},
                    {"points", &points},
                    {"refined_depth", &refined_depth},
                    {"IbrSceneTable", &scene.buffer()}},
@@ -76,7 +76,7 @@ void IbrRefinePass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Ima
   });
 }
 
-HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
+HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& color,
                                const HostImage& points, const RefineSettings& s, VisibilityTolerance visibility) {
   HostImage refined = fused_depth;
   const shader_abi::IbrTarget& target = table.target;
@@ -92,7 +92,7 @@ HostImage ibr_refine_reference(const IbrSceneTable& table, const HostImage& fuse
         const float candidate = z + offset;
         if (candidate <= 1e-3f) continue;
         const float score =
-            disagreement(table, colour, points,
+            disagreement(table, color, points,
                          transform_point(target.site_from_camera, {rx * candidate, ry * candidate, candidate}), visibility);
         if (score < 0.0f) continue;
         if (score < best_score || (score == best_score && std::abs(offset) < best_offset)) {

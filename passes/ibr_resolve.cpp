@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "passes/reference_math.h"
+#include "passes/common/reference_math.h"
 
 #include "ibr_resolve.comp.h"
 
@@ -62,8 +62,8 @@ Portrait ibr_resolve_reference(const HostImage& fine_portrait, const HostImage& 
         }
       const float centre = fine_depth.at(x * factor + factor / 2, y * factor + factor / 2);
       if (std::isfinite(centre) && centre > 0.0f) nearest = centre;
-      for (uint32_t c = 0; c < 3; ++c) out.colour.at(x, y, c) = coverage > 0.0f ? unit_or_zero(premultiplied[c] / coverage) : 0.0f;
-      out.colour.at(x, y, 3) = coverage / float(factor * factor);
+      for (uint32_t c = 0; c < 3; ++c) out.color.at(x, y, c) = coverage > 0.0f ? unit_or_zero(premultiplied[c] / coverage) : 0.0f;
+      out.color.at(x, y, 3) = coverage / float(factor * factor);
       out.depth.at(x, y) = nearest;
     }
   return out;

@@ -2,8 +2,8 @@
 // Pass: a portrait rendered at `factor` x the target's resolution resolved to the target
 // (shaders/ibr_resolve.comp), so that its silhouettes carry partial alpha and its texture is
 // filtered over each pixel, as the cameras' pixels and the ground truth are.
-//   in:  fine portrait rgba32f (straight colour, alpha), fine depth r32f, (W * factor) x (H * factor)
-//   out: portrait rgba32f (straight colour; alpha the mean coverage; colour the premultiplied
+//   in:  fine portrait rgba32f (straight color, alpha), fine depth r32f, (W * factor) x (H * factor)
+//   out: portrait rgba32f (straight color; alpha the mean coverage; color the premultiplied
 //        mean over the covered samples), portrait depth r32f (the centre sample's, else the
 //        nearest other sample's, 0 = nothing)
 #include <cstdint>

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "passes/ibr_scene.h"
+#include "passes/common/ibr_scene.h"
 #include "vulkan/frame_graph.h"
 
 namespace rt::passes {
@@ -33,7 +33,7 @@ struct SplatSettings {
   // views' splats, so each outline otherwise grows by the largest of the views' half-pixel
   // errors, about 0.5 - 1 / (k + 1) depth pixels for k views that see it (0.36 for six). Off by
   // default: 0.3 gains with six views and a supersampled portrait, and loses with four views or
-  // one sample per target pixel, where an uncovered pixel costs its whole colour (README).
+  // one sample per target pixel, where an uncovered pixel costs its whole color (README).
   float edge_inset = 0.0f;
 };
 

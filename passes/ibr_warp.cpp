@@ -31,22 +31,22 @@ IbrWarpPass::IbrWarpPass(vk::Context& context, const WarpSettings& settings)
                {"visibility_tolerance_rel", settings.visibility.relative},
                {"feather_px", settings.feather_px}}) {}
 
-void IbrWarpPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
+void IbrWarpPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& color,
                          vk::Image& points, vk::Image& warped, vk::Image& features, uint32_t view_count) const {
-  if (view_count == 0 || colour.height() % view_count != 0 || points.height() % view_count != 0)
-    throw std::invalid_argument("ibr_warp: the colour and points atlases must hold " + std::to_string(view_count) + " bands");
-  require_bands(warped, fused_depth.width(), fused_depth.height(), view_count, "warped colour");
+  if (view_count == 0 || color.height() % view_count != 0 || points.height() % view_count != 0)
+    throw std::invalid_argument("ibr_warp: the color and points atlases must hold " + std::to_string(view_count) + " bands");
+  require_bands(warped, fused_depth.width(), fused_depth.height(), view_count, "warped color");
   require_bands(features, fused_depth.width(), fused_depth.height(), view_count, "feature");
   graph.add_compute_pass({
       .name = "ibr_warp",
       .kernel = &kernel_,
-      .bindings = {{"fused_depth", &fused_depth}, {"colour", &colour}, {"points", &points}, {"warped", &warped},
+      .bindings = {{"fused_depth", &fused_depth}, {"color", &color}, {"points", &points}, {"warped", &warped},
                    {"features", &features}, {"IbrSceneTable", &scene.buffer()}},
       .threads = {fused_depth.width(), fused_depth.height(), view_count},
   });
 }
 
-WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
+WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& color,
                                const HostImage& points, const WarpSettings& s) {
   const uint32_t width = fused_depth.width, height = fused_depth.height;
   WarpedViews out{HostImage(width, height * table.camera_count, PixelFormat::RGBA32F),
@@ -55,7 +55,7 @@ WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fuse
   const Float3 eye = transform_point(target.site_from_camera, {0, 0, 0});
   for (uint32_t view = 0; view < table.camera_count; ++view) {
     const shader_abi::IbrCamera& camera = table.cameras[view];
-    const Float2 colour_size{camera.colour.tangential[2], camera.colour.tangential[3]};
+    const Float2 color_size{camera.color.tangential[2], camera.color.tangential[3]};
     const Float2 depth_size{camera.depth.tangential[2], camera.depth.tangential[3]};
     const Float3 centre = transform_point(camera.site_from_camera, {0, 0, 0});
     for (uint32_t y = 0; y < height; ++y)
@@ -67,18 +67,18 @@ WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fuse
         const Float3 site = transform_point(target.site_from_camera, target_point);
         const Float3 q = transform_point(camera.camera_from_site, site);
         if (!(q.z > 1e-4f)) continue;
-        const Float2 colour_pixel = lens_project(camera.colour, q);
+        const Float2 color_pixel = lens_project(camera.color, q);
         const Float2 depth_pixel = lens_project(camera.depth, q);
-        if (!inside_image(colour_pixel, colour_size, 0.0f) || !inside_image(depth_pixel, depth_size, 0.0f)) continue;
+        if (!inside_image(color_pixel, color_size, 0.0f) || !inside_image(depth_pixel, depth_size, 0.0f)) continue;
         if (!view_sees(points, view, uint32_t(depth_size.y), depth_pixel, q.z, s.visibility)) continue;
         const Float3 to_eye{site.x - eye.x, site.y - eye.y, site.z - eye.z};
         const Float3 to_camera{site.x - centre.x, site.y - centre.y, site.z - centre.z};
         const float cosine = (to_eye.x * to_camera.x + to_eye.y * to_camera.y + to_eye.z * to_camera.z) /
                              std::max(length(to_eye) * length(to_camera), 1e-12f);
-        const float border = std::min(std::min(colour_pixel.x + 0.5f, colour_size.x - 0.5f - colour_pixel.x),
-                                      std::min(colour_pixel.y + 0.5f, colour_size.y - 0.5f - colour_pixel.y));
-        const auto rgb = bilinear_rgb(colour, colour_pixel, view * uint32_t(colour_size.y), uint32_t(colour_size.x),
-                                      uint32_t(colour_size.y));
+        const float border = std::min(std::min(color_pixel.x + 0.5f, color_size.x - 0.5f - color_pixel.x),
+                                      std::min(color_pixel.y + 0.5f, color_size.y - 0.5f - color_pixel.y));
+        const auto rgb = bilinear_rgb(color, color_pixel, view * uint32_t(color_size.y), uint32_t(color_size.x),
+                                      uint32_t(color_size.y));
         const uint32_t row = y + view * height;
         float* warped = &out.warped.texels[out.warped.index(x, row)];
         warped[0] = rgb[0], warped[1] = rgb[1], warped[2] = rgb[2], warped[3] = 1.0f;

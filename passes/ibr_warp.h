@@ -1,14 +1,14 @@
 #pragma once
-// Pass: every view's colour warped into the target view through the fused depth
+// Pass: every view's color warped into the target view through the fused depth
 // (shaders/ibr_warp.comp).
-//   in:  fused_depth r32f, colour rgba8 atlas (views in bands), points rgba32f atlas (each view's
+//   in:  fused_depth r32f, color rgba8 atlas (views in bands), points rgba32f atlas (each view's
 //        own depth in w), the camera table
 //   out: warped rgba32f atlas (rgb, visible) and features rgba32f atlas (angle penalty in radians,
 //        resolution penalty in metres, field-of-view feather, visible), one target-sized band per
 //        view: the inputs of any blending, the lumigraph weights or a learned one.
-// A view sees a surface point when it projects inside its colour and depth images and its own
+// A view sees a surface point when it projects inside its color and depth images and its own
 // depth there agrees (passes::VisibilityTolerance).
-#include "passes/ibr_scene.h"
+#include "passes/common/ibr_scene.h"
 #include "vulkan/frame_graph.h"
 
 namespace rt::passes {
@@ -21,7 +21,7 @@ struct WarpSettings {
 class IbrWarpPass {
  public:
   IbrWarpPass(vk::Context& context, const WarpSettings& settings = {});
-  void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& colour,
+  void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& color,
               vk::Image& points, vk::Image& warped, vk::Image& features, uint32_t view_count) const;
 
  private:
@@ -32,7 +32,7 @@ struct WarpedViews {
   HostImage warped;    // rgba32f atlas
   HostImage features;  // rgba32f atlas
 };
-WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& colour,
+WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& color,
                                const HostImage& points, const WarpSettings& settings = {});
 
 }  // namespace rt::passes

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "passes/reference_math.h"
+#include "passes/common/reference_math.h"
 
 #include "overlay.comp.h"
 
@@ -33,7 +33,7 @@ HostImage overlay_reference(const HostImage& hand_color, const HostImage& hand_a
       for (uint32_t c = 0; c < 3; ++c) {
         const float c_g = unit_or_zero(hand_color.at(x, y, c));
         const float c_i = unit_or_zero(portrait.at(x, y, c));
-        // Eq. 5 as printed, then premultiplied; alpha_f = 0 leaves the colour at 0.
+        // Eq. 5 as printed, then premultiplied; alpha_f = 0 leaves the color at 0.
         const float c_f = a_f > 0.0f ? (c_g * a_g + c_i * a_i * (1.0f - a_g)) / a_f : 0.0f;
         fused.at(x, y, c) = c_f * a_f;
       }

@@ -2,7 +2,7 @@
 // Pass: the geometry hand layer over the image-based portrait layer (paper Eq. 5).
 //   in:  hand_color rgba32f (c_g, straight), hand_alpha r32f (alpha_g), portrait rgba32f (c_i, alpha_i, straight)
 //   out: fused rgba32f, premultiplied: (c_f alpha_f, alpha_f), so (0, 0, 0, 0) where alpha_f = 0.
-// Non-finite inputs count as 0; colours and alphas are clamped to [0, 1].
+// Non-finite inputs count as 0; colors and alphas are clamped to [0, 1].
 #include "image/host_image.h"
 #include "vulkan/frame_graph.h"
 

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "passes/reference_raster.h"
+#include "passes/common/reference_raster.h"
 
 #include "person_raster.frag.h"
 #include "person_raster.vert.h"

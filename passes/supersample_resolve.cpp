@@ -30,7 +30,7 @@ void SupersampleResolvePass::add_to(vk::FrameGraph& graph, const ResolveImages& 
                                   std::to_string(w) + "x" + std::to_string(h));
   for (const vk::Image* image : {resolved.depth_m, resolved.part})
     if (image->width() != w || image->height() != h)
-      throw std::invalid_argument(pass_name + ": '" + image->name() + "' differs in size from the resolved colour");
+      throw std::invalid_argument(pass_name + ": '" + image->name() + "' differs in size from the resolved color");
   graph.add_compute_pass({
       .name = pass_name,
       .kernel = &kernel_,

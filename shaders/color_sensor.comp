@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// A colour camera's response: a gain and a white balance per channel, clipped like a sensor.
+// A color camera's response: a gain and a white balance per channel, clipped like a sensor.
 // Off (gain 1, balance 1) unless the scene sets the color_gain effect.
 #include "shared/config.h"
 #include "common/numeric.glsl"

@@ -16,7 +16,7 @@ void main() {
   if (any(greaterThanEqual(pixel, imageSize(display)))) return;
   vec4 layer = imageLoad(fused, pixel);
   float a_f = unit_or_zero(layer.a);
-  // A premultiplied colour never exceeds its alpha; clamping to it keeps bad input in range.
+  // A premultiplied color never exceeds its alpha; clamping to it keeps bad input in range.
   vec3 premultiplied = min(unit_or_zero(layer.rgb), vec3(a_f));
   vec3 c_bg = unit_or_zero(imageLoad(background, pixel).rgb);
   imageStore(display, pixel, vec4(premultiplied + c_bg * (1.0 - a_f), 1.0));

@@ -15,7 +15,7 @@ layout(constant_id = 2) const float noise_sigma_at_1m_m = 0.0;  // depth_noise: 
 layout(constant_id = 3) const float skin_bias_m = 0.0;          // skin_depth_bias: hand reads farther
 layout(constant_id = 4) const float flying_edge_m = 0.0;        // flying_pixels: 0 = off
 layout(constant_id = 5) const float flying_probability = 0.0;
-layout(constant_id = 6) const int shift_x = 0;                  // misregistration against colour
+layout(constant_id = 6) const int shift_x = 0;                  // misregistration against color
 layout(constant_id = 7) const int shift_y = 0;
 
 layout(push_constant) uniform Push { DepthSensorParams params; };

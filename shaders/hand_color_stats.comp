@@ -3,7 +3,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 // Paper Eq. 3, first half: per workgroup sums of L, alpha, beta and their squares over the hand
 // pixels where the image-based portrait (I_i, D_i) and the mesh render (I_g, D_g) both have a
-// depth and agree within the tolerance. Black and saturated pixels carry no colour statistics
+// depth and agree within the tolerance. Black and saturated pixels carry no color statistics
 // and are skipped. Each invocation sums RT_COLOR_STATS_PIXELS_PER_THREAD pixels, subgroupAdd
 // sums a subgroup whatever its size (8 on lavapipe, 32 or 64 elsewhere), and one invocation
 // adds the subgroups' sums from shared memory after a single barrier.

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Paper Eq. 3 applied to the texture: T -> T', per L-alpha-beta channel
 // c' = (sigma_i / max(sigma_g, floor)) (c - m_g) + m_i. Until statistics exist T' = T; a texel
-// that would come out non-finite keeps its template colour.
+// that would come out non-finite keeps its template color.
 #include "shared/config.h"
 #include "common/lab_alpha_beta.glsl"
 #include "common/numeric.glsl"

@@ -16,7 +16,7 @@ layout(constant_id = 1) const float resolution_weight = 1.0;  // radians of pena
 layout(binding = 0, r32f) uniform readonly image2D fused_depth;
 layout(binding = 1, rgba32f) uniform readonly image2D warped;
 layout(binding = 2, rgba32f) uniform readonly image2D features;
-layout(binding = 3, rgba32f) uniform writeonly image2D portrait;        // straight colour, alpha
+layout(binding = 3, rgba32f) uniform writeonly image2D portrait;        // straight color, alpha
 layout(binding = 4, r32f) uniform writeonly image2D portrait_depth;     // metres, 0 = nothing
 layout(push_constant) uniform Push { IbrBlendParams params; };
 
@@ -55,23 +55,23 @@ void main() {
         if (below == best_views - 1) threshold = penalty[v];
       }
     }
-    vec3 colour_sum = vec3(0.0);
+    vec3 color_sum = vec3(0.0);
     float weight_sum = 0.0, best_penalty = 1e30;
-    vec3 best_colour = vec3(0.0);
+    vec3 best_color = vec3(0.0);
     for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
       if (penalty[v] < 0.0) continue;
       vec3 c = unit_or_zero(imageLoad(warped, ivec2(pixel.x, pixel.y + v * size.y)).rgb);
       float w = threshold > 0.0 ? max(0.0, 1.0 - penalty[v] / threshold) * feather[v] : feather[v];
-      colour_sum += w * c;
+      color_sum += w * c;
       weight_sum += w;
       if (penalty[v] < best_penalty) {
         best_penalty = penalty[v];
-        best_colour = c;
+        best_color = c;
       }
     }
     // Every weight zero happens only when the best views tie with the threshold: take the best.
-    vec3 colour = weight_sum > 1e-6 ? colour_sum / weight_sum : best_colour;
-    result = vec4(unit_or_zero(colour), 1.0);
+    vec3 color = weight_sum > 1e-6 ? color_sum / weight_sum : best_color;
+    result = vec4(unit_or_zero(color), 1.0);
     float z = imageLoad(fused_depth, pixel).r;
     depth = is_finite(z) && z > 0.0 ? z : 0.0;
   }

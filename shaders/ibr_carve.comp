@@ -97,7 +97,7 @@ void main() {
         vec2 depth_size = lens_size(cameras[v].depth);
         vec2 depth_pixel = lens_project(cameras[v].depth, q);
         if (!inside_image(depth_pixel, depth_size, 0.0) ||
-            !inside_image(lens_project(cameras[v].colour, q), lens_size(cameras[v].colour), 0.0))
+            !inside_image(lens_project(cameras[v].color, q), lens_size(cameras[v].color), 0.0))
           continue;
         if (view_sees(v, int(depth_size.y), depth_pixel, q.z, visibility_tolerance_m, visibility_tolerance_rel)) {
           seen = true;

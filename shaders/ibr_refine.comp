@@ -2,9 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // Optional refinement (the paper refines with a multi-view-stereo network; this is the classic
 // plane sweep in its place): around each fused depth, `hypotheses` depths `step_m` apart are
-// scored by how well the views' colours agree there (their variance, over the views that see the
+// scored by how well the views' colors agree there (their variance, over the views that see the
 // point: inside their images, their own depth agreeing as in warping, so that a view whose line
-// of sight a hand blocks does not score the hand's colour); the best-scoring depth wins, ties
+// of sight a hand blocks does not score the hand's color); the best-scoring depth wins, ties
 // going to the fused depth.
 #include "shared/config.h"
 #include "common/ibr_camera.glsl"
@@ -16,8 +16,8 @@ layout(constant_id = 2) const float visibility_tolerance_m = 0.03;
 layout(constant_id = 3) const float visibility_tolerance_rel = 0.01;  // of the camera's depth
 
 layout(binding = 0, r32f) uniform readonly image2D fused_depth;
-layout(binding = 1, rgba8) uniform readonly image2D colour;  // views stacked in bands
-#define RT_BILINEAR_IMAGE colour
+layout(binding = 1, rgba8) uniform readonly image2D color;  // views stacked in bands
+#define RT_BILINEAR_IMAGE color
 #include "common/bilinear.glsl"
 layout(binding = 2, r32f) uniform writeonly image2D refined_depth;
 layout(binding = 3, rgba32f) uniform readonly image2D points;  // w: each view's own depth
@@ -25,7 +25,7 @@ layout(binding = 3, rgba32f) uniform readonly image2D points;  // w: each view's
 #include "common/view_sees.glsl"
 layout(push_constant) uniform Push { IbrBlendParams params; };
 
-// Colour variance across the views that see `site`; -1 with fewer than two.
+// Color variance across the views that see `site`; -1 with fewer than two.
 float disagreement(vec3 site) {
   vec3 sum = vec3(0.0), sum_squares = vec3(0.0);
   int seen = 0;
@@ -33,8 +33,8 @@ float disagreement(vec3 site) {
     if (v >= int(params.view_count)) break;
     vec3 q = transform_point(cameras[v].camera_from_site, site);
     if (q.z <= 1e-4) continue;
-    vec2 at = lens_project(cameras[v].colour, q);
-    vec2 size = lens_size(cameras[v].colour);
+    vec2 at = lens_project(cameras[v].color, q);
+    vec2 size = lens_size(cameras[v].color);
     vec2 depth_size = lens_size(cameras[v].depth);
     vec2 depth_pixel = lens_project(cameras[v].depth, q);
     if (!inside_image(at, size, 0.0) || !inside_image(depth_pixel, depth_size, 0.0)) continue;

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Unlit albedo with a fixed, view-independent shading term, so that every camera sees the same
-// colour at a surface point (what image-based rendering assumes), plus the stripes on clothing
+// color at a surface point (what image-based rendering assumes), plus the stripes on clothing
 // that make blending errors visible. Also writes the camera's linear depth and the part mask.
 #include "shared/config.h"
 

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Resolves a view rendered at `factor` times the resolution (factor odd): colour is the mean of
+// Resolves a view rendered at `factor` times the resolution (factor odd): color is the mean of
 // each pixel's factor x factor samples, as a real sensor integrates light over its pixel (a
 // point-sampled ground truth and point-sampled cameras would make every evaluation measure
 // aliasing); depth and part take the centre sample, which lies exactly on the pixel's centre.

@@ -118,7 +118,7 @@ add_test(NAME calibrate_extrinsics_synthetic
                  --site ${calibration_out}/site.json)
 set_tests_properties(calibrate_extrinsics_synthetic PROPERTIES
   FIXTURES_REQUIRED "calibration_synthetic;calibration_site_copy" FIXTURES_SETUP calibration_site_cameras
-  PASS_REGULAR_EXPRESSION "bottom-right +top-centre.*alignment RMS [0-4]\\.[0-9]+ mm.*updated .*site\\.json \\(6 cameras: colour intrinsics and poses; kept the tracker")
+  PASS_REGULAR_EXPRESSION "bottom-right +top-centre.*alignment RMS [0-4]\\.[0-9]+ mm.*updated .*site\\.json \\(6 cameras: color intrinsics and poses; kept the tracker")
 add_test(NAME calibrate_tracker_synthetic
          COMMAND ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
                  --site ${calibration_out}/site.json)

@@ -27,7 +27,7 @@ inline net::PortraitMessage test_portrait(uint32_t width, uint32_t height, uint6
   p.depth = HostImage(width, height, PixelFormat::R32F);
   for (uint32_t y = 0; y < height; ++y)
     for (uint32_t x = 0; x < width; ++x) {
-      // Smooth colour (what a portrait looks like to JPEG) with a little noise.
+      // Smooth color (what a portrait looks like to JPEG) with a little noise.
       const float u = float(x) / float(width), v = float(y) / float(height);
       p.color.at(x, y, 0) = 0.5f + 0.4f * std::sin(6.0f * u + float(frame)) + 0.01f * unit(random);
       p.color.at(x, y, 1) = 0.3f + 0.5f * v;

@@ -62,7 +62,7 @@ void check_poses(const ExtrinsicsResult& result, const sim::SiteDescription& tru
   REQUIRE(result.cameras.size() == truth.cameras.size());
   for (size_t i = 0; i < truth.cameras.size(); ++i) {
     const Camera& found = result.cameras[i].camera;
-    const Camera expected = truth.cameras[i].colour_camera();
+    const Camera expected = truth.cameras[i].color_camera();
     INFO("camera " << truth.cameras[i].name);
     CHECK(found.name == truth.cameras[i].name);
     CHECK(found.camera_from_site.matrix().allFinite());
@@ -163,7 +163,7 @@ TEST_CASE("The chessboard links chain relative poses through the best-connected 
   options.corner_noise_px = 0.0;
   const SyntheticSite site = make_synthetic_site(options);
   std::vector<NamedIntrinsics> cameras;
-  for (const sim::RgbdCamera& camera : site.truth.cameras) cameras.push_back({camera.name, camera.colour});
+  for (const sim::RgbdCamera& camera : site.truth.cameras) cameras.push_back({camera.name, camera.color});
   const auto links = link_cameras(cameras, site.extrinsics_input.snapshots, site.extrinsics_input.board, "top-left");
   const Eigen::Isometry3d reference_from_site = site.truth.cameras[0].camera_from_site;
   for (size_t i = 0; i < links.size(); ++i) {
@@ -212,7 +212,7 @@ TEST_CASE("Degenerate camera sets give a clear error", "[calibration][extrinsics
   SECTION("one camera's distances do not fit the chessboard poses") {
     ExtrinsicsInput input = full;
     // Consistent among themselves, but for a point 10 cm further up.
-    const Eigen::Vector3d moved = site.truth.cameras[1].colour_camera().position_in_site() + Eigen::Vector3d(0, 0.1, 0);
+    const Eigen::Vector3d moved = site.truth.cameras[1].color_camera().position_in_site() + Eigen::Vector3d(0, 0.1, 0);
     input.cameras[1].corner_distances_m = exact_distances(moved, input.screen);
     CHECK_THROWS_WITH(calibrate_extrinsics(input), Contains("disagree"));
   }
@@ -232,7 +232,7 @@ TEST_CASE("The extrinsics input file: paths, intrinsics files and errors that na
   write_synthetic_site(site, folder);
   const ExtrinsicsInput input = read_extrinsics_input(folder / "extrinsics_input.json");
   REQUIRE(input.cameras.size() == 6);
-  CHECK(input.cameras[2].intrinsics.fx == site.truth.cameras[2].colour.fx);
+  CHECK(input.cameras[2].intrinsics.fx == site.truth.cameras[2].color.fx);
   CHECK(input.snapshots.size() == site.extrinsics_input.snapshots.size());
   const ExtrinsicsResult from_file = calibrate_extrinsics(input);
   const ExtrinsicsResult in_memory = calibrate_extrinsics(site.extrinsics_input);

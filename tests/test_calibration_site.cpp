@@ -91,14 +91,14 @@ TEST_CASE("Synthetic data calibrated into a copy of the default site: load_site 
     const sim::RgbdCamera& expected = truth.truth.cameras[i];
     INFO("camera " << expected.name);
     CHECK(found.name == expected.name);
-    CHECK((found.colour_camera().position_in_site() - expected.colour_camera().position_in_site()).norm() <
+    CHECK((found.color_camera().position_in_site() - expected.color_camera().position_in_site()).norm() <
           kCameraPositionToleranceM);
     CHECK(angle_between(found.camera_from_site, expected.camera_from_site) < kCameraAngleToleranceRad);
-    // The colour intrinsics are the calibrated ones (here: the inputs'), with their distortion.
+    // The color intrinsics are the calibrated ones (here: the inputs'), with their distortion.
     const CameraIntrinsics& calibrated = truth.extrinsics_input.cameras[i].intrinsics;
-    CHECK(found.colour.fx == Approx(calibrated.fx).epsilon(1e-12));
-    CHECK(found.colour.cy == Approx(calibrated.cy).epsilon(1e-12));
-    CHECK(found.colour.distortion.k1 == Approx(calibrated.distortion.k1).epsilon(1e-12));
+    CHECK(found.color.fx == Approx(calibrated.fx).epsilon(1e-12));
+    CHECK(found.color.cy == Approx(calibrated.cy).epsilon(1e-12));
+    CHECK(found.color.distortion.k1 == Approx(calibrated.distortion.k1).epsilon(1e-12));
     // What calibration does not measure stays as the site file had it.
     CHECK(found.depth.fx == shipped.cameras[i].depth.fx);
     CHECK(found.depth.width == shipped.cameras[i].depth.width);
@@ -215,7 +215,7 @@ TEST_CASE("Calibration refuses a site file it cannot update, and leaves it as it
     const auto path = copy_of_default_site("nan.json");
     const std::string before = file_text(path);
     sim::SiteDescription site = load_site_to_update(path);
-    site.cameras[4].colour.cy = std::nan("");
+    site.cameras[4].color.cy = std::nan("");
     CHECK_THROWS_WITH(write_updated_site(path, site), Contains("cameras/4/cy is not finite"));
     CHECK(file_text(path) == before);
   }
@@ -227,5 +227,5 @@ TEST_CASE("The synthetic site's truth is itself a valid site file", "[calibratio
   const sim::SiteDescription read = sim::load_site(folder / "truth_site.json");
   REQUIRE(read.cameras.size() == 6);
   CHECK((read.tracker.site_from_tracker.matrix() - synthetic().truth.tracker.site_from_tracker.matrix()).norm() < 1e-12);
-  CHECK(read.cameras[3].colour.distortion.k1 == synthetic().truth.cameras[3].colour.distortion.k1);
+  CHECK(read.cameras[3].color.distortion.k1 == synthetic().truth.cameras[3].color.distortion.k1);
 }

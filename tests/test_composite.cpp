@@ -27,7 +27,7 @@ HostImage run_gpu(const HostImage& fused_in, const HostImage& background_in) {
   return vk::download(context, display);
 }
 
-// Random premultiplied layers: colour never above alpha.
+// Random premultiplied layers: color never above alpha.
 HostImage random_premultiplied(std::mt19937& rng, uint32_t w, uint32_t h) {
   HostImage image = test::random_image(rng, w, h, PixelFormat::RGBA32F);
   for (size_t i = 0; i < image.texels.size(); i += 4)

@@ -171,7 +171,7 @@ TEST_CASE("depth_sensor effects: measured statistics match their parameters", "[
     const double edge_pixels = 2.0 * (h - 2);
     CHECK(double(dropped_at_edge) / edge_pixels == Approx(0.25).margin(0.05));  // half of the affected
   }
-  SECTION("misregistration shifts depth against colour") {
+  SECTION("misregistration shifts depth against color") {
     DepthSensorModel model;
     model.shift_x = 3;
     HostImage ramp(w, h, PixelFormat::R32F);

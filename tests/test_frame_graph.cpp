@@ -152,9 +152,9 @@ TEST_CASE("a resource released while the GPU still uses it is destroyed later", 
     auto begin = vk::vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     vkBeginCommandBuffer(commands.get(), &begin);
     vk::use_image(context, commands.get(), image, vk::access::transfer_write);
-    const VkClearColorValue colour{{1.0f, 0.0f, 0.0f, 1.0f}};
+    const VkClearColorValue color{{1.0f, 0.0f, 0.0f, 1.0f}};
     const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdClearColorImage(commands.get(), image.image(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &colour, 1, &range);
+    vkCmdClearColorImage(commands.get(), image.image(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &color, 1, &range);
     vkEndCommandBuffer(commands.get());
     in_flight = context.submit(commands.get());
     // image and commands go out of scope here, with the clear possibly still running: the

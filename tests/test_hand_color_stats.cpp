@@ -128,7 +128,7 @@ TEST_CASE("hand_color_stats and hand_color_reduce match the reference on random 
   }
 }
 
-TEST_CASE("Colour statistics hard cases: black, saturated, NaN, depth disagreement, too few pixels, smoothing") {
+TEST_CASE("Color statistics hard cases: black, saturated, NaN, depth disagreement, too few pixels, smoothing") {
   test::NoValidationErrors no_errors;
   std::mt19937 rng(8);
   const uint32_t w = 41, h = 23;

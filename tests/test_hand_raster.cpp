@@ -1,7 +1,7 @@
 // hand_raster pass: the GPU against the C++ reference on the skinned template seen from target
 // views of odd sizes, and on the hard cases (a hand across the near plane, a hand behind the
 // eye, no triangles). Tolerances away from triangle edges: mask exact, linear depth 1e-5
-// relative, colour 4e-3 absolute (the GPU's 8-bit sub-texel filter weights on a texture whose
+// relative, color 4e-3 absolute (the GPU's 8-bit sub-texel filter weights on a texture whose
 // nails and creases step by up to 0.2); within one pixel of an edge the GPU's tie-breaking may
 // differ.
 #include <cmath>

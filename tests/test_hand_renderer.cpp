@@ -1,6 +1,6 @@
 // HandRenderer, the receiver's geometry hand: nothing before a pose, a held pose for a skeleton
 // that cannot be posed (never a broken mesh), the shape fitted once, appearance adaption only
-// beyond d_max, and its result moving the render's colour towards the portrait's.
+// beyond d_max, and its result moving the render's color towards the portrait's.
 #include <cmath>
 #include <limits>
 
@@ -33,7 +33,7 @@ double covered(const HostImage& mask) {
   return sum;
 }
 
-Eigen::Vector3d mean_colour(const HostImage& color, const HostImage& mask) {
+Eigen::Vector3d mean_color(const HostImage& color, const HostImage& mask) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   double n = 0;
   for (uint32_t y = 0; y < color.height; ++y)
@@ -74,7 +74,7 @@ TEST_CASE("HandRenderer draws nothing before a pose and holds the last pose for 
                     Catch::Contains("64x64"));
 }
 
-TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the portrait's colours") {
+TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the portrait's colors") {
   test::NoValidationErrors no_errors;
   vk::Context& context = test::gpu();
   const uint32_t w = 160, h = 90;
@@ -92,7 +92,7 @@ TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the por
   renderer.set_pose(facing_hand(0.5), camera);
   graph.run();
   const HostImage mask = vk::download(context, renderer.mask());
-  const Eigen::Vector3d before = mean_colour(vk::download(context, renderer.color()), mask);
+  const Eigen::Vector3d before = mean_color(vk::download(context, renderer.color()), mask);
   // The portrait: the same hand, a darker and redder skin, at the same depth.
   HostImage portrait = vk::download(context, renderer.color());
   for (uint32_t y = 0; y < h; ++y)
@@ -108,12 +108,12 @@ TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the por
   CHECK(state.header[0] == 1.0f);
   CHECK(state.header[2] > 16.0f);
   graph.run();
-  const Eigen::Vector3d after = mean_colour(vk::download(context, renderer.color()), mask);
+  const Eigen::Vector3d after = mean_color(vk::download(context, renderer.color()), mask);
   const Eigen::Vector3d target = before.cwiseProduct(Eigen::Vector3d(0.7, 0.45, 0.4));
   INFO("before " << before.transpose() << ", after " << after.transpose() << ", portrait " << target.transpose());
   CHECK((after - target).norm() < 0.25 * (before - target).norm());
 
   renderer.reset_appearance();
   graph.run();
-  CHECK((mean_colour(vk::download(context, renderer.color()), mask) - before).norm() < 1e-6);
+  CHECK((mean_color(vk::download(context, renderer.color()), mask) - before).norm() < 1e-6);
 }

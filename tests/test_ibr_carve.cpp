@@ -122,14 +122,14 @@ TEST_CASE("ibr_carve: a view that sees through the fused surface carves it to wh
       const Eigen::Vector3d plane_point = ray.at(behind);
       const auto plane_pixel = passes::lens_project(rig.table.cameras[0].depth, {float(plane_point.x()),
                                                                                  float(plane_point.y()), plane_m});
-      const auto plane_colour = passes::lens_project(rig.table.cameras[0].colour, {float(plane_point.x()),
+      const auto plane_color = passes::lens_project(rig.table.cameras[0].color, {float(plane_point.x()),
                                                                                    float(plane_point.y()), plane_m});
       const float probe = passes::CarveSettings{}.probe_texels;
       const bool clear_of_edge = pixel.x + probe < float(edge_column) - 0.5f - 1e-3f;
       REQUIRE(finger.z() + 0.03 + 0.01 * plane_m < plane_m - 1e-3);  // the plane is behind the finger
       const bool in_images = passes::inside_image(pixel, {float(kDepthW), float(kDepthH)}, 0.0f) &&
                              passes::inside_image(plane_pixel, {float(kDepthW), float(kDepthH)}, 0.0f) &&
-                             passes::inside_image(plane_colour, {37.0f, 21.0f}, 0.0f) &&
+                             passes::inside_image(plane_color, {37.0f, 21.0f}, 0.0f) &&
                              std::floor(plane_pixel.x + 0.5f) < float(edge_column);
       if (clear_of_edge && in_images) {
         REQUIRE(gpu.at(x, y) == Approx(behind).margin(1e-4));

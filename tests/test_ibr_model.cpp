@@ -31,22 +31,22 @@ Simulated simulate(uint32_t width, uint32_t height) {
   s.simulator = std::make_unique<app::SiteSimulator>(test::gpu(), s.scene, Site::A, width, height);
   s.frame = *s.simulator->next_frame();
   for (size_t k = 0; k < s.simulator->renderer().camera_count(); ++k) {
-    s.cameras.push_back({s.simulator->renderer().camera(k).colour, s.simulator->renderer().camera(k).depth});
-    s.positions.push_back(s.cameras.back().colour.position_in_site());
+    s.cameras.push_back({s.simulator->renderer().camera(k).color, s.simulator->renderer().camera(k).depth});
+    s.positions.push_back(s.cameras.back().color.position_in_site());
   }
   return s;
 }
 
 // Ground truth of a 10x6 grey person at x 5..14, y 2..7, 1 m away; its hand (x < 8) at hand_depth_m.
 struct TruthImages {
-  HostImage colour, depth, part;
+  HostImage color, depth, part;
 };
 TruthImages person_box(uint32_t w, uint32_t h, float hand_depth_m) {
   TruthImages truth{HostImage(w, h, PixelFormat::RGBA8, 0.0f), HostImage(w, h, PixelFormat::R32F, 0.0f),
                     HostImage(w, h, PixelFormat::R32F, 0.0f)};
   for (uint32_t y = 2; y < 8; ++y)
     for (uint32_t x = 5; x < 15; ++x) {
-      for (uint32_t c = 0; c < 4; ++c) truth.colour.at(x, y, c) = c == 3 ? 1.0f : 0.5f;
+      for (uint32_t c = 0; c < 4; ++c) truth.color.at(x, y, c) = c == 3 ? 1.0f : 0.5f;
       truth.part.at(x, y) = x < 8 ? float(RT_PART_HAND) : float(RT_PART_BODY);
       truth.depth.at(x, y) = x < 8 ? hand_depth_m : 1.0f;
     }
@@ -76,7 +76,7 @@ TEST_CASE("the image-based model renders a simulated frame close to ground truth
     REQUIRE(test::count_non_finite(portrait) == 0);
     REQUIRE(test::count_non_finite(depth) == 0);
     ibr::PortraitMetrics metrics;
-    metrics.add(portrait, depth, s.simulator->renderer().target_colour(), s.simulator->renderer().target_depth_m(),
+    metrics.add(portrait, depth, s.simulator->renderer().target_color(), s.simulator->renderer().target_depth_m(),
                 s.simulator->renderer().target_part());
     INFO("psnr_fg " << metrics.psnr_fg_db() << " dB, iou " << metrics.alpha_iou() << ", bias "
                     << metrics.depth_bias_mm() << " mm");
@@ -173,14 +173,14 @@ TEST_CASE("portrait metrics on known images", "[ibr_model]") {
   REQUIRE(missing.psnr_fg_db() == Approx(10 * std::log10(12.0 / 0.25)).epsilon(1e-6));
   REQUIRE(missing.to_json()["fg_error_by_region"]["uncovered"]["error_share"] == Approx(1.0));
 
-  // A truth edge pixel half covered is premultiplied (half its colour, alpha 0.5), as the
-  // simulator box-filters it: a portrait with the same straight colour and alpha matches it.
+  // A truth edge pixel half covered is premultiplied (half its color, alpha 0.5), as the
+  // simulator box-filters it: a portrait with the same straight color and alpha matches it.
   HostImage edge_truth = truth;
   edge_truth.at(5, 2, 0) = edge_truth.at(5, 2, 1) = edge_truth.at(5, 2, 2) = 0.25f;
   edge_truth.at(5, 2, 3) = 0.5f;
   HostImage edge_portrait(w, h, PixelFormat::RGBA32F, 0.0f);
   for (size_t i = 0; i < edge_portrait.texels.size(); ++i) edge_portrait.texels[i] = truth.texels[i];
-  edge_portrait.at(5, 2, 3) = 0.5f;  // straight colour 0.5, alpha 0.5
+  edge_portrait.at(5, 2, 3) = 0.5f;  // straight color 0.5, alpha 0.5
   ibr::PortraitMetrics edge;
   edge.add(edge_portrait, depth, edge_truth, depth, part);
   REQUIRE(edge.psnr_fg_db() == 99.0);

@@ -1,5 +1,5 @@
 // ibr_refine (plane sweep): GPU against the C++ reference. The winner among hypotheses is an
-// argmin of colour variances; two hypotheses within float rounding of each other may swap, so
+// argmin of color variances; two hypotheses within float rounding of each other may swap, so
 // at most 1% of pixels (and at least one) may pick another hypothesis (stated tolerance); the rest match to 1e-5.
 // Only views that see a point score it (warping's visibility test on each view's own depth).
 #include "passes/ibr_refine.h"
@@ -23,23 +23,23 @@ HostImage points_atlas(std::mt19937& rng, const test::IbrRig& rig, float own_dep
 // A tolerance that accepts any valid own depth, to test the sweep apart from occlusion.
 constexpr passes::VisibilityTolerance kSeesEveryValidDepth{10.0f, 0.01f};
 
-HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused_in, const HostImage& colour_in,
+HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused_in, const HostImage& color_in,
                   const HostImage& points_in, const passes::RefineSettings& settings,
                   passes::VisibilityTolerance visibility) {
   vk::Context& context = test::gpu();
   const uint32_t w = fused_in.width, h = fused_in.height;
   vk::Image fused(context, {"fused depth", w, h, PixelFormat::R32F});
-  vk::Image colour(context, {"colour", colour_in.width, colour_in.height, PixelFormat::RGBA8});
+  vk::Image color(context, {"color", color_in.width, color_in.height, PixelFormat::RGBA8});
   vk::Image points(context, {"points", points_in.width, points_in.height, PixelFormat::RGBA32F});
   vk::Image refined(context, {"refined depth", w, h, PixelFormat::R32F});
   vk::upload(context, fused, fused_in);
-  vk::upload(context, colour, colour_in);
+  vk::upload(context, color, color_in);
   vk::upload(context, points, points_in);
   passes::IbrSceneBuffer scene(context);
   scene.write(rig.table);
   const passes::IbrRefinePass pass(context, settings, visibility);
   vk::FrameGraph graph(context, "test ibr_refine");
-  pass.add_to(graph, scene, fused, colour, points, refined, uint32_t(rig.cameras.size()));
+  pass.add_to(graph, scene, fused, color, points, refined, uint32_t(rig.cameras.size()));
   graph.run();
   return vk::download(context, refined);
 }
@@ -55,12 +55,12 @@ TEST_CASE("ibr_refine on random inputs, odd sizes", "[ibr_refine][gpu]") {
     const test::IbrRig rig = test::ibr_rig(3, 37, 21, 9, 7, width, height);
     HostImage fused = test::random_image(rng, width, height, PixelFormat::R32F, 1.3f, 1.5f);
     for (size_t i = 0; i < fused.texels.size(); i += 5) fused.texels[i] = 0.0f;
-    const HostImage colour = test::random_image(rng, 37, 63, PixelFormat::RGBA8);
+    const HostImage color = test::random_image(rng, 37, 63, PixelFormat::RGBA8);
     const HostImage points = points_atlas(rng, rig, -1.0f);
     const passes::RefineSettings settings;
-    const HostImage gpu = run_gpu(rig, fused, colour, points, settings, kSeesEveryValidDepth);
+    const HostImage gpu = run_gpu(rig, fused, color, points, settings, kSeesEveryValidDepth);
     const HostImage reference =
-        passes::ibr_refine_reference(rig.table, fused, colour, points, settings, kSeesEveryValidDepth);
+        passes::ibr_refine_reference(rig.table, fused, color, points, settings, kSeesEveryValidDepth);
     const auto comparison = test::compare_pixels(gpu, reference, 1e-5, 1e-5);
     REQUIRE(comparison.non_finite == 0);
     REQUIRE(comparison.mismatched_pixels <= 1 + size_t(width) * height / 100);
@@ -69,7 +69,7 @@ TEST_CASE("ibr_refine on random inputs, odd sizes", "[ibr_refine][gpu]") {
       moved += gpu.texels[i] != fused.texels[i];
     }
   }
-  REQUIRE(moved > 0);  // the sweep does move depths on random colours
+  REQUIRE(moved > 0);  // the sweep does move depths on random colors
 }
 
 TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
@@ -77,19 +77,19 @@ TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
   std::mt19937 rng(42);
   const test::IbrRig rig = test::ibr_rig(2, 37, 21, 9, 7, 13, 11);
   const HostImage seen_everywhere = points_atlas(rng, rig, 0.7f);
-  SECTION("uniform colour: every hypothesis ties, the fused depth stays") {
+  SECTION("uniform color: every hypothesis ties, the fused depth stays") {
     const HostImage fused = test::random_image(rng, 13, 11, PixelFormat::R32F, 1.3f, 1.5f);
     const HostImage grey(37, 42, PixelFormat::RGBA8, 0.5f);
     RT_REQUIRE_MATCHES(run_gpu(rig, fused, grey, seen_everywhere, {}, kSeesEveryValidDepth), fused, 0.0, 0.0);
   }
   SECTION("occluded views do not score: with an occluder 10 cm before each camera the depth stays") {
     const HostImage fused = test::random_image(rng, 13, 11, PixelFormat::R32F, 1.3f, 1.5f);
-    const HostImage colour = test::random_image(rng, 37, 42, PixelFormat::RGBA8);
-    const HostImage moved = run_gpu(rig, fused, colour, seen_everywhere, {}, kSeesEveryValidDepth);
-    REQUIRE(moved.texels != fused.texels);  // the same colours do move depths where the views see
+    const HostImage color = test::random_image(rng, 37, 42, PixelFormat::RGBA8);
+    const HostImage moved = run_gpu(rig, fused, color, seen_everywhere, {}, kSeesEveryValidDepth);
+    REQUIRE(moved.texels != fused.texels);  // the same colors do move depths where the views see
     const HostImage occluded = points_atlas(rng, rig, 0.1f);
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, colour, occluded, {}, {}), fused, 0.0, 0.0);
-    RT_REQUIRE_MATCHES(passes::ibr_refine_reference(rig.table, fused, colour, occluded), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu(rig, fused, color, occluded, {}, {}), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(passes::ibr_refine_reference(rig.table, fused, color, occluded), fused, 0.0, 0.0);
   }
   SECTION("no depth stays no depth; one hypothesis is the identity") {
     HostImage fused(13, 11, PixelFormat::R32F, 0.0f);

@@ -1,7 +1,7 @@
 // ibr_resolve: GPU against the C++ reference on random fine portraits (binary and partial
 // alpha, holes) at odd sizes and factors 2..4, to 1e-5 (the same sums in another order); hard
-// cases: nothing covered (alpha 0, colour 0, depth 0), NaN and Inf in the input (never in the
-// output), a half-covered pixel (alpha 0.5, the covered samples' colour), and the image-based
+// cases: nothing covered (alpha 0, color 0, depth 0), NaN and Inf in the input (never in the
+// output), a half-covered pixel (alpha 0.5, the covered samples' color), and the image-based
 // model with a supersampled portrait (partial alpha on its silhouette, no NaN).
 #include <cmath>
 #include <limits>
@@ -33,18 +33,18 @@ passes::Portrait run_gpu(const HostImage& fine_portrait, const HostImage& fine_d
 }
 
 // A fine portrait as the blend writes it: alpha 0 or 1 (some 0.5 to exercise partial input),
-// straight colour, depth where covered.
+// straight color, depth where covered.
 std::pair<HostImage, HostImage> random_fine(std::mt19937& rng, uint32_t w, uint32_t h) {
-  HostImage colour = test::random_image(rng, w, h, PixelFormat::RGBA32F);
+  HostImage color = test::random_image(rng, w, h, PixelFormat::RGBA32F);
   HostImage depth = test::random_image(rng, w, h, PixelFormat::R32F, 0.5f, 1.5f);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
       const float u = unit(rng);
-      colour.at(x, y, 3) = u < 0.4f ? 0.0f : u < 0.5f ? 0.5f : 1.0f;
-      if (colour.at(x, y, 3) == 0.0f) depth.at(x, y) = 0.0f;
+      color.at(x, y, 3) = u < 0.4f ? 0.0f : u < 0.5f ? 0.5f : 1.0f;
+      if (color.at(x, y, 3) == 0.0f) depth.at(x, y) = 0.0f;
     }
-  return {colour, depth};
+  return {color, depth};
 }
 
 }  // namespace
@@ -55,50 +55,50 @@ TEST_CASE("ibr_resolve on random fine portraits, odd sizes, factors 2 to 4", "[i
   for (uint32_t factor : {2u, 3u, 4u})
     for (const auto& [width, height] : test::odd_sizes()) {
       INFO(width << "x" << height << " x" << factor);
-      const auto [colour, depth] = random_fine(rng, width * factor, height * factor);
-      const passes::Portrait gpu = run_gpu(colour, depth, factor);
-      const passes::Portrait reference = passes::ibr_resolve_reference(colour, depth, factor);
-      REQUIRE(test::count_non_finite(gpu.colour) == 0);
-      RT_REQUIRE_MATCHES(gpu.colour, reference.colour, 1e-5, 1e-5);
+      const auto [color, depth] = random_fine(rng, width * factor, height * factor);
+      const passes::Portrait gpu = run_gpu(color, depth, factor);
+      const passes::Portrait reference = passes::ibr_resolve_reference(color, depth, factor);
+      REQUIRE(test::count_non_finite(gpu.color) == 0);
+      RT_REQUIRE_MATCHES(gpu.color, reference.color, 1e-5, 1e-5);
       RT_REQUIRE_MATCHES(gpu.depth, reference.depth, 0.0, 0.0);
     }
 }
 
 TEST_CASE("ibr_resolve hard cases", "[ibr_resolve][gpu]") {
   test::NoValidationErrors no_errors;
-  SECTION("nothing covered: alpha 0, colour 0, depth 0") {
-    const HostImage colour(6, 4, PixelFormat::RGBA32F, 0.0f), depth(6, 4, PixelFormat::R32F, 0.0f);
-    const passes::Portrait gpu = run_gpu(colour, depth, 2);
-    RT_REQUIRE_MATCHES(gpu.colour, HostImage(3, 2, PixelFormat::RGBA32F, 0.0f), 0.0, 0.0);
+  SECTION("nothing covered: alpha 0, color 0, depth 0") {
+    const HostImage color(6, 4, PixelFormat::RGBA32F, 0.0f), depth(6, 4, PixelFormat::R32F, 0.0f);
+    const passes::Portrait gpu = run_gpu(color, depth, 2);
+    RT_REQUIRE_MATCHES(gpu.color, HostImage(3, 2, PixelFormat::RGBA32F, 0.0f), 0.0, 0.0);
     RT_REQUIRE_MATCHES(gpu.depth, HostImage(3, 2, PixelFormat::R32F, 0.0f), 0.0, 0.0);
   }
-  SECTION("a half-covered pixel: alpha 0.5, the covered samples' colour, the nearest depth off-centre") {
-    HostImage colour(2, 2, PixelFormat::RGBA32F, 0.0f), depth(2, 2, PixelFormat::R32F, 0.0f);
-    for (uint32_t y = 0; y < 2; ++y) {  // left column covered: colour (0.2, 0.4, 0.6)
-      colour.at(0, y, 0) = 0.2f, colour.at(0, y, 1) = 0.4f, colour.at(0, y, 2) = 0.6f, colour.at(0, y, 3) = 1.0f;
+  SECTION("a half-covered pixel: alpha 0.5, the covered samples' color, the nearest depth off-centre") {
+    HostImage color(2, 2, PixelFormat::RGBA32F, 0.0f), depth(2, 2, PixelFormat::R32F, 0.0f);
+    for (uint32_t y = 0; y < 2; ++y) {  // left column covered: color (0.2, 0.4, 0.6)
+      color.at(0, y, 0) = 0.2f, color.at(0, y, 1) = 0.4f, color.at(0, y, 2) = 0.6f, color.at(0, y, 3) = 1.0f;
       depth.at(0, y) = 1.0f + 0.1f * float(y);
     }
-    for (const passes::Portrait& out : {run_gpu(colour, depth, 2), passes::ibr_resolve_reference(colour, depth, 2)}) {
-      CHECK(out.colour.at(0, 0, 0) == Approx(0.2f));
-      CHECK(out.colour.at(0, 0, 2) == Approx(0.6f));
-      CHECK(out.colour.at(0, 0, 3) == Approx(0.5f));
+    for (const passes::Portrait& out : {run_gpu(color, depth, 2), passes::ibr_resolve_reference(color, depth, 2)}) {
+      CHECK(out.color.at(0, 0, 0) == Approx(0.2f));
+      CHECK(out.color.at(0, 0, 2) == Approx(0.6f));
+      CHECK(out.color.at(0, 0, 3) == Approx(0.5f));
       CHECK(out.depth.at(0, 0) == Approx(1.0f));  // the centre sample (1, 1) is empty
     }
   }
   SECTION("NaN and Inf in the input never reach the output") {
     std::mt19937 rng(62);
-    auto [colour, depth] = random_fine(rng, 9, 6);
+    auto [color, depth] = random_fine(rng, 9, 6);
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-    colour.at(0, 0, 3) = nan;
-    colour.at(1, 0, 0) = nan;
-    colour.at(3, 1, 3) = inf;
-    colour.at(4, 2, 1) = -inf;
+    color.at(0, 0, 3) = nan;
+    color.at(1, 0, 0) = nan;
+    color.at(3, 1, 3) = inf;
+    color.at(4, 2, 1) = -inf;
     depth.at(2, 2) = nan;
     depth.at(5, 3) = inf;
-    const passes::Portrait gpu = run_gpu(colour, depth, 3);
-    REQUIRE(test::count_non_finite(gpu.colour) == 0);
+    const passes::Portrait gpu = run_gpu(color, depth, 3);
+    REQUIRE(test::count_non_finite(gpu.color) == 0);
     REQUIRE(test::count_non_finite(gpu.depth) == 0);
-    RT_REQUIRE_MATCHES(gpu.colour, passes::ibr_resolve_reference(colour, depth, 3).colour, 1e-5, 1e-5);
+    RT_REQUIRE_MATCHES(gpu.color, passes::ibr_resolve_reference(color, depth, 3).color, 1e-5, 1e-5);
   }
   SECTION("refusals") {
     vk::Image fine(test::gpu(), {"fine", 10, 10, PixelFormat::RGBA32F});
@@ -121,7 +121,7 @@ TEST_CASE("the image-based model with a supersampled portrait: partial alpha on 
   const sim::RgbdFrame frame = *simulator.next_frame();
   std::vector<passes::IbrCameraModel> cameras;
   for (size_t k = 0; k < simulator.renderer().camera_count(); ++k)
-    cameras.push_back({simulator.renderer().camera(k).colour, simulator.renderer().camera(k).depth});
+    cameras.push_back({simulator.renderer().camera(k).color, simulator.renderer().camera(k).depth});
   app::IbrSettings settings;
   settings.width = 47;
   settings.height = 27;

@@ -53,8 +53,8 @@ TEST_CASE("16-bit depth in millimetres round-trips exactly", "[image_io]") {
   for (size_t i = 0; i < depth.texels.size(); ++i) depth.texels[i] = float((i * 977) % 65536);
   write_image(scratch("depth.png"), depth);
   RT_REQUIRE_MATCHES(read_depth_png(scratch("depth.png")), depth, 0.0, 0.0);
-  write_image(scratch("colour.png"), HostImage(3, 3, PixelFormat::RGBA8, 0.5f));
-  CHECK_THROWS_WITH(read_depth_png(scratch("colour.png")), Catch::Contains("not a one-channel 16-bit PNG"));
+  write_image(scratch("color.png"), HostImage(3, 3, PixelFormat::RGBA8, 0.5f));
+  CHECK_THROWS_WITH(read_depth_png(scratch("color.png")), Catch::Contains("not a one-channel 16-bit PNG"));
   CHECK_THROWS_WITH(write_image(scratch("depth.exr"), depth), Catch::Contains(".png"));
 }
 
@@ -66,8 +66,8 @@ TEST_CASE("bad paths and extensions say what is wrong", "[image_io]") {
 
 TEST_CASE("crop to the covered box and paste back on zero", "[image_io]") {
   HostImage mask(13, 7, PixelFormat::R32F);
-  HostImage colour(13, 7, PixelFormat::RGBA32F);
-  for (size_t i = 0; i < colour.texels.size(); ++i) colour.texels[i] = float(i % 97) / 97.0f;
+  HostImage color(13, 7, PixelFormat::RGBA32F);
+  for (size_t i = 0; i < color.texels.size(); ++i) color.texels[i] = float(i % 97) / 97.0f;
   CHECK(nonzero_box(mask).empty());
   mask.at(0, 0) = std::numeric_limits<float>::quiet_NaN();  // NaN is nothing
   mask.at(3, 2) = 0.5f;
@@ -77,14 +77,14 @@ TEST_CASE("crop to the covered box and paste back on zero", "[image_io]") {
   CHECK(box.y == 2);
   CHECK(box.width == 7);
   CHECK(box.height == 4);
-  const HostImage part = crop(colour, box);
+  const HostImage part = crop(color, box);
   const HostImage back = paste_on_zero(part, box.x, box.y, 13, 7);
   for (uint32_t y = 0; y < 7; ++y)
     for (uint32_t x = 0; x < 13; ++x)
       for (uint32_t c = 0; c < 4; ++c) {
         const bool inside = x >= 3 && x < 10 && y >= 2 && y < 6;
-        REQUIRE(back.at(x, y, c) == (inside ? colour.at(x, y, c) : 0.0f));
+        REQUIRE(back.at(x, y, c) == (inside ? color.at(x, y, c) : 0.0f));
       }
-  CHECK_THROWS_WITH(crop(colour, {10, 0, 4, 1}), Catch::Contains("outside"));
+  CHECK_THROWS_WITH(crop(color, {10, 0, 4, 1}), Catch::Contains("outside"));
   CHECK_THROWS_WITH(paste_on_zero(part, 7, 0, 13, 7), Catch::Contains("does not fit"));
 }

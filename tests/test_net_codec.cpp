@@ -1,4 +1,4 @@
-// The message codec: round trips (depth and alpha bit-exact, colour within a stated PSNR) and
+// The message codec: round trips (depth and alpha bit-exact, color within a stated PSNR) and
 // every way a message can be malformed, each rejected with the right kind and a clear reason.
 #include <catch2/catch.hpp>
 
@@ -112,7 +112,7 @@ TEST_CASE("small messages round-trip exactly") {
   CHECK(round_trip<SkeletonMessage>(SkeletonMessage{3, {}}).hands.empty());
 }
 
-TEST_CASE("portrait: depth and alpha bit-exact, colour within PSNR, camera exact") {
+TEST_CASE("portrait: depth and alpha bit-exact, color within PSNR, camera exact") {
   for (auto [w, h] : {std::pair{37u, 23u}, {1u, 1u}, {64u, 9u}}) {
     const PortraitMessage sent = test::test_portrait(w, h, 42);
     const auto got = round_trip<PortraitMessage>(sent);
@@ -230,7 +230,7 @@ TEST_CASE("portraits: bad fields, image sizes that disagree, corrupt images") {
 
   PortraitMessage q = p;
   q.width = 17;  // every image still 16 wide
-  expect_rejected(portrait_bytes(q, jpeg, alpha, depth), DecodeErrorKind::BadImage, "colour JPEG is 16x12, declared 17x12");
+  expect_rejected(portrait_bytes(q, jpeg, alpha, depth), DecodeErrorKind::BadImage, "color JPEG is 16x12, declared 17x12");
   q = p;
   q.width = 0;
   expect_rejected(portrait_bytes(q, jpeg, alpha, depth), DecodeErrorKind::BadValue, "size 0x12");
@@ -277,7 +277,7 @@ TEST_CASE("portraits: bad fields, image sizes that disagree, corrupt images") {
   // A blob length past the end, and bytes after the last blob.
   auto bytes = portrait_bytes(p, jpeg, alpha, depth);
   patch_u32(bytes, kHeaderSize + 184, uint32_t(bytes.size()));
-  expect_rejected(bytes, DecodeErrorKind::Truncated, "colour JPEG declares");
+  expect_rejected(bytes, DecodeErrorKind::Truncated, "color JPEG declares");
   bytes = portrait_bytes(p, jpeg, alpha, depth);
   bytes.push_back(1);
   patch_u32(bytes, 8, uint32_t(bytes.size() - kHeaderSize));

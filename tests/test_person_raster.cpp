@@ -1,6 +1,6 @@
 // person_raster pass: the GPU rasterizer against the C++ reference rasterizer on random
 // triangle soups of odd sizes and on the hard cases (behind the camera, across the near plane,
-// degenerate triangles). Tolerances: away from triangle edges the part mask is exact, colour
+// degenerate triangles). Tolerances: away from triangle edges the part mask is exact, color
 // within one 8-bit step plus float shading differences (2/255), linear depth within 1e-5
 // relative; within one pixel of an edge the GPU's tie-breaking rule may differ.
 #include <cmath>
@@ -170,7 +170,7 @@ TEST_CASE("person_raster: nearer surfaces win, and stripes show", "[person_raste
   CHECK(gpu.depth_m.at(32, 32) == Approx(1.0f).epsilon(1e-5));
   CHECK(gpu.part.at(2, 2) == 1.0f);
   CHECK(gpu.depth_m.at(2, 2) == Approx(2.0f).epsilon(1e-5));
-  // Both stripe colours appear on the quad; the reference agrees on all but stripe borders.
+  // Both stripe colors appear on the quad; the reference agrees on all but stripe borders.
   const auto reference = passes::person_raster_reference(mesh, passes::raster_view(camera, 0.1, 10.0), 64, 64);
   size_t blue = 0, same = 0, total = 0;
   for (uint32_t y = 0; y < 64; ++y)

@@ -31,8 +31,8 @@ sim::RgbdFrame random_frame(std::mt19937& rng, uint64_t index) {
     sim::RgbdImage image;
     image.camera = name;
     image.timestamp_us = frame.timestamp_us + (name[0] == 'l' ? 120 : 0);
-    image.colour = test::random_image(rng, 17, 9, PixelFormat::RGBA8);
-    for (float& v : image.colour.texels) v = std::round(v * 255.0f) / 255.0f;
+    image.color = test::random_image(rng, 17, 9, PixelFormat::RGBA8);
+    for (float& v : image.color.texels) v = std::round(v * 255.0f) / 255.0f;
     image.depth_mm = HostImage(13, 11, PixelFormat::R16U);
     std::uniform_int_distribution<int> millimetres(0, 65535);
     for (float& v : image.depth_mm.texels) v = float(millimetres(rng));
@@ -66,7 +66,7 @@ TEST_CASE("a replayed recording reproduces the written frames exactly", "[record
     for (size_t k = 0; k < 2; ++k) {
       CHECK(frame->cameras[k].camera == expected.cameras[k].camera);
       CHECK(frame->cameras[k].timestamp_us == expected.cameras[k].timestamp_us);
-      RT_REQUIRE_MATCHES(frame->cameras[k].colour, expected.cameras[k].colour, 0.0, 0.0);
+      RT_REQUIRE_MATCHES(frame->cameras[k].color, expected.cameras[k].color, 0.0, 0.0);
       RT_REQUIRE_MATCHES(frame->cameras[k].depth_mm, expected.cameras[k].depth_mm, 0.0, 0.0);
     }
   }

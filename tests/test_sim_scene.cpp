@@ -99,7 +99,7 @@ TEST_CASE("the cameras keep the head (top row) and the chest (all) in view while
       const PersonPose pose = track.pose_at(frame / scene.fps);
       for (const RgbdCamera& camera : scene.at(site).site.cameras) {
         INFO("site " << site_name(site) << " frame " << frame << " camera " << camera.name);
-        if (camera.colour_camera().position_in_site().y() > 0) CHECK(camera.why_unseen(pose.head_centre) == "");
+        if (camera.color_camera().position_in_site().y() > 0) CHECK(camera.why_unseen(pose.head_centre) == "");
         CHECK(camera.why_unseen(pose.head_centre - Eigen::Vector3d(0, 0.3, 0)) == "");
       }
     }
@@ -197,7 +197,7 @@ TEST_CASE("bad scenes name the field", "[sim][scene]") {
     json["effects"]["tracker_dropouts"] = {{"probability", 0.9}, {"mean_length_frames", 2}};
     require_error(json, "'tracker_dropouts'", "'mean_length_frames' longer");
   }
-  SECTION("colour gain for a camera the sites do not have") {
+  SECTION("color gain for a camera the sites do not have") {
     nlohmann::json json = clap_json();
     json["effects"]["color_gain"] = {{"cameras", {{"middle-left", {{"gain", 1.0}, {"white_balance", {1, 1, 1}}}}}}};
     require_error(json, "unknown camera 'middle-left'", "top-left");
@@ -240,7 +240,7 @@ TEST_CASE("bad scenes name the field", "[sim][scene]") {
     json["sites"]["C"] = json["sites"]["A"];
     require_error(json, "unknown field 'C'");
   }
-  SECTION("user colour out of range") {
+  SECTION("user color out of range") {
     nlohmann::json json = clap_json();
     json["sites"]["A"]["user"]["skin_rgb"] = {1.2, 0.5, 0.5};
     require_error(json, "site A user", "'skin_rgb'");

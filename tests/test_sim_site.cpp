@@ -85,7 +85,7 @@ TEST_CASE("the default site: screen, six cameras around it, tracker, motor, seat
     INFO(name);
     const RgbdCamera* camera = site.find_camera(name);
     REQUIRE(camera != nullptr);
-    const Eigen::Vector3d position = camera->colour_camera().position_in_site();
+    const Eigen::Vector3d position = camera->color_camera().position_in_site();
     // Just outside the screen rectangle, a few centimetres in front of the glass.
     CHECK_FALSE(site.screen.contains(position.head<2>()));
     CHECK(std::abs(position.y()) < site.screen.height_m / 2 + 0.1);
@@ -97,20 +97,20 @@ TEST_CASE("the default site: screen, six cameras around it, tracker, motor, seat
     if (name_text.find("centre") != std::string::npos) CHECK(position.x() == Approx(0.0).margin(1e-12));
     if (name_text.find("top") == 0) CHECK(position.y() > site.screen.height_m / 2);
     if (name_text.find("bottom") == 0) CHECK(position.y() < -site.screen.height_m / 2);
-    // Colour 16:9 at about 90 x 59 degrees; depth 512x512 at 120 degrees, 0.25-2.88 m.
-    CHECK(camera->colour.width == 1280);
-    CHECK(camera->colour.height == 720);
-    const double colour_h = degrees(2 * std::atan(camera->colour.width / 2.0 / camera->colour.fx));
-    const double colour_v = degrees(2 * std::atan(camera->colour.height / 2.0 / camera->colour.fy));
-    CHECK(colour_h == Approx(90.0).margin(1.0));
-    CHECK(colour_v == Approx(59.0).margin(1.0));
+    // Color 16:9 at about 90 x 59 degrees; depth 512x512 at 120 degrees, 0.25-2.88 m.
+    CHECK(camera->color.width == 1280);
+    CHECK(camera->color.height == 720);
+    const double color_h = degrees(2 * std::atan(camera->color.width / 2.0 / camera->color.fx));
+    const double color_v = degrees(2 * std::atan(camera->color.height / 2.0 / camera->color.fy));
+    CHECK(color_h == Approx(90.0).margin(1.0));
+    CHECK(color_v == Approx(59.0).margin(1.0));
     CHECK(camera->depth.width == 512);
     CHECK(camera->depth.height == 512);
     CHECK(degrees(2 * std::atan(256.0 / camera->depth.fx)) == Approx(120.0).margin(0.5));
     CHECK(camera->depth_min_m == 0.25);
     CHECK(camera->depth_max_m == 2.88);
-    CHECK(camera->colour.distortion.as_opencv() == Distortion{}.as_opencv());
-    // Colour and depth share the pose; the optical axis points at the user, image up is site up.
+    CHECK(camera->color.distortion.as_opencv() == Distortion{}.as_opencv());
+    // Color and depth share the pose; the optical axis points at the user, image up is site up.
     const Eigen::Vector3d forward = camera->camera_from_site.linear().row(2).transpose();
     CHECK(forward.z() > 0.5);
     const Eigen::Vector3d down = camera->camera_from_site.linear().row(1).transpose();
@@ -126,8 +126,8 @@ TEST_CASE("the default site: screen, six cameras around it, tracker, motor, seat
   CHECK((site.motor_position_m - Eigen::Vector3d(-1.439 / 2, 0.809 / 2, 0)).norm() < 1e-12);
 
   const SiteDescription paper = load_site(kSites / "paper.json");
-  CHECK(paper.cameras.at(0).colour.width == 2560);
-  CHECK(paper.cameras.at(0).colour.height == 1440);
+  CHECK(paper.cameras.at(0).color.width == 2560);
+  CHECK(paper.cameras.at(0).color.height == 1440);
 }
 
 TEST_CASE("the top row sees the seated user's head and chest, the bottom row chest and waist", "[sim][site]") {
@@ -135,14 +135,14 @@ TEST_CASE("the top row sees the seated user's head and chest, the bottom row che
   const Eigen::Vector3d head = site.seat.head_centre_m, chest = site.seat.chest_m();
   for (const RgbdCamera& camera : site.cameras) {
     INFO(camera.name);
-    const bool top_row = camera.colour_camera().position_in_site().y() > 0;
+    const bool top_row = camera.color_camera().position_in_site().y() > 0;
     CHECK(camera.why_unseen(chest) == "");
     // Each row's aim is near the middle of its image: the head for the top row, the waist for the bottom.
     const Eigen::Vector3d aim = top_row ? head : head - Eigen::Vector3d(0, 0.5, 0);
     CHECK(camera.why_unseen(aim) == "");
-    const Eigen::Vector2d pixel = *camera.colour_camera().project(aim);
-    CHECK(std::abs(pixel.x() - camera.colour.cx) < 0.25 * camera.colour.width);
-    CHECK(std::abs(pixel.y() - camera.colour.cy) < 0.25 * camera.colour.height);
+    const Eigen::Vector2d pixel = *camera.color_camera().project(aim);
+    CHECK(std::abs(pixel.x() - camera.color.cx) < 0.25 * camera.color.width);
+    CHECK(std::abs(pixel.y() - camera.color.cy) < 0.25 * camera.color.height);
     // And nothing behind the glass.
     CHECK_FALSE(camera.sees({0.0, 0.0, -0.2}));
   }
@@ -151,7 +151,7 @@ TEST_CASE("the top row sees the seated user's head and chest, the bottom row che
 TEST_CASE("what the remote eye sees of the seated user through the screen, the cameras see", "[sim][site]") {
   // The portrait shows the user from the other site's seat, mapped here (DESIGN.md section 2):
   // every point of the user's front that this eye sees through the screen must be seen by two
-  // colour cameras, and by one of each four the image-based model selects (the two central ones
+  // color cameras, and by one of each four the image-based model selects (the two central ones
   // and one side's two). With all six cameras aimed at the face, the bottom of the torso was seen
   // by none.
   const SiteDescription site = load_site(kSites / "default.json");

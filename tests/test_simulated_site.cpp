@@ -47,14 +47,14 @@ int cameras_seeing_palm(double z) {
     const double expected_z = (depth_camera.camera_from_site * palm_surface).z();
     const float seen_z = truth.at(uint32_t(x), uint32_t(y));
     // Seen: a valid depth sample within a couple of centimetres of the palm (not the body
-    // behind it, not an occluder in front of it), and in the colour image, which the image-based
+    // behind it, not an occluder in front of it), and in the color image, which the image-based
     // model needs as much. (A bottom corner's 120-degree depth view reaches a palm on the glass
-    // at a grazing angle; its 90-degree colour view does not.)
-    const auto colour_pixel = specs[k].colour.project(palm_surface);
-    const bool in_colour = colour_pixel && colour_pixel->x() >= 0 && colour_pixel->y() >= 0 &&
-                           colour_pixel->x() < specs[k].colour.intrinsics.width &&
-                           colour_pixel->y() < specs[k].colour.intrinsics.height;
-    if (depth.at(uint32_t(x), uint32_t(y)) > 0 && std::abs(seen_z - expected_z) < 0.02 && in_colour) ++seeing;
+    // at a grazing angle; its 90-degree color view does not.)
+    const auto color_pixel = specs[k].color.project(palm_surface);
+    const bool in_color = color_pixel && color_pixel->x() >= 0 && color_pixel->y() >= 0 &&
+                           color_pixel->x() < specs[k].color.intrinsics.width &&
+                           color_pixel->y() < specs[k].color.intrinsics.height;
+    if (depth.at(uint32_t(x), uint32_t(y)) > 0 && std::abs(seen_z - expected_z) < 0.02 && in_color) ++seeing;
   }
   return seeing;
 }
@@ -141,7 +141,7 @@ TEST_CASE("a recorded simulation replays exactly", "[simulated_site][gpu]") {
     REQUIRE(frame);
     REQUIRE(frame->cameras.size() == expected.cameras.size());
     for (size_t k = 0; k < expected.cameras.size(); ++k) {
-      RT_REQUIRE_MATCHES(frame->cameras[k].colour, expected.cameras[k].colour, 0.0, 0.0);
+      RT_REQUIRE_MATCHES(frame->cameras[k].color, expected.cameras[k].color, 0.0, 0.0);
       RT_REQUIRE_MATCHES(frame->cameras[k].depth_mm, expected.cameras[k].depth_mm, 0.0, 0.0);
     }
   }

@@ -94,12 +94,12 @@ std::filesystem::path write_recording(const std::string& name, int frames = 3) {
     frame.index = uint64_t(i);
     frame.timestamp_us = 1'000'000 + uint64_t(i) * 33'333;
     for (const auto& camera : site.cameras) {
-      const CameraIntrinsics colour = scaled_intrinsics(camera.colour, 0.02);
+      const CameraIntrinsics color = scaled_intrinsics(camera.color, 0.02);
       const CameraIntrinsics depth = scaled_intrinsics(camera.depth, 0.02);
       sim::RgbdImage image;
       image.camera = camera.name;
       image.timestamp_us = frame.timestamp_us;
-      image.colour = HostImage(colour.width, colour.height, PixelFormat::RGBA8, 0.5f);
+      image.color = HostImage(color.width, color.height, PixelFormat::RGBA8, 0.5f);
       image.depth_mm = HostImage(depth.width, depth.height, PixelFormat::R16U, 700.0f);
       frame.cameras.push_back(image);
     }
@@ -217,13 +217,13 @@ TEST_CASE("eye finder: a thread over offered frames, deciding once", "[site_inpu
   const sim::SiteDescription site = sim::make_default_site();
   std::vector<Camera> cameras;
   for (const auto& camera : site.cameras) {
-    Camera colour = camera.colour_camera();
-    colour.intrinsics = scaled_intrinsics(camera.colour, 0.1);
-    cameras.push_back(colour);
+    Camera color = camera.color_camera();
+    color.intrinsics = scaled_intrinsics(camera.color, 0.1);
+    cameras.push_back(color);
   }
   std::vector<sim::RgbdImage> images(cameras.size());
   for (size_t k = 0; k < cameras.size(); ++k)
-    images[k].colour = HostImage(cameras[k].intrinsics.width, cameras[k].intrinsics.height, PixelFormat::RGBA8, 0.4f);
+    images[k].color = HostImage(cameras[k].intrinsics.width, cameras[k].intrinsics.height, PixelFormat::RGBA8, 0.4f);
   app::EyeSearchOptions options;
   options.max_frames = options.viewpoint.frames_needed;
   std::vector<std::string> decided;
@@ -246,7 +246,7 @@ TEST_CASE("eye finder: a thread over offered frames, deciding once", "[site_inpu
 
 TEST_CASE("the simulated scene's users have no face: the detector finds none, the seat stands", "[site_inputs][eye][gpu]") {
   test::NoValidationErrors no_errors;
-  // Clap at its own resolution scale (0.5: 640x360 colour), where a face would be ~60 px wide.
+  // Clap at its own resolution scale (0.5: 640x360 color), where a face would be ~60 px wide.
   const sim::Scene scene = sim::load_scene(app::resolve_scene("clap"));
   app::SiteSimulator simulator(test::gpu(), scene, Site::A);
   const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
@@ -254,13 +254,13 @@ TEST_CASE("the simulated scene's users have no face: the detector finds none, th
   std::vector<Camera> cameras;
   std::vector<cv::Mat> images;
   for (size_t k = 0; k < simulator.renderer().camera_count(); ++k) {
-    cameras.push_back(simulator.renderer().camera(k).colour);
-    const HostImage& colour = frame->cameras[k].colour;
-    REQUIRE(colour.width == cameras.back().intrinsics.width);
-    cv::Mat bgr(int(colour.height), int(colour.width), CV_8UC3);
-    for (uint32_t y = 0; y < colour.height; ++y)
-      for (uint32_t x = 0; x < colour.width; ++x)
-        for (int c = 0; c < 3; ++c) bgr.at<cv::Vec3b>(int(y), int(x))[2 - c] = uint8_t(std::lround(colour.at(x, y, uint32_t(c)) * 255));
+    cameras.push_back(simulator.renderer().camera(k).color);
+    const HostImage& color = frame->cameras[k].color;
+    REQUIRE(color.width == cameras.back().intrinsics.width);
+    cv::Mat bgr(int(color.height), int(color.width), CV_8UC3);
+    for (uint32_t y = 0; y < color.height; ++y)
+      for (uint32_t x = 0; x < color.width; ++x)
+        for (int c = 0; c < 3; ++c) bgr.at<cv::Vec3b>(int(y), int(x))[2 - c] = uint8_t(std::lround(color.at(x, y, uint32_t(c)) * 255));
     images.push_back(bgr);
   }
   EyeDetector detector;
@@ -312,10 +312,10 @@ TEST_CASE("a recording for replay: cameras at the images' size, ground truth whe
   REQUIRE(replay.cameras().size() == 6);
   const sim::RgbdFrame frame = replay.read(1);
   CHECK(frame.index == 1);
-  CHECK(replay.cameras()[0].colour.intrinsics.width == frame.cameras[0].colour.width);
+  CHECK(replay.cameras()[0].color.intrinsics.width == frame.cameras[0].color.width);
   CHECK(replay.cameras()[0].depth.intrinsics.height == frame.cameras[0].depth_mm.height);
   CHECK_FALSE(replay.ground_truth(1));
-  write_image(sim::ground_truth_colour_path(dir, 1), HostImage(8, 6, PixelFormat::RGBA8, 1.0f));
+  write_image(sim::ground_truth_color_path(dir, 1), HostImage(8, 6, PixelFormat::RGBA8, 1.0f));
   CHECK(replay.ground_truth(1)->width == 8);
   CHECK(app::SiteReplay(dir, 2, 4).frame_count() == 2);  // --frames plays fewer
 }
@@ -343,17 +343,17 @@ TEST_CASE("a bad recording is refused before the site connects, naming the file"
   CHECK_NOTHROW(app::SiteReplay(dir, 2, 4));  // the frames played are all there
 
   dir = write_recording("unreadable-image");
-  std::ofstream(sim::colour_path(dir, 2, 0)) << "not a png";
-  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains(sim::colour_path(dir, 2, 0).string()));
+  std::ofstream(sim::color_path(dir, 2, 0)) << "not a png";
+  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains(sim::color_path(dir, 2, 0).string()));
 
   dir = write_recording("unreadable-later");
-  std::ofstream(sim::colour_path(dir, 3, 2)) << "not a png";
+  std::ofstream(sim::color_path(dir, 3, 2)) << "not a png";
   app::SiteReplay later(dir, 0, 4);  // only the first frame is read at start
-  CHECK_THROWS_WITH(later.read(2), Contains(sim::colour_path(dir, 3, 2).string()));
+  CHECK_THROWS_WITH(later.read(2), Contains(sim::color_path(dir, 3, 2).string()));
 
   dir = write_recording("wrong-size");
-  write_image(sim::colour_path(dir, 1, 0), HostImage(10, 10, PixelFormat::RGBA8));
-  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains(sim::colour_path(dir, 1, 0).string()) && Contains("10x10"));
+  write_image(sim::color_path(dir, 1, 0), HostImage(10, 10, PixelFormat::RGBA8));
+  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains(sim::color_path(dir, 1, 0).string()) && Contains("10x10"));
 
   dir = write_recording("no-tracker");
   std::filesystem::remove(dir / "tracker.jsonl");

@@ -1,4 +1,4 @@
-// supersample_resolve: GPU against the C++ reference. Colour is 8-bit: one step (1/255) of
+// supersample_resolve: GPU against the C++ reference. Color is 8-bit: one step (1/255) of
 // tolerance for the GPU's rounding of the mean; depth and part are copied exactly.
 #include "passes/supersample_resolve.h"
 #include "support/gpu_test.h"
@@ -14,10 +14,10 @@ struct Resolved {
 Resolved run_gpu(const HostImage& color_in, const HostImage& depth_in, const HostImage& part_in, uint32_t factor) {
   vk::Context& context = test::gpu();
   const uint32_t fw = color_in.width, fh = color_in.height, w = fw / factor, h = fh / factor;
-  vk::Image fine_color(context, {"fine colour", fw, fh, PixelFormat::RGBA8});
+  vk::Image fine_color(context, {"fine color", fw, fh, PixelFormat::RGBA8});
   vk::Image fine_depth(context, {"fine depth", fw, fh, PixelFormat::R32F});
   vk::Image fine_part(context, {"fine part", fw, fh, PixelFormat::R32F});
-  vk::Image color(context, {"colour", w, h, PixelFormat::RGBA8});
+  vk::Image color(context, {"color", w, h, PixelFormat::RGBA8});
   vk::Image depth(context, {"depth", w, h, PixelFormat::R32F});
   vk::Image part(context, {"part", w, h, PixelFormat::R32F});
   vk::upload(context, fine_color, color_in);
@@ -52,7 +52,7 @@ TEST_CASE("supersample_resolve on random images of odd sizes", "[supersample_res
 
 TEST_CASE("supersample_resolve hard cases", "[supersample_resolve][gpu]") {
   test::NoValidationErrors no_errors;
-  SECTION("an edge half across a pixel resolves to the half-way colour") {
+  SECTION("an edge half across a pixel resolves to the half-way color") {
     HostImage color(3, 3, PixelFormat::RGBA8, 0.0f);
     for (uint32_t y = 0; y < 3; ++y)
       for (uint32_t c = 0; c < 4; ++c) color.at(0, y, c) = 1.0f;  // one column of three lit

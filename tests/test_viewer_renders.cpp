@@ -31,7 +31,7 @@ const Eigen::Vector2d kPhotoLeftPupil(365.0, 356.0);
 // The print is scaled so its pupils are the adult mean distance apart.
 constexpr double kInterpupillaryM = 0.063;
 
-// Half the Azure Kinect's 2560x1440 colour mode, same 90 x 59 degree field: at 0.7 m a face
+// Half the Azure Kinect's 2560x1440 color mode, same 90 x 59 degree field: at 0.7 m a face
 // spans ~150 px and an eye ~25 px. At 640x360 an eye is ~12 px, below what the Haar eye cascade
 // (20 px window) resolves reliably; the paper works at 2560x1440.
 const rt::CameraIntrinsics kRenderIntrinsics{1280, 720, 640.0, 640.0, 639.5, 359.5, {}};
@@ -258,7 +258,7 @@ TEST_CASE("once at start on noisy renders: robust over several frames", "[viewer
     std::vector<cv::Mat> images(cameras.size());
     for (size_t c : used) {
       cv::Mat grain(clean[c].size(), CV_16SC3);
-      noise.fill(grain, cv::RNG::NORMAL, 0, 3.0);  // about a Kinect colour frame's noise in 8 bits
+      noise.fill(grain, cv::RNG::NORMAL, 0, 3.0);  // about a Kinect color frame's noise in 8 bits
       cv::Mat noisy;
       clean[c].convertTo(noisy, CV_16SC3);
       noisy += grain;

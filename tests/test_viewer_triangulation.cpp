@@ -158,7 +158,7 @@ TEST_CASE("rays holding NaN or a zero direction are invalid input", "[viewer][tr
 namespace {
 
 rt::Distortion mild_lens() {
-  // Typical of an RGBD colour camera: a little barrel distortion, tiny tangential terms.
+  // Typical of an RGBD color camera: a little barrel distortion, tiny tangential terms.
   rt::Distortion d;
   d.k1 = -0.08;
   d.k2 = 0.03;

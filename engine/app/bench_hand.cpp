@@ -1,5 +1,5 @@
 // `remotetouch bench hand`: GPU ms of the geometry hand's passes (skinning, rasterization, and
-// the appearance adaption graph) at 720p and 1440p, next to a copy of the hand colour image as
+// the appearance adaption graph) at 720p and 1440p, next to a copy of the hand color image as
 // the bandwidth roofline, from the frame graphs' timestamps.
 #include <cstdio>
 #include <fstream>
@@ -47,7 +47,7 @@ nlohmann::json bench_hand_at(GpuSession& session, uint32_t width, uint32_t heigh
   copy_pass.add_to(graph, renderer.color(), copied);
 
   // A right hand 45 cm from the screen, slightly curled, facing the viewer; the portrait for the
-  // appearance graph is the hand render itself (its cost does not depend on the colours).
+  // appearance graph is the hand render itself (its cost does not depend on the colors).
   sim::HandPlacement placement;
   placement.palm = Eigen::Vector3d(0.04, 0.0, 0.45);
   Eigen::Matrix3d facing;

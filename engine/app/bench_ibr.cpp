@@ -33,8 +33,8 @@ int run_bench_ibr(GpuSession& session, const RunOptions& options) {
   std::vector<passes::IbrCameraModel> cameras;
   std::vector<Eigen::Vector3d> positions;
   for (size_t k = 0; k < simulator.renderer().camera_count(); ++k) {
-    cameras.push_back({simulator.renderer().camera(k).colour, simulator.renderer().camera(k).depth});
-    positions.push_back(cameras.back().colour.position_in_site());
+    cameras.push_back({simulator.renderer().camera(k).color, simulator.renderer().camera(k).depth});
+    positions.push_back(cameras.back().color.position_in_site());
   }
   const Eigen::Vector3d eye = map_point(Site::B, Site::A, scene.at(Site::B).site.seat.head_centre_m);
 
@@ -42,9 +42,9 @@ int run_bench_ibr(GpuSession& session, const RunOptions& options) {
   if (options.width > 0) sizes = {{options.width, options.height}};
   nlohmann::json report = {{"device", context.device_name()},
                            {"frames", options.frames},
-                           {"input", "clap scene, one frame, colour " +
-                                         std::to_string(cameras[0].colour.intrinsics.width) + "x" +
-                                         std::to_string(cameras[0].colour.intrinsics.height) + ", depth " +
+                           {"input", "clap scene, one frame, color " +
+                                         std::to_string(cameras[0].color.intrinsics.width) + "x" +
+                                         std::to_string(cameras[0].color.intrinsics.height) + ", depth " +
                                          std::to_string(cameras[0].depth.intrinsics.width) + "x" +
                                          std::to_string(cameras[0].depth.intrinsics.height)}};
   std::printf("bench ibr on %s: %s; median GPU ms of %u frames per pass\n", context.device_name().c_str(),

@@ -2,7 +2,7 @@
 // the real path (JPEG + lossless planes, handshake, sealed records, Asio): bytes per second on the
 // wire, bytes per message, and per-message encode and decode milliseconds. The portrait is
 // synthetic but shaped like the real one: a person-sized blob with straight-alpha edges, smooth
-// colour with some texture, depth of a rounded body with 1 mm sensor noise, nothing around it.
+// color with some texture, depth of a rounded body with 1 mm sensor noise, nothing around it.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -143,7 +143,7 @@ int run_bench_net(const RunOptions& options) {
     const double jpeg = double(encode_color_jpeg(sample.color, encode.jpeg_quality).size());
     const double alpha = double(encode_float_plane_png(sample.color, 3, encode.png_compression).size());
     const double depth = double(encode_float_plane_png(sample.depth, 0, encode.png_compression).size());
-    std::printf("  %ux%u: %.0f B per portrait record (colour JPEG %.0f, alpha %.0f, depth %.0f); at 30 fps %.2f MB/s = %.1f Mbit/s\n"
+    std::printf("  %ux%u: %.0f B per portrait record (color JPEG %.0f, alpha %.0f, depth %.0f); at 30 fps %.2f MB/s = %.1f Mbit/s\n"
                 "      measured on the wire: %.2f MB/s over %.2f s (%.1f portraits/s sent, %llu stale); "
                 "encode %.1f ms (CPU %.1f ms), decode %.1f ms (CPU %.1f ms), median\n",
                 width, height, record_bytes, jpeg, alpha, depth, nominal / 1e6, nominal * 8 / 1e6, bytes_per_second / 1e6,
@@ -154,7 +154,7 @@ int run_bench_net(const RunOptions& options) {
         {"sent", sent},
         {"stale_dropped", stale},
         {"record_bytes_median", record_bytes},
-        {"colour_jpeg_bytes", jpeg},
+        {"color_jpeg_bytes", jpeg},
         {"alpha_png_bytes", alpha},
         {"depth_png_bytes", depth},
         {"bytes_per_second_at_30fps", nominal},

@@ -1,5 +1,5 @@
 // `remotetouch bench simulate`: one frame of all six cameras of the default site at full
-// resolution (colour 1280x720, depth 512x512) with the clap scene's user: GPU ms per pass from
+// resolution (color 1280x720, depth 512x512) with the clap scene's user: GPU ms per pass from
 // the frame graph's timestamps, and the wall time of a whole frame (mesh, upload, render).
 #include <chrono>
 #include <cstdio>
@@ -40,8 +40,8 @@ int run_bench_simulate(GpuSession& session, const RunOptions& options) {
   const auto timings = renderer.graph().timings();
   double gpu_total = 0;
   for (const auto& timing : timings) gpu_total += timing.median_ms;
-  std::printf("simulate: one frame of %zu cameras (colour %ux%u, depth %ux%u), %zu triangles, on %s, median of %u frames\n",
-              specs.size(), specs[0].colour.intrinsics.width, specs[0].colour.intrinsics.height,
+  std::printf("simulate: one frame of %zu cameras (color %ux%u, depth %ux%u), %zu triangles, on %s, median of %u frames\n",
+              specs.size(), specs[0].color.intrinsics.width, specs[0].color.intrinsics.height,
               specs[0].depth.intrinsics.width, specs[0].depth.intrinsics.height, vertices / 3,
               session.context().device_name().c_str(), options.frames);
   std::printf("  wall time per frame (mesh + upload + render): %.1f ms; GPU sum of passes: %.1f ms\n", median_wall,

@@ -45,7 +45,7 @@ CalibrateCommand::CalibrateCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   extrinsics_->add_option("--site", ex.site,
                           "Site file to update in place (start from a copy of assets/sites/default.json): "
-                          "each calibrated camera's colour intrinsics and pose, by name; the rest is kept")
+                          "each calibrated camera's color intrinsics and pose, by name; the rest is kept")
       ->required();
   add_device_option(*extrinsics_, unused_device_);
   extrinsics_->add_option("--max-distance-residual-mm", ex.max_distance_residual_mm,

@@ -54,7 +54,7 @@ int run_calibrate_extrinsics(const ExtrinsicsCommandOptions& options) {
 
   const std::vector<std::string> not_calibrated = calibration::apply_camera_calibration(site, result, input.screen);
   calibration::write_updated_site(options.site, site);
-  std::printf("updated %s (%zu cameras: colour intrinsics and poses; kept the tracker, seat, touch region, motor)\n",
+  std::printf("updated %s (%zu cameras: color intrinsics and poses; kept the tracker, seat, touch region, motor)\n",
               options.site.c_str(), result.cameras.size());
   for (const std::string& name : not_calibrated)
     std::printf("note: camera '%s' of the site file was not in the calibration input; left as it was\n", name.c_str());

@@ -134,7 +134,7 @@ int run_cli(int argc, char** argv) {
                                "(0.3 gains with --views 6 and --portrait-supersample 3; loses with four views)")
       ->check(CLI::Range(0.0f, 0.49f))->capture_default_str();
   eval_ibr_command->add_option("--supersample", eval_ibr_options.supersample,
-                               "Simulated colour and ground truth rendered at N x N samples per pixel, box-filtered (odd)")
+                               "Simulated color and ground truth rendered at N x N samples per pixel, box-filtered (odd)")
       ->check(CLI::IsMember({1u, 3u, 5u, 7u}))->capture_default_str();
   eval_ibr_command->add_option("--portrait-supersample", eval_ibr_options.portrait_supersample,
                                "Portrait rendered at N x N samples per pixel and resolved (partial alpha on edges)")

@@ -1,6 +1,6 @@
 #pragma once
 // Generated stand-ins for the layers the compositing passes will receive once the image-based
-// portrait and the geometry hand exist: a striped upper body, a skin-coloured hand with its
+// portrait and the geometry hand exist: a striped upper body, a skin-colored hand with its
 // mask, and a background. Smooth edges, so that blending errors would show.
 #include "image/host_image.h"
 

@@ -69,14 +69,14 @@ double mean_tip_error_mm(const HandRenderer& renderer, const HandSkeleton& truth
   return 1000.0 * sum / kDigitCount;
 }
 
-struct ColourResult {
+struct ColorResult {
   double de2000 = 0, de76 = 0;
   size_t pixels = 0;
 };
 
-ColourResult colour_difference(const HostImage& mesh_color, const HostImage& mesh_mask, const HostImage& truth_color,
+ColorResult color_difference(const HostImage& mesh_color, const HostImage& mesh_mask, const HostImage& truth_color,
                                const HostImage& truth_part) {
-  ColourResult result;
+  ColorResult result;
   for (uint32_t y = 0; y < mesh_color.height; ++y)
     for (uint32_t x = 0; x < mesh_color.width; ++x) {
       if (mesh_mask.at(x, y) < 0.5f || truth_part.at(x, y) != float(RT_PART_HAND)) continue;
@@ -92,7 +92,7 @@ ColourResult colour_difference(const HostImage& mesh_color, const HostImage& mes
 
 // What the best unlit hand could score: every pixel of the same set at the skin's true albedo.
 // The ground truth is shaded and the mesh is drawn unlit (as the paper's), so the shading left
-// in the truth is an error no colour transfer removes.
+// in the truth is an error no color transfer removes.
 double unlit_floor_de2000(const HostImage& mesh_mask, const HostImage& truth_color, const HostImage& truth_part,
                           const Eigen::Vector3f& albedo) {
   const Eigen::Vector3d albedo_lab = hand::rgb_to_cielab(albedo.cast<double>());
@@ -191,7 +191,7 @@ int run_eval_hand(const RunOptions& options) {
     before /= poses;
     after /= poses;
 
-    // Colour: the true hand (capsules through its joints, skin shaded as the cameras see it)
+    // Color: the true hand (capsules through its joints, skin shaded as the cameras see it)
     // 45 cm from the screen, beyond d_max, where appearance adaption runs.
     const HandSkeleton truth = true_hand(user, Eigen::Vector3d(0.04, 0.0, 0.45), 0.25, 0.2, false);
     std::vector<passes::MeshVertex> mesh;
@@ -211,8 +211,8 @@ int run_eval_hand(const RunOptions& options) {
     const HandSkeleton seen = tracked(truth, rng);
     renderer.set_pose(seen, camera);
     graph.run();
-    const ColourResult colour_before =
-        colour_difference(vk::download(context, renderer.color()), vk::download(context, renderer.mask()), truth_rgba8, truth_parts);
+    const ColorResult color_before =
+        color_difference(vk::download(context, renderer.color()), vk::download(context, renderer.mask()), truth_rgba8, truth_parts);
     write_image(options.out / ("hand_" + user.name + "_before.png"), vk::download(context, renderer.color()));
     int adapted_frames = 0;
     for (int frame = 0; frame < 6; ++frame) {
@@ -222,7 +222,7 @@ int run_eval_hand(const RunOptions& options) {
     }
     graph.run();
     const HostImage mask_after = vk::download(context, renderer.mask());
-    const ColourResult colour_after = colour_difference(vk::download(context, renderer.color()), mask_after, truth_rgba8, truth_parts);
+    const ColorResult color_after = color_difference(vk::download(context, renderer.color()), mask_after, truth_rgba8, truth_parts);
     const double unlit_floor = unlit_floor_de2000(mask_after, truth_rgba8, truth_parts, user.skin_rgb);
     write_image(options.out / ("hand_" + user.name + "_after.png"), vk::download(context, renderer.color()));
     write_image(options.out / ("hand_" + user.name + "_truth.png"), truth_rgba8);
@@ -233,21 +233,21 @@ int run_eval_hand(const RunOptions& options) {
         {"hand_scale", user.hand_scale},
         {"tip_err_mm_before", before},
         {"tip_err_mm_after", after},
-        {"color_de_before", colour_before.de2000},
-        {"color_de_after", colour_after.de2000},
-        {"color_de76_before", colour_before.de76},
-        {"color_de76_after", colour_after.de76},
+        {"color_de_before", color_before.de2000},
+        {"color_de_after", color_after.de2000},
+        {"color_de76_before", color_before.de76},
+        {"color_de76_after", color_after.de76},
         {"color_de_unlit_floor", unlit_floor},
-        {"color_pixels", colour_after.pixels},
+        {"color_pixels", color_after.pixels},
         {"appearance_frames", adapted_frames},
         {"appearance_region_pixels", state.header[2]},
     };
-    metrics["color_de_before_" + user.name] = colour_before.de2000;
-    metrics["color_de_after_" + user.name] = colour_after.de2000;
+    metrics["color_de_before_" + user.name] = color_before.de2000;
+    metrics["color_de_after_" + user.name] = color_after.de2000;
     tip_before += before / double(kUsers.size());
     tip_after += after / double(kUsers.size());
-    de_before.push_back(colour_before.de2000);
-    de_after.push_back(colour_after.de2000);
+    de_before.push_back(color_before.de2000);
+    de_after.push_back(color_after.de2000);
     de_floor.push_back(unlit_floor);
   }
   metrics["tip_err_mm_before"] = tip_before;
@@ -270,7 +270,7 @@ int run_eval_hand(const RunOptions& options) {
     std::printf("%-26s %12.2f %12.2f %12.2f %12.2f\n", ("color_de (" + kUsers[i].name + ")").c_str(), de_before[i], de_after[i],
                 de_before[i] > 0 ? de_after[i] / de_before[i] : 0.0, de_floor[i]);
   std::printf("%-26s %12.2f %12.2f %12.2f\n", "color_de (mean)", mean_before, mean_after, mean_before > 0 ? mean_after / mean_before : 0.0);
-  std::printf("colour difference: CIEDE2000; portrait: the simulator's ground truth; unlit floor: the true albedo, unshaded\nwritten to %s\n",
+  std::printf("color difference: CIEDE2000; portrait: the simulator's ground truth; unlit floor: the true albedo, unshaded\nwritten to %s\n",
               (options.out / "metrics.json").string().c_str());
   return 0;
 }

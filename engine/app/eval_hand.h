@@ -1,6 +1,6 @@
 #pragma once
 // `remotetouch eval hand`: measures the geometry hand (skinning accuracy, fingertip error before
-// and after shape adaption, colour difference before and after appearance adaption) on
+// and after shape adaption, color difference before and after appearance adaption) on
 // synthetic users, and `remotetouch bench hand`: GPU ms of skinning and rasterization.
 #include <CLI/CLI.hpp>
 

@@ -32,7 +32,7 @@ struct FusionRun {
 std::vector<passes::IbrCameraModel> camera_models(RgbdRenderer& renderer) {
   std::vector<passes::IbrCameraModel> models;
   for (size_t k = 0; k < renderer.camera_count(); ++k)
-    models.push_back({renderer.camera(k).colour, renderer.camera(k).depth});
+    models.push_back({renderer.camera(k).color, renderer.camera(k).depth});
   return models;
 }
 
@@ -61,7 +61,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   const uint32_t frames =
       eval.frames_given ? options.frames : (scene.frame_count - eval.first_frame + eval.frame_step - 1) / eval.frame_step;
   scene.frame_count = eval.first_frame + (frames - 1) * eval.frame_step + 1;
-  scene.colour_supersampling = eval.supersample;
+  scene.color_supersampling = eval.supersample;
   if (eval.resolution_scale > 0) scene.resolution_scale = eval.resolution_scale;
   const Site site = eval.site == "B" ? Site::B : Site::A;
   GpuSession session(options);
@@ -73,7 +73,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   std::vector<Eigen::Vector3d> positions;
   for (const auto& camera : simulator.site().cameras) {
     camera_names.push_back(camera.name);
-    positions.push_back(camera.colour_camera().position_in_site());
+    positions.push_back(camera.color_camera().position_in_site());
   }
   // A fixed selection by name (throws naming an unknown camera), else per frame by the hand.
   const std::vector<size_t> fixed_selection =
@@ -101,12 +101,12 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   const std::filesystem::path images_dir = options.out / "images";
   std::filesystem::create_directories(images_dir);
   const uint32_t save_every = std::max(1u, frames / 4);
-  const CameraIntrinsics& colour = simulator.renderer().camera(0).colour.intrinsics;
+  const CameraIntrinsics& color = simulator.renderer().camera(0).color.intrinsics;
   const CameraIntrinsics& depth = simulator.renderer().camera(0).depth.intrinsics;
   std::printf("eval ibr: scene %s, site %s's user for the other site's eye, %ux%u (portrait supersampled %ux%u), "
-              "%u of %zu cameras (colour %ux%u, depth %ux%u), %u frames, simulated colour supersampled %ux%u, on %s\n",
+              "%u of %zu cameras (color %ux%u, depth %ux%u), %u frames, simulated color supersampled %ux%u, on %s\n",
               eval.scene.c_str(), eval.site.c_str(), options.width, options.height, eval.portrait_supersample,
-              eval.portrait_supersample, views, positions.size(), colour.width, colour.height, depth.width,
+              eval.portrait_supersample, views, positions.size(), color.width, color.height, depth.width,
               depth.height, frames, eval.supersample, eval.supersample, context.device_name().c_str());
   if (frames == 1 && eval.first_frame > 0) std::printf("scene frame %u\n", eval.first_frame);
   if (frames > 1 && (eval.first_frame > 0 || eval.frame_step > 1))
@@ -125,25 +125,25 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
     const auto selection = fixed_selection.empty()
                                ? ibr::select_cameras(positions, ibr::touching_hand(pose.right_hand, pose.left_hand), views)
                                : fixed_selection;
-    const HostImage truth_colour = simulator.renderer().target_colour();
+    const HostImage truth_color = simulator.renderer().target_color();
     const HostImage truth_depth = simulator.renderer().target_depth_m();
     const HostImage truth_part = simulator.renderer().target_part();
     const bool save = index % save_every == 0 || index + 1 == frames;
     char stem[32];
     scene_frames.push_back(uint32_t(frame->index));
     std::snprintf(stem, sizeof stem, "%04u", uint32_t(frame->index));
-    if (save) write_image(images_dir / (std::string(stem) + "_truth.png"), truth_colour);
+    if (save) write_image(images_dir / (std::string(stem) + "_truth.png"), truth_color);
     for (FusionRun& run : runs) {
       run.renderer->prepare(frame->cameras, selection, target);
       session.run_frame(run.renderer->graph(), index);
       const HostImage portrait = vk::download(context, run.renderer->portrait());
       const HostImage depth = vk::download(context, run.renderer->portrait_depth());
-      const ibr::PortraitError error = run.metrics.add(portrait, depth, truth_colour, truth_depth, truth_part);
+      const ibr::PortraitError error = run.metrics.add(portrait, depth, truth_color, truth_depth, truth_part);
       run.frame_psnr_fg_db.push_back(error.psnr_fg_db);
       if (!save) continue;
       const std::string prefix = std::string(stem) + "_" + run.name;
       write_image(images_dir / (prefix + "_portrait.png"), as_png(portrait));
-      write_image(images_dir / (prefix + "_colour_error_x4.png"), scaled(error.colour_error, 4.0f));
+      write_image(images_dir / (prefix + "_color_error_x4.png"), scaled(error.color_error, 4.0f));
       write_image(images_dir / (prefix + "_depth_error_per_50mm.png"), scaled(error.depth_error_mm, 1.0f / 50.0f));
     }
     std::fprintf(stderr, "\r  frame %u/%u", index + 1, frames);
@@ -166,10 +166,10 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"best_views", eval.best_views},
                            {"see_through_carving", eval.carve},
                            {"edge_inset_depth_px", eval.edge_inset_depth_px},
-                           {"colour_supersampling", eval.supersample},
+                           {"color_supersampling", eval.supersample},
                            {"portrait_supersampling", eval.portrait_supersample},
                            {"resolution_scale", scene.resolution_scale},
-                           {"camera_colour", {colour.width, colour.height}},
+                           {"camera_color", {color.width, color.height}},
                            {"camera_depth", {depth.width, depth.height}},
                            {"average_tolerance_m", eval.average_tolerance_m},
                            {"frames", frames},
@@ -177,9 +177,9 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"frame_step", eval.frame_step},
                            {"scene_frames", scene_frames},
                            {"device", context.device_name()},
-                           {"ground_truth", "the simulator's render of the same target view (no sensor effects), colour box-filtered "
-                                            "over colour_supersampling^2 samples per pixel like the cameras' images"},
-                           {"colour_error", "RGB in [0, 1], portrait premultiplied by its alpha against the truth"}};
+                           {"ground_truth", "the simulator's render of the same target view (no sensor effects), color box-filtered "
+                                            "over color_supersampling^2 samples per pixel like the cameras' images"},
+                           {"color_error", "RGB in [0, 1], portrait premultiplied by its alpha against the truth"}};
   std::printf("\n%-6s %11s %13s %18s %10s %14s %14s\n", "fusion", "psnr_fg_db", "psnr_hand_db", "depth_mae_edge_mm",
               "alpha_iou", "depth_bias_mm", "GPU ms/frame");
   for (FusionRun& run : runs) {

@@ -21,7 +21,7 @@ struct EvalIbrOptions {
   // avg fusion: depths this far behind the nearest join the mean; the pass's own default
   float average_tolerance_m = passes::SplatSettings{}.average_tolerance_m;
   float edge_inset_depth_px = passes::SplatSettings{}.edge_inset;  // of a depth pixel; the pass's own default
-  uint32_t supersample = 3;    // the simulator's colour supersampling (scene's own is overridden)
+  uint32_t supersample = 3;    // the simulator's color supersampling (scene's own is overridden)
   double resolution_scale = 0; // of the cameras' resolutions; 0 = the scene's own
   uint32_t portrait_supersample = 1;  // the portrait rendered at N x N samples per pixel and resolved
   bool frames_given = false;   // else the scene's own frame count

@@ -37,7 +37,7 @@ HandRenderer::HandRenderer(vk::Context& context, const std::filesystem::path& te
       context, vk::BufferDesc{"hand bone transforms", sizeof(passes::BoneMatrices), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true});
   skinned_ = std::make_unique<vk::Buffer>(context, vk::BufferDesc{"hand skinned vertices", vertices * sizeof(shader_abi::SkinnedVertex)});
   partials_ = std::make_unique<vk::Buffer>(
-      context, vk::BufferDesc{"hand colour partial sums", passes::color_stats_group_count(width, height) * sizeof(shader_abi::ColorStatsPartial)});
+      context, vk::BufferDesc{"hand color partial sums", passes::color_stats_group_count(width, height) * sizeof(shader_abi::ColorStatsPartial)});
   state_ = std::make_unique<vk::Buffer>(context, vk::BufferDesc{"hand appearance state", sizeof(shader_abi::AppearanceState)});
   // Both templates are written with the same skin texture; the right hand's serves both.
   const HostImage& texture = right_.texture;

@@ -1,7 +1,7 @@
 #pragma once
 // The receiver's geometry hand (paper sections 3.1.2 and 3.1.3): the remote user's tracked
 // skeleton drives the skinned template, fitted once to that user's bone lengths (shape
-// adaption, Eq. 2) and continually to their skin colour (appearance adaption, Eq. 3), drawn
+// adaption, Eq. 2) and continually to their skin color (appearance adaption, Eq. 3), drawn
 // from the local eye's target view. The skeleton and the camera are in the same frame (the
 // remote site's), so the outputs are pixel-aligned with the image-based portrait of that view.
 //

@@ -21,7 +21,7 @@ IbrSettings with_fusion(IbrSettings settings) {
 }  // namespace
 
 struct IbrRenderer::Images {
-  vk::Image depth_mm, depth_rays, points, colour;        // views in bands
+  vk::Image depth_mm, depth_rays, points, color;        // views in bands
   vk::Buffer fusion;
   vk::Image fused_depth, carved_depth, refined_depth, warped, features;  // target sized (atlases: bands)
 
@@ -33,7 +33,7 @@ struct IbrRenderer::Images {
                              camera.depth.intrinsics.height * s.views, PixelFormat::RGBA32F}),
         points(context, {"ibr points", camera.depth.intrinsics.width, camera.depth.intrinsics.height * s.views,
                          PixelFormat::RGBA32F}),
-        colour(context, {"ibr colour", camera.colour.intrinsics.width, camera.colour.intrinsics.height * s.views,
+        color(context, {"ibr color", camera.color.intrinsics.width, camera.color.intrinsics.height * s.views,
                          PixelFormat::RGBA8}),
         fusion(context, passes::fusion_buffer_desc(s.width, s.height)),
         fused_depth(context, {"ibr fused depth", s.width, s.height, PixelFormat::R32F}),
@@ -63,7 +63,7 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   // Checks sizes and poses of every camera once, whichever are selected later.
   for (size_t first = 0; first < cameras_.size(); first += RT_IBR_MAX_VIEWS) {
     const size_t count = std::min<size_t>(RT_IBR_MAX_VIEWS, cameras_.size() - first);
-    (void)passes::make_scene_table(cameras_[0].colour, std::span(cameras_).subspan(first, count));
+    (void)passes::make_scene_table(cameras_[0].color, std::span(cameras_).subspan(first, count));
   }
   IbrSettings rendered = settings_;
   rendered.width *= settings_.supersample;
@@ -91,10 +91,10 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     depth = &i.carved_depth;
   }
   if (refine_) {
-    refine_->add_to(*graph_, scene_, *depth, i.colour, i.points, i.refined_depth, views);
+    refine_->add_to(*graph_, scene_, *depth, i.color, i.points, i.refined_depth, views);
     depth = &i.refined_depth;
   }
-  warp_.add_to(*graph_, scene_, *depth, i.colour, i.points, i.warped, i.features, views);
+  warp_.add_to(*graph_, scene_, *depth, i.color, i.points, i.warped, i.features, views);
   if (resolve_) {
     blend_.add_to(*graph_, *depth, i.warped, i.features, *fine_portrait_, *fine_portrait_depth_, views);
     resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, *portrait_, *portrait_depth_);
@@ -117,18 +117,18 @@ void IbrRenderer::prepare(std::span<const sim::RgbdImage> images, std::span<cons
     throw std::invalid_argument("image-based model: the target view is not " + std::to_string(settings_.width) + "x" +
                                 std::to_string(settings_.height));
   std::vector<passes::IbrCameraModel> selected;
-  std::vector<HostImage> colours, depths;
+  std::vector<HostImage> colors, depths;
   for (size_t index : selection) {
     if (index >= cameras_.size()) throw std::invalid_argument("image-based model: camera index out of range");
     const sim::RgbdImage& image = images[index];
     const passes::IbrCameraModel& camera = cameras_[index];
-    if (image.colour.width != camera.colour.intrinsics.width || image.colour.height != camera.colour.intrinsics.height ||
+    if (image.color.width != camera.color.intrinsics.width || image.color.height != camera.color.intrinsics.height ||
         image.depth_mm.width != camera.depth.intrinsics.width || image.depth_mm.height != camera.depth.intrinsics.height ||
-        image.colour.format != PixelFormat::RGBA8 || image.depth_mm.format != PixelFormat::R16U)
-      throw std::invalid_argument("image-based model: camera '" + camera.colour.name +
+        image.color.format != PixelFormat::RGBA8 || image.depth_mm.format != PixelFormat::R16U)
+      throw std::invalid_argument("image-based model: camera '" + camera.color.name +
                                   "' sent images of another size or format than its calibration");
     selected.push_back(camera);
-    colours.push_back(image.colour);
+    colors.push_back(image.color);
     depths.push_back(image.depth_mm);
   }
   Camera rendered_view = target_view;
@@ -138,7 +138,7 @@ void IbrRenderer::prepare(std::span<const sim::RgbdImage> images, std::span<cons
     vk::upload(context_, images_->depth_rays, passes::depth_ray_atlas(selected));
     uploaded_selection_.assign(selection.begin(), selection.end());
   }
-  vk::upload(context_, images_->colour, passes::stack_bands(colours));
+  vk::upload(context_, images_->color, passes::stack_bands(colors));
   vk::upload(context_, images_->depth_mm, passes::stack_bands(depths));
 }
 

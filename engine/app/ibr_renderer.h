@@ -14,7 +14,7 @@
 #include "passes/ibr_fuse.h"
 #include "passes/ibr_refine.h"
 #include "passes/ibr_resolve.h"
-#include "passes/ibr_scene.h"
+#include "passes/common/ibr_scene.h"
 #include "passes/ibr_splat.h"
 #include "passes/ibr_warp.h"
 #include "sim/rgbd_source.h"
@@ -42,8 +42,8 @@ struct IbrSettings {
 
 class IbrRenderer {
  public:
-  // `cameras`: all of the site's cameras (colour and depth calibration); each frame uses
-  // `settings.views` of them. All colour images must share one size, all depth images too.
+  // `cameras`: all of the site's cameras (color and depth calibration); each frame uses
+  // `settings.views` of them. All color images must share one size, all depth images too.
   IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraModel> cameras, const IbrSettings& settings);
   ~IbrRenderer();
 

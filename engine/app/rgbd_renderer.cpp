@@ -10,7 +10,7 @@ namespace rt::app {
 struct RgbdRenderer::View {
   vk::Image color, depth_m, part, depth_buffer;
   View(vk::Context& context, const std::string& name, const CameraIntrinsics& k)
-      : color(context, {name + " colour", k.width, k.height, PixelFormat::RGBA8}),
+      : color(context, {name + " color", k.width, k.height, PixelFormat::RGBA8}),
         depth_m(context, {name + " depth m", k.width, k.height, PixelFormat::R32F}),
         part(context, {name + " part", k.width, k.height, PixelFormat::R32F}),
         depth_buffer(context, {name + " depth buffer", k.width, k.height, PixelFormat::D32F}) {}
@@ -29,14 +29,14 @@ struct RgbdRenderer::SampledView {
 };
 
 struct RgbdRenderer::CameraImages {
-  SampledView colour;
+  SampledView color;
   View depth_view;
-  vk::Image sensed_colour, depth_mm;
+  vk::Image sensed_color, depth_mm;
   CameraImages(vk::Context& context, const RgbdCameraSpec& spec, uint32_t factor)
-      : colour(context, spec.name + " colour view", spec.colour.intrinsics, factor),
+      : color(context, spec.name + " color view", spec.color.intrinsics, factor),
         depth_view(context, spec.name + " depth view", spec.depth.intrinsics),
-        sensed_colour(context, {spec.name + " sensed colour", spec.colour.intrinsics.width,
-                                spec.colour.intrinsics.height, PixelFormat::RGBA8}),
+        sensed_color(context, {spec.name + " sensed color", spec.color.intrinsics.width,
+                                spec.color.intrinsics.height, PixelFormat::RGBA8}),
         depth_mm(context, {spec.name + " depth mm", spec.depth.intrinsics.width, spec.depth.intrinsics.height,
                            PixelFormat::R16U}) {}
 };
@@ -50,22 +50,22 @@ constexpr double kNearM = 0.01, kFarM = 10.0;
 }  // namespace
 
 RgbdRenderer::RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view,
-                           uint32_t colour_supersampling)
+                           uint32_t color_supersampling)
     : context_(context),
       cameras_(std::move(cameras)),
       target_view_(std::move(target_view)),
       raster_(context),
-      resolve_(context, colour_supersampling) {
+      resolve_(context, color_supersampling) {
   for (const auto& spec : cameras_) {
-    // A colour effect that is off costs nothing: without one there is no colour_sensor pass.
-    const passes::ColorSensorModel& model = spec.colour_model;
+    // A color effect that is off costs nothing: without one there is no color_sensor pass.
+    const passes::ColorSensorModel& model = spec.color_model;
     const bool identity = model.gain == 1.0f && model.balance_r == 1.0f && model.balance_g == 1.0f && model.balance_b == 1.0f;
-    colour_sensors_.push_back(identity ? nullptr : std::make_unique<passes::ColorSensorPass>(context, model));
+    color_sensors_.push_back(identity ? nullptr : std::make_unique<passes::ColorSensorPass>(context, model));
     depth_sensors_.push_back(std::make_unique<passes::DepthSensorPass>(context, spec.depth_model));
-    images_.push_back(std::make_unique<CameraImages>(context, spec, colour_supersampling));
+    images_.push_back(std::make_unique<CameraImages>(context, spec, color_supersampling));
   }
   if (target_view_)
-    target_ = std::make_unique<SampledView>(context, "target view", target_view_->intrinsics, colour_supersampling);
+    target_ = std::make_unique<SampledView>(context, "target view", target_view_->intrinsics, color_supersampling);
 }
 
 RgbdRenderer::~RgbdRenderer() = default;
@@ -80,9 +80,9 @@ void RgbdRenderer::build_graph(size_t mesh_capacity) {
     const RgbdCameraSpec& spec = cameras_[i];
     CameraImages& images = *images_[i];
     const auto depth_view = passes::raster_view(spec.depth, kNearM, kFarM);
-    add_sampled_view(spec.colour, images.colour, "colour " + spec.name);
-    if (colour_sensors_[i])
-      colour_sensors_[i]->add_to(*graph_, images.colour.view.color, images.sensed_colour, "color_sensor " + spec.name);
+    add_sampled_view(spec.color, images.color, "color " + spec.name);
+    if (color_sensors_[i])
+      color_sensors_[i]->add_to(*graph_, images.color.view.color, images.sensed_color, "color_sensor " + spec.name);
     raster_.add_to(*graph_, *mesh_, count, [depth_view] { return depth_view; }, images.depth_view.targets(),
                    "raster depth " + spec.name);
     // Each camera draws its own noise: mix the camera's index into the frame's seed.
@@ -113,19 +113,19 @@ void RgbdRenderer::render(std::span<const passes::MeshVertex> mesh, uint32_t see
   graph_->run();
 }
 
-HostImage RgbdRenderer::colour(size_t camera) const {
+HostImage RgbdRenderer::color(size_t camera) const {
   CameraImages& images = *images_.at(camera);
-  return vk::download(context_, colour_sensors_[camera] ? images.sensed_colour : images.colour.view.color);
+  return vk::download(context_, color_sensors_[camera] ? images.sensed_color : images.color.view.color);
 }
 HostImage RgbdRenderer::depth_mm(size_t camera) const { return vk::download(context_, images_.at(camera)->depth_mm); }
-HostImage RgbdRenderer::foreground(size_t camera) const { return vk::download(context_, images_.at(camera)->colour.view.part); }
+HostImage RgbdRenderer::foreground(size_t camera) const { return vk::download(context_, images_.at(camera)->color.view.part); }
 HostImage RgbdRenderer::depth_view_truth(size_t camera) const {
   return vk::download(context_, images_.at(camera)->depth_view.depth_m);
 }
 
 bool RgbdRenderer::has_target_view() const { return target_ != nullptr; }
 
-HostImage RgbdRenderer::target_colour() const {
+HostImage RgbdRenderer::target_color() const {
   if (!target_) throw std::logic_error("this renderer has no target view");
   return vk::download(context_, target_->view.color);
 }

@@ -1,6 +1,6 @@
 #pragma once
 // Renders simulated RGBD cameras, and optionally a target view for ground truth, from a mesh of
-// the scene, in one frame graph: per camera the colour view (person_raster, color_sensor) and
+// the scene, in one frame graph: per camera the color view (person_raster, color_sensor) and
 // the depth view (person_raster, depth_sensor), each at its own resolution and intrinsics.
 #include <memory>
 #include <optional>
@@ -19,19 +19,19 @@ namespace rt::app {
 
 struct RgbdCameraSpec {
   std::string name;
-  Camera colour;  // intrinsics and pose of the colour image
+  Camera color;  // intrinsics and pose of the color image
   Camera depth;   // of the depth image
   passes::DepthSensorModel depth_model;
-  passes::ColorSensorModel colour_model;
+  passes::ColorSensorModel color_model;
 };
 
 class RgbdRenderer {
  public:
-  // colour_supersampling (odd): colour views and the target view render at that many times the
-  // resolution per axis and resolve to it (box-filtered colour, centre-sampled depth and part),
+  // color_supersampling (odd): color views and the target view render at that many times the
+  // resolution per axis and resolve to it (box-filtered color, centre-sampled depth and part),
   // as a sensor integrates over its pixels; 1 renders point samples.
   RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view = {},
-               uint32_t colour_supersampling = 1);
+               uint32_t color_supersampling = 1);
   ~RgbdRenderer();
 
   // Uploads the mesh and renders every view; `seed` drives the sensor noise of this frame.
@@ -39,14 +39,14 @@ class RgbdRenderer {
 
   size_t camera_count() const { return cameras_.size(); }
   const RgbdCameraSpec& camera(size_t index) const { return cameras_[index]; }
-  HostImage colour(size_t camera) const;      // rgba8, as sensed
+  HostImage color(size_t camera) const;      // rgba8, as sensed
   HostImage depth_mm(size_t camera) const;    // r16ui millimetres, 0 = invalid
-  HostImage foreground(size_t camera) const;  // r32f RT_PART_* in the colour view (0 = background)
+  HostImage foreground(size_t camera) const;  // r32f RT_PART_* in the color view (0 = background)
   HostImage depth_view_truth(size_t camera) const;  // r32f metres in the depth view before the sensor
 
   bool has_target_view() const;
   const std::optional<Camera>& target_view() const { return target_view_; }
-  HostImage target_colour() const;  // rgba8 premultiplied: the person over a zero background, alpha its coverage
+  HostImage target_color() const;  // rgba8 premultiplied: the person over a zero background, alpha its coverage
   HostImage target_depth_m() const; // r32f camera z from the eye, 0 where nothing is
   HostImage target_part() const;    // r32f RT_PART_* (the hand mask is part == RT_PART_HAND)
 
@@ -64,7 +64,7 @@ class RgbdRenderer {
   std::optional<Camera> target_view_;
   passes::PersonRasterPass raster_;
   passes::SupersampleResolvePass resolve_;
-  std::vector<std::unique_ptr<passes::ColorSensorPass>> colour_sensors_;
+  std::vector<std::unique_ptr<passes::ColorSensorPass>> color_sensors_;
   std::vector<std::unique_ptr<passes::DepthSensorPass>> depth_sensors_;
   std::vector<std::unique_ptr<CameraImages>> images_;
   std::unique_ptr<SampledView> target_;

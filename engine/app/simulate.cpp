@@ -1,5 +1,5 @@
 // `remotetouch simulate --scene NAME --out DIR`: records one site of a synthetic scene in the
-// recording format (engine/sim/recording.h): every camera's colour and 16-bit depth, the
+// recording format (engine/sim/recording.h): every camera's color and 16-bit depth, the
 // tracker's Leap v6 frames, and the ground truth from the remote viewer's eye.
 #include <cstdio>
 #include <fstream>
@@ -51,7 +51,7 @@ int run_simulate(const RunOptions& options, const SimulateOptions& simulate) {
     std::vector<HostImage> foregrounds;
     for (size_t k = 0; k < renderer.camera_count(); ++k) foregrounds.push_back(renderer.foreground(k));
     if (renderer.has_target_view())
-      writer.write_ground_truth(frame->index, renderer.target_colour(), renderer.target_depth_m(), renderer.target_part(),
+      writer.write_ground_truth(frame->index, renderer.target_color(), renderer.target_depth_m(), renderer.target_part(),
                                 foregrounds);
     std::printf("\r  frame %llu/%u", static_cast<unsigned long long>(frame->index + 1), scene.frame_count);
     std::fflush(stdout);

@@ -18,7 +18,7 @@
 namespace rt::app {
 
 // One geometry-hand render of the hand thread, for the display to fuse with the portrait of the
-// closest capture time: colour and mask cut to the hand's box (it covers a small part of the
+// closest capture time: color and mask cut to the hand's box (it covers a small part of the
 // view, and a dozen full frames would be mostly zeros). Nothing drawn: a NaN distance (the
 // fusion then shows the portrait alone).
 struct HandRender {
@@ -29,7 +29,7 @@ struct HandRender {
   bool drawn() const { return std::isfinite(distance_m); }
 };
 
-// Cuts a hand render (rgba32f colour, r32f mask of the full view) to the mask's box.
+// Cuts a hand render (rgba32f color, r32f mask of the full view) to the mask's box.
 HandRender cropped_hand_render(const HostImage& color, const HostImage& mask, float distance_m);
 
 // The notice on a frame shown while the link is down: a user sees why the other person vanished,
@@ -40,7 +40,7 @@ std::string frame_name(uint64_t index);  // frame_NNNN.png
 
 // The simulator's ground truth (rgba8 premultiplied by coverage: the person box-filtered over a
 // zero background) over the display's background, as the receiver's composite shows it: linear
-// colour, no gamma, like shaders/composite.comp.
+// color, no gamma, like shaders/composite.comp.
 HostImage truth_over_background(const HostImage& truth, const HostImage& background);
 
 cv::Mat to_bgr8(const HostImage& image);

@@ -96,7 +96,7 @@ bool ViewerEyeFinder::wants_frame() const {
 
 void ViewerEyeFinder::offer(uint64_t timestamp_us, const std::vector<sim::RgbdImage>& images) {
   Offered offered{timestamp_us, {}};
-  for (const sim::RgbdImage& image : images) offered.colour.push_back(image.colour);
+  for (const sim::RgbdImage& image : images) offered.color.push_back(image.color);
   {
     std::lock_guard lock(mutex_);
     if (search_.state() != EyeSearch::State::Searching) return;
@@ -145,19 +145,19 @@ void ViewerEyeFinder::run() {
       if (frames_.closed()) return;
       continue;
     }
-    if (offered->colour.size() != cameras_.size()) {
+    if (offered->color.size() != cameras_.size()) {
       decide([&] {
-        search_.give_up("the frames have " + std::to_string(offered->colour.size()) + " cameras, the site " +
+        search_.give_up("the frames have " + std::to_string(offered->color.size()) + " cameras, the site " +
                         std::to_string(cameras_.size()));
       });
       return;
     }
     std::vector<cv::Mat> images;
     for (size_t k = 0; k < cameras_.size(); ++k) {
-      const HostImage& colour = offered->colour[k];
+      const HostImage& color = offered->color[k];
       // A camera whose image is not the calibrated size does not take part.
-      const bool fits = colour.width == cameras_[k].intrinsics.width && colour.height == cameras_[k].intrinsics.height;
-      images.push_back(fits ? bgr8(colour) : cv::Mat());
+      const bool fits = color.width == cameras_[k].intrinsics.width && color.height == cameras_[k].intrinsics.height;
+      images.push_back(fits ? bgr8(color) : cv::Mat());
     }
     const EyePair pair = locate_viewer_eyes(*detector, cameras_, images);
     decide([&] { search_.add(offered->timestamp_us, pair); });

@@ -1,6 +1,6 @@
 #pragma once
 // The eye a site sends to its peer (paper, "Viewpoint Computation"): the viewer's eyes found in
-// the colour images of several cameras, triangulated, their midpoint computed once at the start
+// the color images of several cameras, triangulated, their midpoint computed once at the start
 // (viewer/initial_viewpoint.h). Until that succeeds, and for good if it does not within a bounded
 // number of frames, the site description's seat head position stands in, and the site says so.
 #include <Eigen/Core>
@@ -57,7 +57,7 @@ class EyeSearch {
 // capture offers while the search lasts, so that neither the capture nor the GPU waits for it.
 class ViewerEyeFinder {
  public:
-  // `cameras`: the colour cameras as the images come (intrinsics at the images' size), in the
+  // `cameras`: the color cameras as the images come (intrinsics at the images' size), in the
   // frames' camera order. `on_decided` is called once, from the finder's thread, with source().
   ViewerEyeFinder(std::vector<Camera> cameras, const Eigen::Vector3d& seat_eye, const EyeSearchOptions& options,
                   std::function<void(const std::string&)> on_decided);
@@ -66,9 +66,9 @@ class ViewerEyeFinder {
   ViewerEyeFinder& operator=(const ViewerEyeFinder&) = delete;
 
   // True while the search goes on and the finder is free for a frame: the capture copies the
-  // colour images only then.
+  // color images only then.
   bool wants_frame() const;
-  // Copies the colour images (rgba8, one per camera in order).
+  // Copies the color images (rgba8, one per camera in order).
   void offer(uint64_t timestamp_us, const std::vector<sim::RgbdImage>& images);
   Eigen::Vector3d eye() const;
   std::string source() const;
@@ -77,7 +77,7 @@ class ViewerEyeFinder {
  private:
   struct Offered {
     uint64_t timestamp_us = 0;
-    std::vector<HostImage> colour;
+    std::vector<HostImage> color;
   };
   void run();
 

@@ -96,7 +96,7 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
   // them all would take as long as the replay, so only the first frame is read now.
   for (size_t i = 0; i < count; ++i)
     for (size_t k = 0; k < site_.cameras.size(); ++k)
-      for (const auto& file : {sim::colour_path(dir_, k, source_.frame_index(i)), sim::depth_path(dir_, k, source_.frame_index(i))})
+      for (const auto& file : {sim::color_path(dir_, k, source_.frame_index(i)), sim::depth_path(dir_, k, source_.frame_index(i))})
         if (!std::filesystem::is_regular_file(file))
           throw std::runtime_error("recording '" + dir_.string() + "': frame " + std::to_string(source_.frame_index(i)) +
                                    " has no image '" + file.string() + "'");
@@ -104,9 +104,9 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
   const sim::RgbdFrame first = *source_.next_frame();
   for (size_t k = 0; k < site_.cameras.size(); ++k) {
     const sim::RgbdCamera& camera = site_.cameras[k];
-    passes::IbrCameraModel model{camera.colour_camera(), camera.depth_camera()};
-    model.colour.intrinsics =
-        intrinsics_for_image(camera.colour, first.cameras[k].colour, sim::colour_path(dir_, k, first.index), camera.name);
+    passes::IbrCameraModel model{camera.color_camera(), camera.depth_camera()};
+    model.color.intrinsics =
+        intrinsics_for_image(camera.color, first.cameras[k].color, sim::color_path(dir_, k, first.index), camera.name);
     model.depth.intrinsics =
         intrinsics_for_image(camera.depth, first.cameras[k].depth_mm, sim::depth_path(dir_, k, first.index), camera.name);
     cameras_.push_back(model);
@@ -120,12 +120,12 @@ sim::RgbdFrame SiteReplay::read(size_t i) {
   sim::RgbdFrame frame = *source_.next_frame();
   for (size_t k = 0; k < cameras_.size(); ++k) {
     const sim::RgbdImage& image = frame.cameras[k];
-    const CameraIntrinsics& colour = cameras_[k].colour.intrinsics;
+    const CameraIntrinsics& color = cameras_[k].color.intrinsics;
     const CameraIntrinsics& depth = cameras_[k].depth.intrinsics;
-    if (image.colour.width != colour.width || image.colour.height != colour.height)
-      throw std::runtime_error("'" + sim::colour_path(dir_, k, frame.index).string() + "' is " +
-                               size_text(image.colour.width, image.colour.height) + ", the recording's first frame " +
-                               size_text(colour.width, colour.height));
+    if (image.color.width != color.width || image.color.height != color.height)
+      throw std::runtime_error("'" + sim::color_path(dir_, k, frame.index).string() + "' is " +
+                               size_text(image.color.width, image.color.height) + ", the recording's first frame " +
+                               size_text(color.width, color.height));
     if (image.depth_mm.width != depth.width || image.depth_mm.height != depth.height)
       throw std::runtime_error("'" + sim::depth_path(dir_, k, frame.index).string() + "' is " +
                                size_text(image.depth_mm.width, image.depth_mm.height) + ", the recording's first frame " +
@@ -135,7 +135,7 @@ sim::RgbdFrame SiteReplay::read(size_t i) {
 }
 
 std::optional<HostImage> SiteReplay::ground_truth(size_t i) const {
-  const std::filesystem::path file = sim::ground_truth_colour_path(dir_, source_.frame_index(i));
+  const std::filesystem::path file = sim::ground_truth_color_path(dir_, source_.frame_index(i));
   if (!std::filesystem::is_regular_file(file)) return std::nullopt;
   return read_image(file);
 }

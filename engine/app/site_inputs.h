@@ -12,7 +12,7 @@
 
 #include "ibr/camera_selection.h"
 #include "image/host_image.h"
-#include "passes/ibr_scene.h"
+#include "passes/common/ibr_scene.h"
 #include "sim/hand_tracker.h"
 #include "sim/recording.h"
 #include "sim/site_description.h"
@@ -49,7 +49,7 @@ class SiteReplay {
 
   const std::filesystem::path& dir() const { return dir_; }
   const sim::SiteDescription& site() const { return site_; }
-  // Colour and depth cameras with the intrinsics of the recorded images.
+  // Color and depth cameras with the intrinsics of the recorded images.
   const std::vector<passes::IbrCameraModel>& cameras() const { return cameras_; }
   const ReplayPacing& pacing() const { return pacing_; }
   size_t frame_count() const { return pacing_.size(); }

@@ -77,7 +77,7 @@ constexpr uint64_t kLinkLostFrameIntervalUs = 250'000;
 
 std::vector<passes::IbrCameraModel> camera_models(RgbdRenderer& renderer) {
   std::vector<passes::IbrCameraModel> models;
-  for (size_t k = 0; k < renderer.camera_count(); ++k) models.push_back({renderer.camera(k).colour, renderer.camera(k).depth});
+  for (size_t k = 0; k < renderer.camera_count(); ++k) models.push_back({renderer.camera(k).color, renderer.camera(k).depth});
   return models;
 }
 
@@ -203,7 +203,7 @@ SiteRun::SiteRun(const SiteRunOptions& options)
     cameras = camera_models(simulator_->renderer());
   }
   ibr_ = std::make_unique<IbrRenderer>(context_, cameras, settings);
-  for (const auto& camera : scene_.at(options_.site).site.cameras) camera_positions_.push_back(camera.colour_camera().position_in_site());
+  for (const auto& camera : scene_.at(options_.site).site.cameras) camera_positions_.push_back(camera.color_camera().position_in_site());
 
   motor_ = open_site_motor(parse_motor_mode(options_.motor), [this](const std::string& line) {
     std::cerr << "site " << site_name_ << ": motor: " << line << "\n";
@@ -213,10 +213,10 @@ SiteRun::SiteRun(const SiteRunOptions& options)
   events_.write("motor", monotonic_now_us(), {{"motor", motor_.description}});
 
   // The eye sent to the peer: the seat's head position until the cameras find the viewer's eyes.
-  std::vector<Camera> colour_cameras;
-  for (const auto& camera : cameras) colour_cameras.push_back(camera.colour);
+  std::vector<Camera> color_cameras;
+  for (const auto& camera : cameras) color_cameras.push_back(camera.color);
   eye_finder_ = std::make_unique<ViewerEyeFinder>(
-      colour_cameras, scene_.at(options_.site).site.seat.head_centre_m, EyeSearchOptions{}, [this](const std::string& source) {
+      color_cameras, scene_.at(options_.site).site.seat.head_centre_m, EyeSearchOptions{}, [this](const std::string& source) {
         std::cerr << "site " << site_name_ << ": eye: " << source << "\n";
         events_.write("eye_source", monotonic_now_us(), {{"source", source}});
       });
@@ -379,7 +379,7 @@ void SiteRun::capture_loop() {
       captured.capture_us = monotonic_now_us();
       captured.frame = std::move(*frame);
       captured.scene_time_s = double(index) / fps;
-      if (options_.write_truth) truth = simulator_->renderer().target_colour();
+      if (options_.write_truth) truth = simulator_->renderer().target_color();
       simulator_wall_.add(double(monotonic_now_us() - start) / 1000.0);
     }
     // The viewer's eyes are looked for in the first frames, on the finder's own thread.
@@ -552,7 +552,7 @@ void SiteRun::display_loop() {
   std::unique_lock<session::FairMutex> final_turn(gpu_turn_, std::defer_lock);
   vk::Image portrait(context_, {"portrait", width_, height_, PixelFormat::RGBA32F});
   vk::Image background(context_, {"background", width_, height_, PixelFormat::RGBA32F});
-  vk::Image hand_color(context_, {"hand colour", width_, height_, PixelFormat::RGBA32F});
+  vk::Image hand_color(context_, {"hand color", width_, height_, PixelFormat::RGBA32F});
   vk::Image hand_mask(context_, {"hand mask", width_, height_, PixelFormat::R32F});
   vk::Image hand_alpha(context_, {"hand alpha", width_, height_, PixelFormat::R32F});
   vk::Image fused(context_, {"fused", width_, height_, PixelFormat::RGBA32F});

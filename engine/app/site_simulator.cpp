@@ -21,7 +21,7 @@ std::optional<Camera> ground_truth_view(const sim::Scene& scene, Site site, uint
 
 RgbdCameraSpec camera_spec(const sim::RgbdCamera& camera, const sim::Effects& effects, double resolution_scale) {
   // The rasterizer draws pinhole images; a lens the site describes must not be dropped silently.
-  for (const CameraIntrinsics* k : {&camera.colour, &camera.depth})
+  for (const CameraIntrinsics* k : {&camera.color, &camera.depth})
     for (double coefficient : k->distortion.as_opencv())
       if (coefficient != 0.0)
         throw std::invalid_argument("camera '" + camera.name +
@@ -29,9 +29,9 @@ RgbdCameraSpec camera_spec(const sim::RgbdCamera& camera, const sim::Effects& ef
                                     "(set its distortion coefficients to 0)");
   RgbdCameraSpec spec;
   spec.name = camera.name;
-  spec.colour = camera.colour_camera();
+  spec.color = camera.color_camera();
   spec.depth = camera.depth_camera();
-  spec.colour.intrinsics = scaled_intrinsics(camera.colour, resolution_scale);
+  spec.color.intrinsics = scaled_intrinsics(camera.color, resolution_scale);
   spec.depth.intrinsics = scaled_intrinsics(camera.depth, resolution_scale);
   passes::DepthSensorModel& depth = spec.depth_model;
   depth.range_min_m = float(camera.depth_min_m);
@@ -44,15 +44,15 @@ RgbdCameraSpec camera_spec(const sim::RgbdCamera& camera, const sim::Effects& ef
     depth.flying_probability = float(effects.flying_pixels->probability);
   }
   if (effects.misregistration) {
-    // Given in colour pixels; the depth image is shifted by as many of its own pixels.
-    const double ratio = spec.depth.intrinsics.fx / spec.colour.intrinsics.fx;
+    // Given in color pixels; the depth image is shifted by as many of its own pixels.
+    const double ratio = spec.depth.intrinsics.fx / spec.color.intrinsics.fx;
     depth.shift_x = int(std::lround(effects.misregistration->pixels_x * ratio));
     depth.shift_y = int(std::lround(effects.misregistration->pixels_y * ratio));
   }
   if (effects.color_gain) {
-    const sim::CameraColour colour = effects.color_gain->for_camera(camera.name);
-    spec.colour_model = {float(colour.gain), float(colour.white_balance.x()), float(colour.white_balance.y()),
-                         float(colour.white_balance.z())};
+    const sim::CameraColor color = effects.color_gain->for_camera(camera.name);
+    spec.color_model = {float(color.gain), float(color.white_balance.x()), float(color.white_balance.y()),
+                         float(color.white_balance.z())};
   }
   return spec;
 }
@@ -69,7 +69,7 @@ SiteSimulator::SiteSimulator(vk::Context& context, const sim::Scene& scene, Site
                     specs.push_back(camera_spec(camera, scene.effects, scene.resolution_scale));
                   return specs;
                 }(),
-                ground_truth_view(scene, site, target_width, target_height), scene.colour_supersampling),
+                ground_truth_view(scene, site, target_width, target_height), scene.color_supersampling),
       timing_random_(scene.seed * 2 + (site == Site::A ? 0 : 1)) {}
 
 std::optional<sim::RgbdFrame> SiteSimulator::next_frame() {
@@ -92,7 +92,7 @@ std::optional<sim::RgbdFrame> SiteSimulator::next_frame() {
       image.timestamp_us = uint64_t(std::max<int64_t>(0, int64_t(frame.timestamp_us) +
                                                              std::llround(jitter_ms(timing_random_) * 1000.0)));
     }
-    image.colour = renderer_.colour(k);
+    image.color = renderer_.color(k);
     image.depth_mm = renderer_.depth_mm(k);
     frame.cameras.push_back(std::move(image));
   }

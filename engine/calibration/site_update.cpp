@@ -63,7 +63,7 @@ std::vector<std::string> apply_camera_calibration(sim::SiteDescription& site, co
       not_calibrated.push_back(camera.name);
       continue;
     }
-    camera.colour = placed->camera.intrinsics;
+    camera.color = placed->camera.intrinsics;
     camera.camera_from_site = placed->camera.camera_from_site;
   }
   return not_calibrated;

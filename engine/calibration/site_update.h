@@ -1,7 +1,7 @@
 #pragma once
 // Calibration results written into the one site file (sim/site_description.h): a real site
 // starts from a copy of assets/sites/default.json, and each calibration step replaces only the
-// parts it measured. `calibrate extrinsics` replaces the cameras' colour intrinsics and poses,
+// parts it measured. `calibrate extrinsics` replaces the cameras' color intrinsics and poses,
 // matched by name; `calibrate tracker` replaces the tracker pose and its residual. The seat,
 // the touch region, the motor, the depth intrinsics and ranges, and the tracking range are kept.
 #include <filesystem>
@@ -27,7 +27,7 @@ sim::SiteDescription load_site_to_update(const std::filesystem::path& path);
 void check_cameras_fit_site(const sim::SiteDescription& site, const std::vector<std::string>& camera_names,
                             const Screen& calibrated_screen);
 
-// Replaces the colour intrinsics and camera_from_site of every calibrated camera, by name, after
+// Replaces the color intrinsics and camera_from_site of every calibrated camera, by name, after
 // check_cameras_fit_site (a refusal leaves the site untouched). Returns the names of the site's
 // cameras that the calibration did not include (left as they were).
 std::vector<std::string> apply_camera_calibration(sim::SiteDescription& site, const ExtrinsicsResult& result,

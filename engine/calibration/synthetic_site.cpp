@@ -28,7 +28,7 @@ constexpr int kTouchColumns = 5, kTouchRows = 4;
 const Eigen::Vector2d kTouchGridMin(-0.2, -0.3), kTouchGridMax(0.5, 0.15);
 
 CameraIntrinsics kinect_like_intrinsics(size_t index) {
-  // 1280x720 colour, about 92 degrees across, mild barrel distortion; each unit a little off.
+  // 1280x720 color, about 92 degrees across, mild barrel distortion; each unit a little off.
   CameraIntrinsics k;
   k.width = 1280;
   k.height = 720;
@@ -91,7 +91,7 @@ void add_board_views(SyntheticSite& site, const SyntheticSiteOptions& options, s
   ExtrinsicsInput& input = site.extrinsics_input;
   std::vector<size_t> views_per_camera(site.truth.cameras.size(), 0);
   std::vector<Camera> cameras;
-  for (const sim::RgbdCamera& camera : site.truth.cameras) cameras.push_back(camera.colour_camera());
+  for (const sim::RgbdCamera& camera : site.truth.cameras) cameras.push_back(camera.color_camera());
   for (size_t attempt = 0; input.snapshots.size() < options.board_poses && attempt < 200 * options.board_poses;
        ++attempt) {
     // The board is held in front of each camera in turn, on its axis 0.4 to 0.64 m from the glass,
@@ -159,7 +159,7 @@ SyntheticSite make_synthetic_site(const SyntheticSiteOptions& options) {
   // Real lenses: each unit a little off the nominal, with distortion. The site file keeps it
   // (the simulator refuses to render such a site; calibration does not need it rendered).
   for (size_t index = 0; index < site.truth.cameras.size(); ++index)
-    site.truth.cameras[index].colour = kinect_like_intrinsics(index);
+    site.truth.cameras[index].color = kinect_like_intrinsics(index);
 
   ExtrinsicsInput& input = site.extrinsics_input;
   input.board = parse_chessboard("9x6", 0.05);
@@ -168,7 +168,7 @@ SyntheticSite make_synthetic_site(const SyntheticSiteOptions& options) {
   for (const sim::RgbdCamera& camera : site.truth.cameras) {
     CameraSetup setup;
     setup.name = camera.name;
-    setup.intrinsics = camera.colour;
+    setup.intrinsics = camera.color;
     const Eigen::Vector3d position = camera.camera_from_site.inverse().translation();
     for (ScreenCorner corner : kScreenCorners)
       setup.corner_distances_m[size_t(corner)] =

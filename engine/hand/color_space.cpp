@@ -37,7 +37,7 @@ Eigen::Vector3d lab_alpha_beta_to_rgb(const Eigen::Vector3d& lab) {
   static const Eigen::Matrix3d lms_to_rgb = (Eigen::Matrix3d() << 4.4686699, -3.5886759, 0.1196044, -1.2197166, 2.3830879,
                                              -0.1626301, 0.0585085, -0.2610784, 1.2056659).finished();
   Eigen::Vector3d lms = inverse * lab;
-  // Colours in [0, 1] have log10 LMS in [log10(kMinLms), 0]: clamping a little beyond keeps any
+  // Colors in [0, 1] have log10 LMS in [log10(kMinLms), 0]: clamping a little beyond keeps any
   // transfer, however extreme, from overflowing.
   for (int c = 0; c < 3; ++c) lms[c] = std::pow(10.0, std::clamp(lms[c], std::log10(kMinLms), 0.5));
   return lms_to_rgb * lms;

@@ -1,5 +1,5 @@
 #pragma once
-// Colour spaces of appearance adaption (paper Eq. 3) and of its evaluation. Inputs are linear
+// Color spaces of appearance adaption (paper Eq. 3) and of its evaluation. Inputs are linear
 // RGB in [0, 1] (the simulator's albedo, the renders); shaders/common/lab_alpha_beta.glsl is the
 // GPU side of the L-alpha-beta transform and must stay in step with this file.
 #include <Eigen/Core>
@@ -7,7 +7,7 @@
 namespace rt::hand {
 
 // Reinhard et al. 2001: RGB -> LMS -> log10 -> decorrelated L, alpha, beta. LMS is floored at
-// kMinLms before the logarithm, so black maps to a finite colour instead of -Inf.
+// kMinLms before the logarithm, so black maps to a finite color instead of -Inf.
 inline constexpr double kMinLms = 1e-4;
 Eigen::Vector3d rgb_to_lab_alpha_beta(const Eigen::Vector3d& rgb);
 Eigen::Vector3d lab_alpha_beta_to_rgb(const Eigen::Vector3d& lab);  // not clamped

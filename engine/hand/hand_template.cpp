@@ -327,13 +327,13 @@ HandTemplate load_hand_template(const std::filesystem::path& gltf_file) {
   for (double index : read_accessor(model, primitive.indices, TINYGLTF_TYPE_SCALAR, "the index list", where))
     hand.indices.push_back(uint32_t(index));
 
-  // The base colour texture: sRGB in the file, linear here.
+  // The base color texture: sRGB in the file, linear here.
   if (primitive.material < 0 || primitive.material >= int(model.materials.size()))
     throw HandTemplateError(where + ": the mesh has no material");
   const int texture = model.materials[size_t(primitive.material)].pbrMetallicRoughness.baseColorTexture.index;
   if (texture < 0 || texture >= int(model.textures.size()) || model.textures[size_t(texture)].source < 0 ||
       model.textures[size_t(texture)].source >= int(model.images.size()))
-    throw HandTemplateError(where + ": the material has no base colour texture");
+    throw HandTemplateError(where + ": the material has no base color texture");
   const tinygltf::Image& image = model.images[size_t(model.textures[size_t(texture)].source)];
   if (image.width <= 0 || image.height <= 0 || image.bits != 8 || image.component < 3 ||
       image.image.size() != size_t(image.width) * size_t(image.height) * size_t(image.component))

@@ -34,10 +34,10 @@ std::vector<uint8_t> dilate(const std::vector<uint8_t>& mask, uint32_t w, uint32
 
 }  // namespace
 
-PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& depth, const HostImage& truth_colour,
+PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& depth, const HostImage& truth_color,
                                    const HostImage& truth_depth, const HostImage& truth_part) {
   const uint32_t w = portrait.width, h = portrait.height;
-  for (const HostImage* image : {&depth, &truth_colour, &truth_depth, &truth_part})
+  for (const HostImage* image : {&depth, &truth_color, &truth_depth, &truth_part})
     if (image->width != w || image->height != h) throw std::invalid_argument("portrait metrics: images differ in size");
   const size_t n = size_t(w) * h;
   std::vector<uint8_t> foreground(n), hand(n), edge(n), outline(n);
@@ -69,14 +69,14 @@ PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& d
       const float alpha = std::clamp(portrait.at(x, y, 3), 0.0f, 1.0f);
       double squared = 0, absolute = 0;
       for (uint32_t c = 0; c < 3; ++c) {
-        // Both over black: a missing portrait pixel costs its full colour. The truth is over
+        // Both over black: a missing portrait pixel costs its full color. The truth is over
         // black already (premultiplied); multiplying it by its alpha again would darken every
         // partly covered edge pixel a second time.
-        const double difference = double(portrait.at(x, y, c)) * alpha - double(truth_colour.at(x, y, c));
+        const double difference = double(portrait.at(x, y, c)) * alpha - double(truth_color.at(x, y, c));
         squared += difference * difference;
         absolute += std::abs(difference);
       }
-      error.colour_error.at(x, y) = float(absolute / 3.0);
+      error.color_error.at(x, y) = float(absolute / 3.0);
       if (foreground[i]) {
         fg_squared_error_ += squared, fg_values_ += 3;
         frame_squared_error += squared, frame_values += 3;

@@ -16,7 +16,7 @@ struct MetricRegions {
 };
 
 struct PortraitError {
-  HostImage colour_error;  // r32f: mean absolute RGB error of (premultiplied) portrait vs truth
+  HostImage color_error;  // r32f: mean absolute RGB error of (premultiplied) portrait vs truth
   HostImage depth_error_mm;  // r32f: |depth - truth| where both are set, else 0
   double psnr_fg_db = 0;     // this frame's own (NaN without foreground)
 };
@@ -32,12 +32,12 @@ class PortraitMetrics {
  public:
   explicit PortraitMetrics(MetricRegions regions = {}) : regions_(regions) {}
 
-  // portrait rgba32f (straight alpha), depth r32f metres; truth: colour rgba8 premultiplied by
+  // portrait rgba32f (straight alpha), depth r32f metres; truth: color rgba8 premultiplied by
   // its coverage (the simulator box-filters the person over a zero background, so an edge pixel
-  // half covered is half its colour with alpha 0.5), depth r32f metres (0 = nothing), part r32f
+  // half covered is half its color with alpha 0.5), depth r32f metres (0 = nothing), part r32f
   // (RT_PART_HAND marks the hand). Both are compared over black.
   // Returns this frame's error images.
-  PortraitError add(const HostImage& portrait, const HostImage& depth, const HostImage& truth_colour,
+  PortraitError add(const HostImage& portrait, const HostImage& depth, const HostImage& truth_color,
                     const HostImage& truth_depth, const HostImage& truth_part);
 
   double psnr_fg_db() const;

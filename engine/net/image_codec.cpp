@@ -94,7 +94,7 @@ std::optional<ImageSize> png_size(std::span<const uint8_t> bytes, std::string* e
 }
 
 std::vector<uint8_t> encode_color_jpeg(const HostImage& rgba, int quality) {
-  if (rgba.format != PixelFormat::RGBA32F) throw std::invalid_argument("portrait colour must be RGBA32F");
+  if (rgba.format != PixelFormat::RGBA32F) throw std::invalid_argument("portrait color must be RGBA32F");
   cv::Mat bgr(int(rgba.height), int(rgba.width), CV_8UC3);
   for (uint32_t y = 0; y < rgba.height; ++y) {
     auto* row = bgr.ptr<uint8_t>(int(y));
@@ -105,7 +105,7 @@ std::vector<uint8_t> encode_color_jpeg(const HostImage& rgba, int quality) {
   }
   std::vector<uint8_t> out;
   if (!cv::imencode(".jpg", bgr, out, {cv::IMWRITE_JPEG_QUALITY, std::clamp(quality, 1, 100)}))
-    throw std::runtime_error("OpenCV could not encode the portrait colour as JPEG");
+    throw std::runtime_error("OpenCV could not encode the portrait color as JPEG");
   return out;
 }
 
@@ -114,13 +114,13 @@ std::optional<std::string> decode_color_jpeg(std::span<const uint8_t> bytes, Hos
   const auto size = jpeg_size(bytes, &error);
   if (!size) return error;
   if (size->width != rgba.width || size->height != rgba.height)
-    return "colour JPEG is " + std::to_string(size->width) + "x" + std::to_string(size->height) + ", declared " +
+    return "color JPEG is " + std::to_string(size->width) + "x" + std::to_string(size->height) + ", declared " +
            std::to_string(rgba.width) + "x" + std::to_string(rgba.height);
-  if (size->channels != 3) return "colour JPEG has " + std::to_string(size->channels) + " components, expected 3";
+  if (size->channels != 3) return "color JPEG has " + std::to_string(size->channels) + " components, expected 3";
   const cv::Mat bgr = decode_or_empty(bytes, cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
-  if (bgr.empty()) return std::string("colour JPEG does not decode");
+  if (bgr.empty()) return std::string("color JPEG does not decode");
   if (bgr.type() != CV_8UC3 || uint32_t(bgr.cols) != rgba.width || uint32_t(bgr.rows) != rgba.height)
-    return std::string("colour JPEG decodes to a different size or type than declared");
+    return std::string("color JPEG decodes to a different size or type than declared");
   for (uint32_t y = 0; y < rgba.height; ++y) {
     const auto* row = bgr.ptr<uint8_t>(int(y));
     float* texel = &rgba.texels[rgba.index(0, y)];

@@ -1,5 +1,5 @@
 #pragma once
-// Portrait images on the wire: colour as JPEG (lossy, quality a parameter) and float planes (alpha,
+// Portrait images on the wire: color as JPEG (lossy, quality a parameter) and float planes (alpha,
 // depth) losslessly as an 8-bit grey PNG of the float's bytes, one plane per byte, most
 // significant first: the sign/exponent plane of a depth map is nearly constant and the mantissa
 // planes are smooth, so deflate does well and the round trip is bit-exact. Before decoding, the

@@ -71,7 +71,7 @@ std::string check_portrait_fields(const PortraitMessage& p) {
 
 std::string check_portrait_images(const PortraitMessage& p) {
   if (p.color.format != PixelFormat::RGBA32F || p.color.width != p.width || p.color.height != p.height)
-    return "portrait colour must be RGBA32F " + std::to_string(p.width) + "x" + std::to_string(p.height);
+    return "portrait color must be RGBA32F " + std::to_string(p.width) + "x" + std::to_string(p.height);
   if (p.depth.format != PixelFormat::R32F || p.depth.width != p.width || p.depth.height != p.height)
     return "portrait depth must be R32F " + std::to_string(p.width) + "x" + std::to_string(p.height);
   for (size_t i = 3; i < p.color.texels.size(); i += 4)
@@ -224,7 +224,7 @@ Message decode_payload(MessageType type, ByteReader& r) {
         for (int col = 0; col < 4; ++col) m.camera_from_site(row, col) = r.get<double>();
       if (!r.ok()) reject(DecodeErrorKind::Truncated, "portrait shorter than its fixed fields");
       if (auto e = check_portrait_fields(m); !e.empty()) reject(DecodeErrorKind::BadValue, e);
-      const auto jpeg = get_blob(r, "colour JPEG");
+      const auto jpeg = get_blob(r, "color JPEG");
       const auto alpha = get_blob(r, "alpha PNG");
       const auto depth = get_blob(r, "depth PNG");
       if (r.left() != 0)
@@ -232,9 +232,9 @@ Message decode_payload(MessageType type, ByteReader& r) {
       // Every image's own header against the declared size before anything big is allocated.
       std::string error;
       const auto jpeg_dims = jpeg_size(jpeg, &error);
-      if (!jpeg_dims) reject(DecodeErrorKind::BadImage, "colour: " + error);
+      if (!jpeg_dims) reject(DecodeErrorKind::BadImage, "color: " + error);
       if (jpeg_dims->width != m.width || jpeg_dims->height != m.height)
-        reject(DecodeErrorKind::BadImage, "colour JPEG is " + std::to_string(jpeg_dims->width) + "x" +
+        reject(DecodeErrorKind::BadImage, "color JPEG is " + std::to_string(jpeg_dims->width) + "x" +
                                               std::to_string(jpeg_dims->height) + ", declared " +
                                               std::to_string(m.width) + "x" + std::to_string(m.height));
       for (auto [png, name] : {std::pair{alpha, "alpha"}, {depth, "depth"}}) {
@@ -247,7 +247,7 @@ Message decode_payload(MessageType type, ByteReader& r) {
       }
       m.depth = HostImage(m.width, m.height, PixelFormat::R32F);
       m.color = HostImage(m.width, m.height, PixelFormat::RGBA32F);
-      // Side by side: depth, alpha (channel 3) and colour (channels 0..2) write disjoint floats.
+      // Side by side: depth, alpha (channel 3) and color (channels 0..2) write disjoint floats.
       auto depth_error = std::async(std::launch::async, [&] { return decode_float_plane_png(depth, m.depth, 0); });
       auto alpha_error = std::async(std::launch::async, [&] { return decode_float_plane_png(alpha, m.color, 3); });
       const auto color_error = decode_color_jpeg(jpeg, m.color);
@@ -256,7 +256,7 @@ Message decode_payload(MessageType type, ByteReader& r) {
       if (depth_result) reject(DecodeErrorKind::BadImage, "depth: " + *depth_result);
       if (alpha_result) reject(DecodeErrorKind::BadImage, "alpha: " + *alpha_result);
       if (auto e = check_portrait_images(m); !e.empty()) reject(DecodeErrorKind::BadValue, e);
-      if (color_error) reject(DecodeErrorKind::BadImage, "colour: " + *color_error);
+      if (color_error) reject(DecodeErrorKind::BadImage, "color: " + *color_error);
       return m;
     }
   }

@@ -35,7 +35,7 @@ inline constexpr size_t kMaxMessageSize = kHeaderSize + kMaxPortraitPayload;
 uint32_t max_payload_size(MessageType type);
 
 struct EncodeOptions {
-  int jpeg_quality = 90;     // 1..100, portrait colour
+  int jpeg_quality = 90;     // 1..100, portrait color
   int png_compression = 1;   // 0..9, portrait alpha and depth (lossless at every level)
 };
 

@@ -29,7 +29,7 @@ struct EyeMessage {
   bool valid = false;                             // false: the viewer's eye is not tracked now
 };
 
-// One rendered portrait for the receiver's eye: colour RGBA32F straight alpha, depth R32F metres
+// One rendered portrait for the receiver's eye: color RGBA32F straight alpha, depth R32F metres
 // of camera z (0 = nothing). The target camera says which eye it was rendered for.
 struct PortraitMessage {
   uint64_t frame_index = 0;

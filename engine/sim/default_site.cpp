@@ -8,8 +8,8 @@ namespace rt::sim {
 
 namespace {
 
-// Azure Kinect: colour 16:9 mode about 90 x 59 degrees; depth WFOV 2x2 binned, 512x512, 120 degrees.
-constexpr double kColourHorizontalFovDeg = 90.0;
+// Azure Kinect: color 16:9 mode about 90 x 59 degrees; depth WFOV 2x2 binned, 512x512, 120 degrees.
+constexpr double kColorHorizontalFovDeg = 90.0;
 constexpr uint32_t kDepthSize = 512;
 constexpr double kDepthFovDeg = 120.0;
 constexpr double kDepthMinM = 0.25, kDepthMaxM = 2.88;
@@ -17,7 +17,7 @@ constexpr double kDepthMinM = 0.25, kDepthMaxM = 2.88;
 // The top row aims between face and chest, so that both stay in view when the user leans in.
 // The bottom row aims at the waist: aimed at the face too, the six 59-degree-tall views left the
 // bottom of the torso, which the remote eye sees through the lower part of the screen, to no
-// colour camera at all (a tenth of the portrait, and most of its error).
+// color camera at all (a tenth of the portrait, and most of its error).
 constexpr double kTopAimBelowHeadM = 0.1;
 constexpr double kBottomAimBelowHeadM = 0.5;
 
@@ -82,7 +82,7 @@ SiteDescription make_default_site(const DefaultSiteOptions& options) {
     RgbdCamera camera;
     camera.name = mount.name;
     camera.camera_from_site = camera_from_site_looking_at(mount.position, camera_aim_point(site.seat, mount.position));
-    camera.colour = intrinsics_for_horizontal_fov(options.colour_width, options.colour_height, kColourHorizontalFovDeg);
+    camera.color = intrinsics_for_horizontal_fov(options.color_width, options.color_height, kColorHorizontalFovDeg);
     camera.depth = intrinsics_for_horizontal_fov(kDepthSize, kDepthSize, kDepthFovDeg);
     camera.depth_min_m = kDepthMinM;
     camera.depth_max_m = kDepthMaxM;

@@ -31,9 +31,9 @@ std::vector<CameraMount> camera_stand_mounts(const Screen& screen, const CameraS
 
 struct DefaultSiteOptions {
   std::string name = "default";
-  // 16:9 colour; the paper records 2560x1440, 1280x720 keeps the simulator fast.
-  uint32_t colour_width = 1280;
-  uint32_t colour_height = 720;
+  // 16:9 color; the paper records 2560x1440, 1280x720 keeps the simulator fast.
+  uint32_t color_width = 1280;
+  uint32_t color_height = 720;
   CameraStandGeometry stand;
 };
 

@@ -59,12 +59,12 @@ const std::vector<EffectParser>& parsers() {
              throw JsonError(w + ": field 'cameras' names unknown camera '" + name + "' (the sites have: " + known + ")");
            }
            reject_unknown_fields(entry, {"gain", "white_balance"}, cw);
-           CameraColour colour;
-           colour.gain = require_in_range(entry, "gain", cw, 0.01, 100.0);
-           colour.white_balance = require_vec3(entry, "white_balance", cw);
-           if ((colour.white_balance.array() <= 0).any())
+           CameraColor color;
+           color.gain = require_in_range(entry, "gain", cw, 0.01, 100.0);
+           color.white_balance = require_vec3(entry, "white_balance", cw);
+           if ((color.white_balance.array() <= 0).any())
              throw JsonError(cw + ": field 'white_balance' must hold three numbers > 0");
-           effect.cameras[name] = colour;
+           effect.cameras[name] = color;
          }
          e.color_gain = effect;
        }},
@@ -109,9 +109,9 @@ const std::vector<EffectParser>& parsers() {
 
 }  // namespace
 
-CameraColour ColorGain::for_camera(const std::string& name) const {
+CameraColor ColorGain::for_camera(const std::string& name) const {
   const auto it = cameras.find(name);
-  return it == cameras.end() ? CameraColour{} : it->second;
+  return it == cameras.end() ? CameraColor{} : it->second;
 }
 
 bool Effects::any() const {
@@ -158,8 +158,8 @@ nlohmann::json effects_to_json(const Effects& e) {
   if (e.skin_depth_bias) json["skin_depth_bias"] = {{"bias_m", e.skin_depth_bias->bias_m}};
   if (e.color_gain) {
     nlohmann::json cameras = nlohmann::json::object();
-    for (const auto& [name, colour] : e.color_gain->cameras)
-      cameras[name] = {{"gain", colour.gain}, {"white_balance", to_json(colour.white_balance)}};
+    for (const auto& [name, color] : e.color_gain->cameras)
+      cameras[name] = {{"gain", color.gain}, {"white_balance", to_json(color.white_balance)}};
     json["color_gain"] = {{"cameras", cameras}};
   }
   if (e.misregistration)

@@ -34,16 +34,16 @@ struct NearCutoff {
 struct SkinDepthBias {
   double bias_m = 0.01;
 };
-struct CameraColour {
+struct CameraColor {
   double gain = 1.0;
   Eigen::Vector3d white_balance = Eigen::Vector3d::Ones();  // r, g, b multipliers
 };
 // Per-camera exposure and white balance; cameras not listed keep gain 1 and white balance 1.
 struct ColorGain {
-  std::map<std::string, CameraColour> cameras;
-  CameraColour for_camera(const std::string& name) const;
+  std::map<std::string, CameraColor> cameras;
+  CameraColor for_camera(const std::string& name) const;
 };
-// Depth shifted against colour, in colour pixels: a registration error.
+// Depth shifted against color, in color pixels: a registration error.
 struct Misregistration {
   double pixels_x = 0.0;
   double pixels_y = 0.0;

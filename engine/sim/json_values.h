@@ -1,5 +1,5 @@
 #pragma once
-// Readers for the vectors, colours and integers of the simulator's JSON files (site descriptions,
+// Readers for the vectors, colors and integers of the simulator's JSON files (site descriptions,
 // scenes, tracker frames), on top of config/json_fields.h: every error names the field.
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>

@@ -94,7 +94,7 @@ void append_hand(std::vector<MeshVertex>& mesh, const HandSkeleton& hand, double
 std::vector<MeshVertex> person_mesh(const PersonPose& pose, const UserAppearance& user, const MeshDetail& detail) {
   const float body = float(RT_PART_BODY);
   const Eigen::Vector3f& skin = user.skin_rgb;
-  const float stripes = float(2.0 * user.stripe_width_m);  // one shirt and one stripe colour per period
+  const float stripes = float(2.0 * user.stripe_width_m);  // one shirt and one stripe color per period
   std::vector<MeshVertex> mesh;
   append_capsule(mesh, pose.head_centre - Eigen::Vector3d(0, 0.02, 0), pose.head_centre + Eigen::Vector3d(0, 0.02, 0),
                  pose.head_radius_m * 0.85, pose.head_radius_m, Eigen::Vector3d::UnitX(), body, skin, skin, 0.0f, detail);

@@ -1,6 +1,6 @@
 #pragma once
 // Triangle meshes of a simulated user, for the person_raster pass: a head, neck, torso and arms
-// (part BODY; striped shirt, skin-coloured head and forearms) and the hands (part HAND), each
+// (part BODY; striped shirt, skin-colored head and forearms) and the hands (part HAND), each
 // bone a capsule whose axis runs exactly through the tracked joints, so that the rendered hand
 // and the tracker's skeleton agree.
 #include <vector>
@@ -18,7 +18,7 @@ struct MeshDetail {
 };
 
 // Appends a capsule from a to b with an elliptic cross-section (radius_u along `u_hint`'s part
-// orthogonal to the axis, radius_v across); `part`, colours and stripes as MeshVertex says.
+// orthogonal to the axis, radius_v across); `part`, colors and stripes as MeshVertex says.
 void append_capsule(std::vector<MeshVertex>& mesh, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius_u,
                     double radius_v, const Eigen::Vector3d& u_hint, float part, const Eigen::Vector3f& color,
                     const Eigen::Vector3f& stripe_color, float stripe_period_m, const MeshDetail& detail = {});

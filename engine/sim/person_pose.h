@@ -29,7 +29,7 @@ struct PersonPose {
   HandSkeleton left_hand;
 };
 
-// How a user looks: the renderer's colours (linear RGB in [0, 1]) and the size of the hands.
+// How a user looks: the renderer's colors (linear RGB in [0, 1]) and the size of the hands.
 struct UserAppearance {
   Eigen::Vector3f skin_rgb = Eigen::Vector3f(0.80f, 0.62f, 0.50f);
   Eigen::Vector3f shirt_rgb = Eigen::Vector3f(0.15f, 0.25f, 0.55f);

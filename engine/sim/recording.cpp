@@ -31,7 +31,7 @@ HostImage mask_where(const HostImage& part, bool (*keep)(float)) {
 
 }  // namespace
 
-std::filesystem::path colour_path(const std::filesystem::path& dir, size_t camera, uint64_t frame) {
+std::filesystem::path color_path(const std::filesystem::path& dir, size_t camera, uint64_t frame) {
   return dir / ("cam" + std::to_string(camera)) / numbered("color", frame, "png");
 }
 
@@ -39,7 +39,7 @@ std::filesystem::path depth_path(const std::filesystem::path& dir, size_t camera
   return dir / ("cam" + std::to_string(camera)) / numbered("depth", frame, "png");
 }
 
-std::filesystem::path ground_truth_colour_path(const std::filesystem::path& dir, uint64_t frame) {
+std::filesystem::path ground_truth_color_path(const std::filesystem::path& dir, uint64_t frame) {
   return dir / "gt" / numbered("target_color", frame, "png");
 }
 
@@ -63,7 +63,7 @@ void RecordingWriter::write_frame(const RgbdFrame& frame) {
     if (image.camera != camera_names_[k])
       throw std::invalid_argument("recording: camera " + std::to_string(k) + " is '" + camera_names_[k] +
                                   "' in the calibration, the frame says '" + image.camera + "'");
-    write_image(colour_path(dir_, k, frame.index), image.colour);
+    write_image(color_path(dir_, k, frame.index), image.color);
     write_image(depth_path(dir_, k, frame.index), image.depth_mm);
     line["cameras"].push_back({{"name", image.camera}, {"timestamp_us", image.timestamp_us}});
   }
@@ -74,7 +74,7 @@ void RecordingWriter::write_frame(const RgbdFrame& frame) {
 void RecordingWriter::write_ground_truth(uint64_t frame, const HostImage& target_rgba, const HostImage& target_depth_m,
                                          const HostImage& target_part, const std::vector<HostImage>& camera_parts) {
   const std::filesystem::path gt = dir_ / "gt";
-  write_image(ground_truth_colour_path(dir_, frame), target_rgba);
+  write_image(ground_truth_color_path(dir_, frame), target_rgba);
   HostImage millimetres(target_depth_m.width, target_depth_m.height, PixelFormat::R16U);
   for (size_t i = 0; i < millimetres.texels.size(); ++i)
     millimetres.texels[i] = std::clamp(std::floor(target_depth_m.texels[i] * 1000.0f + 0.5f), 0.0f, 65535.0f);
@@ -129,13 +129,13 @@ std::optional<RgbdFrame> ReplayRgbdSource::next_frame() {
     RgbdImage image;
     image.camera = camera_names_[k];
     image.timestamp_us = line["cameras"][k].value("timestamp_us", frame.timestamp_us);
-    const std::filesystem::path colour_file = colour_path(dir_, k, frame.index);
-    const HostImage colour = read_image(colour_file);
-    if (colour.format != PixelFormat::RGBA32F)
-      throw std::runtime_error("colour image '" + colour_file.string() + "' is not an RGB or RGBA image");
-    // PNG colour comes back as float RGBA: keep the engine's 8-bit format.
-    image.colour = HostImage(colour.width, colour.height, PixelFormat::RGBA8);
-    image.colour.texels = colour.texels;
+    const std::filesystem::path color_file = color_path(dir_, k, frame.index);
+    const HostImage color = read_image(color_file);
+    if (color.format != PixelFormat::RGBA32F)
+      throw std::runtime_error("color image '" + color_file.string() + "' is not an RGB or RGBA image");
+    // PNG color comes back as float RGBA: keep the engine's 8-bit format.
+    image.color = HostImage(color.width, color.height, PixelFormat::RGBA8);
+    image.color.texels = color.texels;
     image.depth_mm = read_depth_png(depth_path(dir_, k, frame.index));
     frame.cameras.push_back(std::move(image));
   }

@@ -16,10 +16,10 @@ namespace rt::sim {
 
 inline constexpr const char* kRecordingFormat = "remotetouch-recording/1";
 
-std::filesystem::path colour_path(const std::filesystem::path& dir, size_t camera, uint64_t frame);
+std::filesystem::path color_path(const std::filesystem::path& dir, size_t camera, uint64_t frame);
 std::filesystem::path depth_path(const std::filesystem::path& dir, size_t camera, uint64_t frame);
 // gt/target_color_<NNNNNN>.png: the target view's RGBA as written by write_ground_truth.
-std::filesystem::path ground_truth_colour_path(const std::filesystem::path& dir, uint64_t frame);
+std::filesystem::path ground_truth_color_path(const std::filesystem::path& dir, uint64_t frame);
 
 class RecordingWriter {
  public:

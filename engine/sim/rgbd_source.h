@@ -15,7 +15,7 @@ namespace rt::sim {
 struct RgbdImage {
   std::string camera;          // the camera's name in the site description
   uint64_t timestamp_us = 0;   // capture time of this camera's image (monotonic clock)
-  HostImage colour;            // rgba8
+  HostImage color;            // rgba8
   HostImage depth_mm;          // r16ui, 0 = invalid
 };
 

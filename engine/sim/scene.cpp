@@ -66,7 +66,7 @@ nlohmann::json appearance_to_json(const UserAppearance& user) {
 
 Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir, const std::string& where) {
   reject_unknown_fields(json,
-                        {"name", "description", "frames", "fps", "resolution_scale", "colour_supersampling", "seed",
+                        {"name", "description", "frames", "fps", "resolution_scale", "color_supersampling", "seed",
                          "sites", "effects"},
                         where);
   Scene scene;
@@ -76,11 +76,11 @@ Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& b
   scene.fps = require_in_range(json, "fps", where, 1.0, 240.0);
   scene.resolution_scale = require_in_range(json, "resolution_scale", where, 0.01, 4.0);
   scene.seed = require_unsigned(json, "seed", where);
-  if (json.contains("colour_supersampling")) {
-    scene.colour_supersampling = uint32_t(require_integer(json, "colour_supersampling", where, 1, 7));
-    if (scene.colour_supersampling % 2 == 0)
-      throw config::JsonError(where + ": colour_supersampling must be odd (1, 3, 5 or 7), got " +
-                              std::to_string(scene.colour_supersampling));
+  if (json.contains("color_supersampling")) {
+    scene.color_supersampling = uint32_t(require_integer(json, "color_supersampling", where, 1, 7));
+    if (scene.color_supersampling % 2 == 0)
+      throw config::JsonError(where + ": color_supersampling must be odd (1, 3, 5 or 7), got " +
+                              std::to_string(scene.color_supersampling));
   }
 
   const nlohmann::json& sites = require_object(json, "sites", where);

@@ -28,10 +28,10 @@ struct Scene {
   std::string name;
   uint32_t frame_count = 1;
   double fps = 30.0;              // RGBD frames; the tracker runs at its own 50 Hz
-  double resolution_scale = 1.0;  // of the site's colour and depth resolutions
-  // Colour images and the ground truth rendered at this many times the resolution per axis and
+  double resolution_scale = 1.0;  // of the site's color and depth resolutions
+  // Color images and the ground truth rendered at this many times the resolution per axis and
   // box-filtered (odd; 1 = point samples), as a sensor integrates over its pixels.
-  uint32_t colour_supersampling = 1;
+  uint32_t color_supersampling = 1;
   uint64_t seed = 0;              // every random effect draws from streams derived from it
   std::array<SiteSetup, 2> sites;  // indexed by rt::Site: A, B
   Effects effects;                 // applied at both sites

@@ -46,18 +46,18 @@ RgbdCamera camera_entry_from_json(const nlohmann::json& entry, const std::string
                         camera_where);
   // camera_from_json treats a missing pose as the identity; a site camera must say where it is.
   config::require(entry, "camera_from_site", camera_where);
-  Camera colour;
+  Camera color;
   try {
-    colour = camera_from_json(entry);
+    color = camera_from_json(entry);
   } catch (const JsonError& error) {
     throw JsonError(where + ": " + error.what());
   }
 
   RgbdCamera camera;
   camera.name = name;
-  camera.camera_from_site = colour.camera_from_site;
-  camera.colour = colour.intrinsics;
-  check_principal_point(camera.colour, camera_where);
+  camera.camera_from_site = color.camera_from_site;
+  camera.color = color.intrinsics;
+  check_principal_point(camera.color, camera_where);
 
   const std::string depth_where = camera_where + " depth";
   const nlohmann::json& depth = require_object(entry, "depth", camera_where);
@@ -96,15 +96,15 @@ void check_finite(const nlohmann::json& json, const std::string& where, const st
 
 }  // namespace
 
-Camera RgbdCamera::colour_camera() const { return Camera{name + " colour", colour, camera_from_site}; }
+Camera RgbdCamera::color_camera() const { return Camera{name + " color", color, camera_from_site}; }
 
 Camera RgbdCamera::depth_camera() const { return Camera{name + " depth", depth, camera_from_site}; }
 
 std::string RgbdCamera::why_unseen(const Eigen::Vector3d& site_point) const {
   const Eigen::Vector3d in_camera = camera_from_site * site_point;
   if (!(in_camera.z() > 0)) return "it is behind the camera";
-  const auto colour_pixel = colour_camera().project(site_point);
-  if (!colour_pixel || !inside_image(*colour_pixel, colour)) return "it is outside the colour image";
+  const auto color_pixel = color_camera().project(site_point);
+  if (!color_pixel || !inside_image(*color_pixel, color)) return "it is outside the color image";
   const auto depth_pixel = depth_camera().project(site_point);
   if (!depth_pixel || !inside_image(*depth_pixel, depth)) return "it is outside the depth image";
   // The Azure Kinect's depth is the z coordinate, not the distance along the ray.
@@ -140,7 +140,7 @@ const RgbdCamera* SiteDescription::find_camera(std::string_view camera_name) con
 nlohmann::json site_to_json(const SiteDescription& site) {
   nlohmann::json cameras = nlohmann::json::array();
   for (const RgbdCamera& camera : site.cameras) {
-    nlohmann::json entry = camera_to_json(camera.colour_camera());
+    nlohmann::json entry = camera_to_json(camera.color_camera());
     entry["name"] = camera.name;
     entry["depth"] = depth_to_json(camera);
     cameras.push_back(entry);

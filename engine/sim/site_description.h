@@ -19,23 +19,23 @@
 
 namespace rt::sim {
 
-// One Azure-Kinect-like RGBD camera. Colour and depth share one pose in our model: the real
-// device's depth camera sits a few centimetres from its colour camera with its own extrinsic;
+// One Azure-Kinect-like RGBD camera. Color and depth share one pose in our model: the real
+// device's depth camera sits a few centimetres from its color camera with its own extrinsic;
 // the simulator renders both from the same centre so that the lead's renderer needs one view
 // matrix per camera, and calibration code sees the ideal, registered case.
 struct RgbdCamera {
   std::string name;
   Eigen::Isometry3d camera_from_site = Eigen::Isometry3d::Identity();  // OpenCV axes: x right, y down, z forward
-  CameraIntrinsics colour;
+  CameraIntrinsics color;
   CameraIntrinsics depth;
   double depth_min_m = 0.25;  // WFOV 2x2-binned operating range
   double depth_max_m = 2.88;
 
-  Camera colour_camera() const;
+  Camera color_camera() const;
   Camera depth_camera() const;
-  // Inside both image rectangles and the depth range: the point gets a colour and a depth sample.
+  // Inside both image rectangles and the depth range: the point gets a color and a depth sample.
   bool sees(const Eigen::Vector3d& site_point) const;
-  // Empty when `sees`, else why not ("outside the colour image", "beyond the depth range", ...).
+  // Empty when `sees`, else why not ("outside the color image", "beyond the depth range", ...).
   std::string why_unseen(const Eigen::Vector3d& site_point) const;
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Finds a viewer's two eyes in one colour image with OpenCV's Haar cascades (Debian package
+// Finds a viewer's two eyes in one color image with OpenCV's Haar cascades (Debian package
 // opencv-data): a frontal face first (the largest whose eyes are found: the seated viewer is the
 // nearest person), then one eye in each half of its upper part.
 // Which eye is the viewer's right depends on how the camera is mounted, so that is decided with

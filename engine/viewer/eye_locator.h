@@ -12,7 +12,7 @@
 
 namespace rt {
 
-// `images[i]` is camera i's colour image, distorted as the camera delivers it. A wrong count of
+// `images[i]` is camera i's color image, distorted as the camera delivers it. A wrong count of
 // images is a programming error and throws std::invalid_argument.
 EyePair locate_viewer_eyes(EyeDetector& detector, std::span<const Camera> cameras, std::span<const cv::Mat> images,
                            const EyePairLimits& limits = {});

@@ -1,5 +1,5 @@
 #pragma once
-// A simulated camera stand and a photograph on a plane seen through it: colour images with known
+// A simulated camera stand and a photograph on a plane seen through it: color images with known
 // 3D content for the eye detector, where real cameras are absent (tests, the simulator).
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -20,7 +20,7 @@ Camera camera_looking_at(const std::string& name, const CameraIntrinsics& intrin
                          const Eigen::Vector3d& target);
 
 struct CameraStandOptions {
-  // 640x360 with a 90 x 59 degree field of view: the Azure Kinect's 16:9 colour mode, scaled down.
+  // 640x360 with a 90 x 59 degree field of view: the Azure Kinect's 16:9 color mode, scaled down.
   CameraIntrinsics intrinsics{640, 360, 320.0, 320.0, 319.5, 179.5, {}};
   Screen screen;
   sim::CameraStandGeometry stand;          // the default site's stand

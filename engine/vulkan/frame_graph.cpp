@@ -213,7 +213,7 @@ void FrameGraph::add_graphics_pass(GraphicsPassDecl decl) {
 
   const GraphicsTargets& targets = kernel.targets();
   if (decl.color.size() != targets.color.size())
-    throw fail("kernel '" + kernel.name() + "' draws " + std::to_string(targets.color.size()) + " colour targets, given " +
+    throw fail("kernel '" + kernel.name() + "' draws " + std::to_string(targets.color.size()) + " color targets, given " +
                std::to_string(decl.color.size()));
   if (targets.depth != (decl.depth != nullptr))
     throw fail(targets.depth ? "the kernel needs a depth target" : "the kernel has no depth target");
@@ -222,9 +222,9 @@ void FrameGraph::add_graphics_pass(GraphicsPassDecl decl) {
   const VkExtent2D extent{first->width(), first->height()};
   for (size_t i = 0; i < decl.color.size(); ++i) {
     const Image* image = decl.color[i].image;
-    if (!image) throw fail("colour target " + std::to_string(i) + " is null");
+    if (!image) throw fail("color target " + std::to_string(i) + " is null");
     if (image->pixel_format() != targets.color[i])
-      throw fail("colour target " + std::to_string(i) + " '" + image->name() + "' is " + format_name(image->pixel_format()) +
+      throw fail("color target " + std::to_string(i) + " '" + image->name() + "' is " + format_name(image->pixel_format()) +
                  ", the kernel draws " + format_name(targets.color[i]));
     uses.push_back({decl.color[i].image, access::color_attachment_write});
   }

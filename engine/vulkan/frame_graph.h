@@ -61,7 +61,7 @@ struct ColorTarget {
 };
 
 // A draw: the kernel's vertex shader pulls vertex_count() vertices from its storage buffers.
-// Colour targets in the order of the fragment shader's outputs; depth is D32F, cleared to 1.
+// Color targets in the order of the fragment shader's outputs; depth is D32F, cleared to 1.
 struct GraphicsPassDecl {
   std::string name{};
   const GraphicsKernel* kernel = nullptr;

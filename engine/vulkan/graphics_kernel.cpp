@@ -18,7 +18,7 @@ GraphicsKernel::GraphicsKernel(Context& context, std::string name, std::span<con
   if (stages[0].stage != VK_SHADER_STAGE_VERTEX_BIT || stages[1].stage != VK_SHADER_STAGE_FRAGMENT_BIT)
     throw std::invalid_argument("graphics kernel '" + name + "' needs a vertex and a fragment shader, in that order");
   for (PixelFormat format : targets.color)
-    if (format == PixelFormat::D32F) throw std::invalid_argument("graphics kernel '" + name + "': d32f is not a colour format");
+    if (format == PixelFormat::D32F) throw std::invalid_argument("graphics kernel '" + name + "': d32f is not a color format");
   interface_ = merge_interfaces(name, stages);
   interface_.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
   layout_ = make_pipeline_layout(context, interface_);

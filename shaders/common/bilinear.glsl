@@ -1,4 +1,4 @@
-// Bilinear colour from an 8-bit storage image with explicit loads, not a sampler: samplers may
+// Bilinear color from an 8-bit storage image with explicit loads, not a sampler: samplers may
 // quantise the weights (8 sub-texel bits are allowed), the C++ reference does not.
 #ifndef REMOTETOUCH_BILINEAR_GLSL
 #define REMOTETOUCH_BILINEAR_GLSL

@@ -137,11 +137,11 @@ struct IbrLens {
   RT_VEC4 tangential;  // p1, p2, width, height (pixels)
 };
 
-// One RGBD camera. Colour and depth share one pose (as the simulator's registered cameras do).
+// One RGBD camera. Color and depth share one pose (as the simulator's registered cameras do).
 struct IbrCamera {
   RT_MAT4 camera_from_site;
   RT_MAT4 site_from_camera;
-  IbrLens colour;
+  IbrLens color;
   IbrLens depth;
 };
 

@@ -14,7 +14,7 @@ if grep -Eq '"(psnr_fg_db|psnr_hand_db|depth_mae_edge_mm|alpha_iou)": null' "$ou
   echo "a metric is null" >&2
   exit 1
 fi
-for f in 0000_truth.png 0000_min_portrait.png 0000_avg_portrait.png 0001_min_colour_error_x4.png \
+for f in 0000_truth.png 0000_min_portrait.png 0000_avg_portrait.png 0001_min_color_error_x4.png \
          0001_avg_depth_error_per_50mm.png; do
   [ -s "$out/images/$f" ] || { echo "missing $out/images/$f" >&2; exit 1; }
 done

@@ -21,7 +21,7 @@ CameraIntrinsics intrinsics(uint32_t w, uint32_t h, double horizontal_fov_deg, b
 
 }  // namespace
 
-IbrRig ibr_rig(uint32_t views, uint32_t colour_w, uint32_t colour_h, uint32_t depth_w, uint32_t depth_h,
+IbrRig ibr_rig(uint32_t views, uint32_t color_w, uint32_t color_h, uint32_t depth_w, uint32_t depth_h,
                uint32_t target_w, uint32_t target_h, bool distortion) {
   // Around the screen's edges, as the site's stand, looking at the user's chest.
   const Eigen::Vector3d mounts[RT_IBR_MAX_VIEWS] = {{-0.72, 0.40, 0.05}, {0.0, 0.40, 0.05}, {0.72, 0.40, 0.05},
@@ -30,10 +30,10 @@ IbrRig ibr_rig(uint32_t views, uint32_t colour_w, uint32_t colour_h, uint32_t de
   IbrRig rig;
   for (uint32_t v = 0; v < views; ++v) {
     passes::IbrCameraModel camera;
-    camera.colour.name = "camera " + std::to_string(v);
-    camera.colour.intrinsics = intrinsics(colour_w, colour_h, 90.0, distortion);
-    camera.colour.camera_from_site = sim::camera_from_site_looking_at(mounts[v % RT_IBR_MAX_VIEWS], chest);
-    camera.depth = camera.colour;
+    camera.color.name = "camera " + std::to_string(v);
+    camera.color.intrinsics = intrinsics(color_w, color_h, 90.0, distortion);
+    camera.color.camera_from_site = sim::camera_from_site_looking_at(mounts[v % RT_IBR_MAX_VIEWS], chest);
+    camera.depth = camera.color;
     camera.depth.intrinsics = intrinsics(depth_w, depth_h, 100.0, distortion);
     rig.cameras.push_back(camera);
   }

@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "passes/ibr_scene.h"
+#include "passes/common/ibr_scene.h"
 
 namespace rt::test {
 
@@ -15,8 +15,8 @@ struct IbrRig {
   passes::IbrSceneTable table;
 };
 
-// `views` cameras with colour and depth images of the given sizes; target of the given size.
-IbrRig ibr_rig(uint32_t views, uint32_t colour_w, uint32_t colour_h, uint32_t depth_w, uint32_t depth_h,
+// `views` cameras with color and depth images of the given sizes; target of the given size.
+IbrRig ibr_rig(uint32_t views, uint32_t color_w, uint32_t color_h, uint32_t depth_w, uint32_t depth_h,
                uint32_t target_w, uint32_t target_h, bool distortion = true);
 
 // R16U atlas: each view sees a surface about 0.5-0.9 m away; `hole_fraction` of pixels are 0.

@@ -15,9 +15,9 @@
 
 namespace rt::passes {
 
-// One RGBD camera: colour and depth images with one pose (camera_from_site of `colour`).
+// One RGBD camera: color and depth images with one pose (camera_from_site of `color`).
 struct IbrCameraModel {
-  Camera colour;
+  Camera color;
   Camera depth;
 };
 
@@ -28,7 +28,7 @@ struct IbrSceneTable {
 };
 
 // Throws (std::invalid_argument) when there are no cameras or more than RT_IBR_MAX_VIEWS, the
-// cameras' colour or depth images differ in size, or colour and depth poses differ.
+// cameras' color or depth images differ in size, or color and depth poses differ.
 IbrSceneTable make_scene_table(const Camera& target, std::span<const IbrCameraModel> cameras);
 
 class IbrSceneBuffer {

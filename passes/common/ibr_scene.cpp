@@ -1,4 +1,4 @@
-#include "passes/ibr_scene.h"
+#include "passes/common/ibr_scene.h"
 
 #include <opencv2/calib3d.hpp>
 
@@ -41,15 +41,15 @@ IbrSceneTable make_scene_table(const Camera& target, std::span<const IbrCameraMo
   table.target.size = {float(t.width), float(t.height), 0.0f, 0.0f};
   for (size_t i = 0; i < cameras.size(); ++i) {
     const IbrCameraModel& camera = cameras[i];
-    const std::string who = "image-based model: camera '" + camera.colour.name + "'";
-    if (!same_size(camera.colour.intrinsics, cameras[0].colour.intrinsics) ||
+    const std::string who = "image-based model: camera '" + camera.color.name + "'";
+    if (!same_size(camera.color.intrinsics, cameras[0].color.intrinsics) ||
         !same_size(camera.depth.intrinsics, cameras[0].depth.intrinsics))
-      throw std::invalid_argument(who + ": every camera's colour images, and every depth image, must have one size");
-    if (!camera.colour.camera_from_site.isApprox(camera.depth.camera_from_site, 1e-9))
-      throw std::invalid_argument(who + ": colour and depth must share one pose");
-    table.cameras[i] = {.camera_from_site = column_major(camera.colour.camera_from_site.matrix()),
-                        .site_from_camera = column_major(camera.colour.camera_from_site.inverse().matrix()),
-                        .colour = lens_of(camera.colour.intrinsics),
+      throw std::invalid_argument(who + ": every camera's color images, and every depth image, must have one size");
+    if (!camera.color.camera_from_site.isApprox(camera.depth.camera_from_site, 1e-9))
+      throw std::invalid_argument(who + ": color and depth must share one pose");
+    table.cameras[i] = {.camera_from_site = column_major(camera.color.camera_from_site.matrix()),
+                        .site_from_camera = column_major(camera.color.camera_from_site.inverse().matrix()),
+                        .color = lens_of(camera.color.intrinsics),
                         .depth = lens_of(camera.depth.intrinsics)};
   }
   table.camera_count = uint32_t(cameras.size());
