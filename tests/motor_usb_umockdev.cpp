@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "app/site_motor.h"
+#include "site/site_motor.h"
 #include "motor/emulated_uno.h"
 #include "motor/usb_motor.h"
 #include "motor/usb_probe.h"
@@ -287,9 +287,9 @@ TEST_CASE("motor usb: the probe finds the board without opening it; a site's aut
   auto probe = rt::motor::find_usb_boards(0x2341, 0x0043);
   REQUIRE(std::holds_alternative<std::vector<rt::motor::UsbBoard>>(probe));
   CHECK(std::get<std::vector<rt::motor::UsbBoard>>(probe).empty());
-  CHECK_THROWS_WITH(rt::app::open_site_motor(rt::app::MotorMode::Usb, {}),
+  CHECK_THROWS_WITH(rt::site::open_site_motor(rt::site::MotorMode::Usb, {}),
                     "--motor usb: no Arduino Uno 2341:0043 found on USB; plug in the motor's board or use --motor simulated");
-  CHECK(rt::app::open_site_motor(rt::app::MotorMode::Auto, {}).description == "simulated: no Arduino Uno 2341:0043 found");
+  CHECK(rt::site::open_site_motor(rt::site::MotorMode::Auto, {}).description == "simulated: no Arduino Uno 2341:0043 found");
 
   uno.plug();
   probe = rt::motor::find_usb_boards(0x2341, 0x0043);
@@ -302,7 +302,7 @@ TEST_CASE("motor usb: the probe finds the board without opening it; a site's aut
   CHECK(std::get<std::vector<rt::motor::UsbBoard>>(rt::motor::find_usb_boards(0x2341, 0x0001)).empty());
 
   std::vector<std::string> log;
-  rt::app::SiteMotor site = rt::app::open_site_motor(rt::app::MotorMode::Auto, [&](const std::string& line) { log.push_back(line); });
+  rt::site::SiteMotor site = rt::site::open_site_motor(rt::site::MotorMode::Auto, [&](const std::string& line) { log.push_back(line); });
   INFO(site.description);
   CHECK(site.description.rfind("usb (bus 1 port 1", 0) == 0);
   CHECK(site.description.find("firmware 'remotetouch-motor 1'") != std::string::npos);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "app/hand_renderer.h"
+#include "pipeline/hand_renderer.h"
 #include "geometry/target_view.h"
 #include "sim/hand_model.h"
 #include "support/gpu_test.h"
@@ -48,7 +48,7 @@ TEST_CASE("HandRenderer draws nothing before a pose and holds the last pose for 
   test::NoValidationErrors no_errors;
   vk::Context& context = test::gpu();
   const Camera camera = target_view_camera(Eigen::Vector3d(0, 0.02, -0.7), Screen{}, 121, 67);
-  app::HandRenderer renderer(context, kTemplates, 121, 67);
+  pipeline::HandRenderer renderer(context, kTemplates, 121, 67);
   vk::FrameGraph graph(context, "test hand renderer");
   renderer.add_to(graph);
   graph.run();
@@ -79,7 +79,7 @@ TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the por
   vk::Context& context = test::gpu();
   const uint32_t w = 160, h = 90;
   const Camera camera = target_view_camera(Eigen::Vector3d(0, 0.02, -0.7), Screen{}, w, h);
-  app::HandRenderer renderer(context, kTemplates, w, h);
+  pipeline::HandRenderer renderer(context, kTemplates, w, h);
   vk::FrameGraph graph(context, "test hand appearance");
   renderer.add_to(graph);
   vk::Image portrait_color(context, {"portrait color", w, h, PixelFormat::RGBA32F});

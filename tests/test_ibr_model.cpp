@@ -2,8 +2,8 @@
 // the simulator's ground truth of the same target view, min and average fusion both run, one
 // view is enough to render, camera selection follows the paper, and bad input says what is
 // wrong. Thresholds are loose on purpose: eval ibr measures quality; this catches breakage.
-#include "app/ibr_renderer.h"
-#include "app/site_simulator.h"
+#include "pipeline/ibr_renderer.h"
+#include "pipeline/site_simulator.h"
 #include "geometry/target_view.h"
 #include "ibr/camera_selection.h"
 #include "ibr/portrait_metrics.h"
@@ -17,7 +17,7 @@ namespace {
 
 struct Simulated {
   sim::Scene scene;
-  std::unique_ptr<app::SiteSimulator> simulator;
+  std::unique_ptr<pipeline::SiteSimulator> simulator;
   sim::RgbdFrame frame;
   std::vector<passes::IbrCameraModel> cameras;
   std::vector<Eigen::Vector3d> positions;
@@ -28,7 +28,7 @@ Simulated simulate(uint32_t width, uint32_t height) {
   s.scene = sim::load_scene(std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes" / "wave.json");
   s.scene.frame_count = 1;
   s.scene.resolution_scale = 0.25;
-  s.simulator = std::make_unique<app::SiteSimulator>(test::gpu(), s.scene, Site::A, width, height);
+  s.simulator = std::make_unique<pipeline::SiteSimulator>(test::gpu(), s.scene, Site::A, width, height);
   s.frame = *s.simulator->next_frame();
   for (size_t k = 0; k < s.simulator->renderer().camera_count(); ++k) {
     s.cameras.push_back({s.simulator->renderer().camera(k).color, s.simulator->renderer().camera(k).depth});
@@ -62,14 +62,14 @@ TEST_CASE("the image-based model renders a simulated frame close to ground truth
   const Camera target = *s.simulator->renderer().target_view();
   const auto selection = ibr::select_cameras(s.positions, ibr::TouchingHand::Right, 4);
   for (auto fusion : {passes::DepthFusion::Min, passes::DepthFusion::Average}) {
-    app::IbrSettings settings;
+    pipeline::IbrSettings settings;
     settings.width = w;
     settings.height = h;
     settings.fusion = fusion;
     // The optional passes run in the chain too: carving with both fusions, the sweep with the average.
     settings.carve = true;
     settings.refine = fusion == passes::DepthFusion::Average;
-    app::IbrRenderer renderer(test::gpu(), s.cameras, settings);
+    pipeline::IbrRenderer renderer(test::gpu(), s.cameras, settings);
     renderer.render(s.frame.cameras, selection, target);
     const HostImage portrait = vk::download(test::gpu(), renderer.portrait());
     const HostImage depth = vk::download(test::gpu(), renderer.portrait_depth());
@@ -90,11 +90,11 @@ TEST_CASE("the image-based model with a single view, and its refusals", "[ibr_mo
   test::NoValidationErrors no_errors;
   Simulated s = simulate(33, 19);
   const Camera target = *s.simulator->renderer().target_view();
-  app::IbrSettings one;
+  pipeline::IbrSettings one;
   one.width = 33;
   one.height = 19;
   one.views = 1;
-  app::IbrRenderer renderer(test::gpu(), s.cameras, one);
+  pipeline::IbrRenderer renderer(test::gpu(), s.cameras, one);
   const std::vector<size_t> centre{1};
   renderer.render(s.frame.cameras, centre, target);
   const HostImage portrait = vk::download(test::gpu(), renderer.portrait());
@@ -108,9 +108,9 @@ TEST_CASE("the image-based model with a single view, and its refusals", "[ibr_mo
   REQUIRE_THROWS_WITH(renderer.render(std::span(s.frame.cameras).first(2), centre, target), Catch::Contains("2 images for 6"));
   const Camera other_size = target_view_camera(Eigen::Vector3d(0, 0.1, -0.7), Screen{}, 34, 19);
   REQUIRE_THROWS_WITH(renderer.render(s.frame.cameras, centre, other_size), Catch::Contains("is not 33x19"));
-  app::IbrSettings seven = one;
+  pipeline::IbrSettings seven = one;
   seven.views = 7;
-  REQUIRE_THROWS_WITH(app::IbrRenderer(test::gpu(), s.cameras, seven), Catch::Contains("views must be 1..6"));
+  REQUIRE_THROWS_WITH(pipeline::IbrRenderer(test::gpu(), s.cameras, seven), Catch::Contains("views must be 1..6"));
   // The remote eye on or behind the screen plane has no target view.
   for (double z : {0.0, 0.3})
     REQUIRE_THROWS_WITH(target_view_camera(Eigen::Vector3d(0, 0.1, z), Screen{}, 33, 19),

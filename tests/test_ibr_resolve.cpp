@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "app/ibr_renderer.h"
-#include "app/site_simulator.h"
+#include "pipeline/ibr_renderer.h"
+#include "pipeline/site_simulator.h"
 #include "passes/ibr_resolve.h"
 #include "sim/scene.h"
 #include "support/gpu_test.h"
@@ -117,16 +117,16 @@ TEST_CASE("the image-based model with a supersampled portrait: partial alpha on 
   sim::Scene scene = sim::load_scene(std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes" / "wave.json");
   scene.frame_count = 1;
   scene.resolution_scale = 0.25;
-  app::SiteSimulator simulator(test::gpu(), scene, Site::A, 47, 27);
+  pipeline::SiteSimulator simulator(test::gpu(), scene, Site::A, 47, 27);
   const sim::RgbdFrame frame = *simulator.next_frame();
   std::vector<passes::IbrCameraModel> cameras;
   for (size_t k = 0; k < simulator.renderer().camera_count(); ++k)
     cameras.push_back({simulator.renderer().camera(k).color, simulator.renderer().camera(k).depth});
-  app::IbrSettings settings;
+  pipeline::IbrSettings settings;
   settings.width = 47;
   settings.height = 27;
   settings.supersample = 3;
-  app::IbrRenderer renderer(test::gpu(), cameras, settings);
+  pipeline::IbrRenderer renderer(test::gpu(), cameras, settings);
   const std::vector<size_t> selection{0, 1, 3, 4};
   renderer.render(frame.cameras, selection, *simulator.renderer().target_view());
   const HostImage portrait = vk::download(test::gpu(), renderer.portrait());
@@ -142,7 +142,7 @@ TEST_CASE("the image-based model with a supersampled portrait: partial alpha on 
     }
   CHECK(full > 20);
   CHECK(partial > 5);
-  app::IbrSettings too_fine = settings;
+  pipeline::IbrSettings too_fine = settings;
   too_fine.supersample = 5;
-  REQUIRE_THROWS_WITH(app::IbrRenderer(test::gpu(), cameras, too_fine), Catch::Contains("supersample must be 1..4"));
+  REQUIRE_THROWS_WITH(pipeline::IbrRenderer(test::gpu(), cameras, too_fine), Catch::Contains("supersample must be 1..4"));
 }

@@ -3,7 +3,7 @@
 // that sits on the tracker's joints, and recordings that replay exactly.
 #include <filesystem>
 
-#include "app/site_simulator.h"
+#include "pipeline/site_simulator.h"
 #include "sim/default_site.h"
 #include "sim/motion.h"
 #include "sim/person_mesh.h"
@@ -28,9 +28,9 @@ sim::PersonPose pose_with_palm_at(const sim::SiteDescription& site, double z) {
 
 int cameras_seeing_palm(double z) {
   const sim::SiteDescription site = sim::make_default_site();
-  std::vector<app::RgbdCameraSpec> specs;
-  for (const auto& camera : site.cameras) specs.push_back(app::camera_spec(camera, {}, kScale));
-  app::RgbdRenderer renderer(test::gpu(), specs);
+  std::vector<pipeline::RgbdCameraSpec> specs;
+  for (const auto& camera : site.cameras) specs.push_back(pipeline::camera_spec(camera, {}, kScale));
+  pipeline::RgbdRenderer renderer(test::gpu(), specs);
   const sim::PersonPose pose = pose_with_palm_at(site, z);
   renderer.render(sim::person_mesh(pose, {}), 1);
   int seeing = 0;
@@ -70,9 +70,9 @@ TEST_CASE("the palm is seen by at least four cameras at 0.5 m and by none on the
 TEST_CASE("with effects off the depth images are the ground truth in millimetres", "[simulated_site][gpu]") {
   test::NoValidationErrors no_errors;
   const sim::SiteDescription site = sim::make_default_site();
-  std::vector<app::RgbdCameraSpec> specs;
-  for (const auto& camera : site.cameras) specs.push_back(app::camera_spec(camera, {}, 0.1));
-  app::RgbdRenderer renderer(test::gpu(), specs);
+  std::vector<pipeline::RgbdCameraSpec> specs;
+  for (const auto& camera : site.cameras) specs.push_back(pipeline::camera_spec(camera, {}, 0.1));
+  pipeline::RgbdRenderer renderer(test::gpu(), specs);
   renderer.render(sim::person_mesh(pose_with_palm_at(site, 0.4), {}), 3);
   size_t valid = 0;
   for (size_t k = 0; k < specs.size(); ++k) {
@@ -92,7 +92,7 @@ TEST_CASE("with effects off the depth images are the ground truth in millimetres
 TEST_CASE("a site with lens distortion is refused, not rendered as a pinhole", "[simulated_site]") {
   sim::SiteDescription site = sim::make_default_site();
   site.cameras[2].depth.distortion.k1 = 0.1;
-  CHECK_THROWS_WITH(app::camera_spec(site.cameras[2], {}, 1.0), Catch::Contains(site.cameras[2].name) &&
+  CHECK_THROWS_WITH(pipeline::camera_spec(site.cameras[2], {}, 1.0), Catch::Contains(site.cameras[2].name) &&
                                                                   Catch::Contains("distortion is not simulated"));
 }
 
@@ -125,7 +125,7 @@ TEST_CASE("a recorded simulation replays exactly", "[simulated_site][gpu]") {
   scene.resolution_scale = 0.05;
   const auto dir = std::filesystem::temp_directory_path() / ("remotetouch-test-simulated-" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
-  app::SiteSimulator simulator(test::gpu(), scene, Site::A);
+  pipeline::SiteSimulator simulator(test::gpu(), scene, Site::A);
   std::vector<sim::RgbdFrame> frames;
   {
     sim::RecordingWriter writer(dir, sim::site_to_json(scene.at(Site::A).site));

@@ -11,13 +11,12 @@
 #include <mutex>
 #include <thread>
 
-#include "app/simulate.h"
-#include "app/site_display.h"
-#include "app/site_eye.h"
-#include "app/site_inputs.h"
-#include "app/site_motor.h"
-#include "app/site_runner.h"
-#include "app/site_simulator.h"
+#include "site/site_display.h"
+#include "site/site_eye.h"
+#include "site/site_inputs.h"
+#include "site/site_motor.h"
+#include "site/site_run.h"
+#include "pipeline/site_simulator.h"
 #include "config/json_fields.h"
 #include "image/image_io.h"
 #include "sim/default_site.h"
@@ -112,7 +111,7 @@ std::filesystem::path write_recording(const std::string& name, int frames = 3) {
 }  // namespace
 
 TEST_CASE("replay pacing: the newest recorded frame whose time has come, stale ones skipped", "[site_inputs]") {
-  const app::ReplayPacing pacing({5'000'000, 5'033'000, 5'066'000, 5'200'000});
+  const site::ReplayPacing pacing({5'000'000, 5'033'000, 5'066'000, 5'200'000});
   CHECK_FALSE(pacing.due_at(-0.001));
   CHECK(pacing.due_at(0.0) == 0u);
   CHECK(pacing.due_at(0.0329) == 0u);
@@ -122,15 +121,15 @@ TEST_CASE("replay pacing: the newest recorded frame whose time has come, stale o
   CHECK(pacing.time_s(3) == Approx(0.2));
   CHECK(pacing.fps(30.0) == Approx(3 / 0.2));
   CHECK(pacing.duration_s(30.0) == Approx(0.2 + 0.2 / 3));
-  CHECK(app::ReplayPacing({7}).fps(25.0) == 25.0);
-  CHECK_THROWS_WITH(app::ReplayPacing({10, 20, 15}), Contains("frame 2") && Contains("before the previous"));
-  CHECK_THROWS_AS(app::ReplayPacing({}), std::invalid_argument);
+  CHECK(site::ReplayPacing({7}).fps(25.0) == 25.0);
+  CHECK_THROWS_WITH(site::ReplayPacing({10, 20, 15}), Contains("frame 2") && Contains("before the previous"));
+  CHECK_THROWS_AS(site::ReplayPacing({}), std::invalid_argument);
 }
 
 TEST_CASE("paced tracker: frames on the scene clock, in the site frame, the last one standing", "[site_inputs]") {
   sim::TrackerPlacement placement;
   placement.site_from_tracker.translation() = Eigen::Vector3d(0.0, -0.2, 0.1);
-  app::PacedHandTracker tracker(
+  site::PacedHandTracker tracker(
       std::make_unique<ListTracker>(std::vector{tracker_frame(990'000, 100), tracker_frame(1'010'000, 200),
                                                 tracker_frame(1'030'000, 300)}),
       placement, 1'000'000);
@@ -147,23 +146,23 @@ TEST_CASE("paced tracker: frames on the scene clock, in the site frame, the last
   CHECK(hands->time_s == Approx(0.03));
   CHECK(tracker.at(20.0)->hands[0].palm.y() == Approx(0.1));
 
-  app::PacedHandTracker late(std::make_unique<ListTracker>(std::vector{tracker_frame(50'000, 100)}), placement, 0);
+  site::PacedHandTracker late(std::make_unique<ListTracker>(std::vector{tracker_frame(50'000, 100)}), placement, 0);
   CHECK_FALSE(late.at(0.049));
   CHECK(late.at(0.05));
 }
 
 TEST_CASE("camera choice: the tracked hand nearest the glass, whichever hands are tracked", "[site_inputs]") {
   using ibr::TouchingHand;
-  CHECK(app::touching_side({hand_at(false, 0.3), hand_at(true, 0.1)}) == TouchingHand::Left);
-  CHECK(app::touching_side({hand_at(false, 0.1), hand_at(true, 0.3)}) == TouchingHand::Right);
-  CHECK(app::touching_side({hand_at(true, 0.4)}) == TouchingHand::Left);  // the right hand is not tracked
-  CHECK(app::touching_side({hand_at(false, 0.4)}) == TouchingHand::Right);
-  CHECK(app::touching_side({}) == TouchingHand::Right);
+  CHECK(site::touching_side({hand_at(false, 0.3), hand_at(true, 0.1)}) == TouchingHand::Left);
+  CHECK(site::touching_side({hand_at(false, 0.1), hand_at(true, 0.3)}) == TouchingHand::Right);
+  CHECK(site::touching_side({hand_at(true, 0.4)}) == TouchingHand::Left);  // the right hand is not tracked
+  CHECK(site::touching_side({hand_at(false, 0.4)}) == TouchingHand::Right);
+  CHECK(site::touching_side({}) == TouchingHand::Right);
   HandSkeleton lost = hand_at(true, 0.1);
   lost.palm.z() = NAN;
-  CHECK(app::touching_side({hand_at(false, 0.5), lost}) == TouchingHand::Right);
+  CHECK(site::touching_side({hand_at(false, 0.5), lost}) == TouchingHand::Right);
 
-  app::TrackedHandsHistory history;
+  site::TrackedHandsHistory history;
   CHECK_FALSE(history.closest(1.0));
   history.add(1.00, {hand_at(false, 0.1)});
   history.add(1.02, {hand_at(true, 0.1)});
@@ -174,25 +173,25 @@ TEST_CASE("camera choice: the tracked hand nearest the glass, whichever hands ar
 }
 
 TEST_CASE("eye search: the cameras' eye once enough frames agree", "[site_inputs][eye]") {
-  app::EyeSearch search;
+  site::EyeSearch search;
   const Eigen::Vector3d seat(0, 0.1, 0.7), truth(0.01, 0.12, 0.68);
   for (int i = 0; i < 14; ++i) CHECK(search.add(uint64_t(i), eyes_at(truth + Eigen::Vector3d(0, 0, 0.001 * (i % 3)))) ==
-                                     app::EyeSearch::State::Searching);
+                                     site::EyeSearch::State::Searching);
   CHECK(search.eye_or(seat) == seat);  // the seat stands in until found
   CHECK_THAT(search.source(), Catch::StartsWith("seat (searching"));
-  CHECK(search.add(14, eyes_at(truth)) == app::EyeSearch::State::Found);
+  CHECK(search.add(14, eyes_at(truth)) == site::EyeSearch::State::Found);
   CHECK((search.eye_or(seat) - truth).norm() < 0.002);
   CHECK_THAT(search.source(), Catch::StartsWith("cameras (15 frames, spread"));
   // Decided once: later frames change nothing.
-  CHECK(search.add(15, no_face()) == app::EyeSearch::State::Found);
+  CHECK(search.add(15, no_face()) == site::EyeSearch::State::Found);
 }
 
 TEST_CASE("eye search: no face in the bounded number of frames falls back to the seat, saying why", "[site_inputs][eye]") {
-  app::EyeSearchOptions options;
+  site::EyeSearchOptions options;
   options.max_frames = 20;
-  app::EyeSearch search(options);
-  for (int i = 0; i < 19; ++i) CHECK(search.add(uint64_t(i), no_face()) == app::EyeSearch::State::Searching);
-  CHECK(search.add(19, no_face()) == app::EyeSearch::State::GaveUp);
+  site::EyeSearch search(options);
+  for (int i = 0; i < 19; ++i) CHECK(search.add(uint64_t(i), no_face()) == site::EyeSearch::State::Searching);
+  CHECK(search.add(19, no_face()) == site::EyeSearch::State::GaveUp);
   const Eigen::Vector3d seat(0, 0.1, 0.7);
   CHECK(search.eye_or(seat) == seat);
   CHECK(search.source() ==
@@ -200,16 +199,16 @@ TEST_CASE("eye search: no face in the bounded number of frames falls back to the
         "frontal face in the image)");
 
   // Eyes seen, but they do not agree (a moving viewer, wrong detections): the seat too.
-  app::EyeSearch wobbly(options);
+  site::EyeSearch wobbly(options);
   for (int i = 0; i < 20; ++i) wobbly.add(uint64_t(i), eyes_at(Eigen::Vector3d(0.1 * (i % 4), 0.1, 0.7)));
-  CHECK(wobbly.state() == app::EyeSearch::State::GaveUp);
+  CHECK(wobbly.state() == site::EyeSearch::State::GaveUp);
   CHECK_THAT(wobbly.source(), Catch::StartsWith("seat (no steady viewpoint in 20 frames: "));
 
-  app::EyeSearch no_detector;
+  site::EyeSearch no_detector;
   no_detector.give_up("the eye detector cannot start: cascade missing");
   CHECK(no_detector.source() == "seat (the eye detector cannot start: cascade missing)");
   options.max_frames = 3;
-  CHECK_THROWS_WITH(app::EyeSearch(options), Contains("max_frames"));
+  CHECK_THROWS_WITH(site::EyeSearch(options), Contains("max_frames"));
 }
 
 TEST_CASE("eye finder: a thread over offered frames, deciding once", "[site_inputs][eye]") {
@@ -224,11 +223,11 @@ TEST_CASE("eye finder: a thread over offered frames, deciding once", "[site_inpu
   std::vector<sim::RgbdImage> images(cameras.size());
   for (size_t k = 0; k < cameras.size(); ++k)
     images[k].color = HostImage(cameras[k].intrinsics.width, cameras[k].intrinsics.height, PixelFormat::RGBA8, 0.4f);
-  app::EyeSearchOptions options;
+  site::EyeSearchOptions options;
   options.max_frames = options.viewpoint.frames_needed;
   std::vector<std::string> decided;
   std::mutex decided_mutex;
-  app::ViewerEyeFinder finder(cameras, site.seat.head_centre_m, options, [&](const std::string& source) {
+  site::ViewerEyeFinder finder(cameras, site.seat.head_centre_m, options, [&](const std::string& source) {
     std::lock_guard lock(decided_mutex);
     decided.push_back(source);
   });
@@ -247,8 +246,8 @@ TEST_CASE("eye finder: a thread over offered frames, deciding once", "[site_inpu
 TEST_CASE("the simulated scene's users have no face: the detector finds none, the seat stands", "[site_inputs][eye][gpu]") {
   test::NoValidationErrors no_errors;
   // Clap at its own resolution scale (0.5: 640x360 color), where a face would be ~60 px wide.
-  const sim::Scene scene = sim::load_scene(app::resolve_scene("clap"));
-  app::SiteSimulator simulator(test::gpu(), scene, Site::A);
+  const sim::Scene scene = sim::load_scene(sim::resolve_scene("clap"));
+  pipeline::SiteSimulator simulator(test::gpu(), scene, Site::A);
   const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
   REQUIRE(frame);
   std::vector<Camera> cameras;
@@ -270,42 +269,42 @@ TEST_CASE("the simulated scene's users have no face: the detector finds none, th
 }
 
 TEST_CASE("motor choice: the board when attached, else the simulated motor, saying which", "[site_inputs][motor]") {
-  using app::MotorMode;
+  using site::MotorMode;
   const std::vector<motor::UsbBoard> none;
   const std::vector<motor::UsbBoard> one = {{1, 4, "1-2"}};
   const std::vector<motor::UsbBoard> two = {{1, 4, "1-2"}, {3, 7, "3-1.4"}};
 
-  auto decision = app::decide_motor(MotorMode::Auto, none);
+  auto decision = site::decide_motor(MotorMode::Auto, none);
   CHECK_FALSE(decision.use_usb);
   CHECK(decision.error.empty());
   CHECK(decision.description == "simulated: no Arduino Uno 2341:0043 found");
 
-  decision = app::decide_motor(MotorMode::Auto, one);
+  decision = site::decide_motor(MotorMode::Auto, one);
   CHECK(decision.use_usb);
   CHECK(decision.description == "usb (bus 1 port 1-2 (address 4), 2341:0043)");
-  decision = app::decide_motor(MotorMode::Auto, two);
+  decision = site::decide_motor(MotorMode::Auto, two);
   CHECK_THAT(decision.description, Contains("bus 1 port 1-2") && Contains("2 such boards"));
 
-  decision = app::decide_motor(MotorMode::Usb, none);
+  decision = site::decide_motor(MotorMode::Usb, none);
   CHECK_FALSE(decision.use_usb);
   CHECK(decision.error == "--motor usb: no Arduino Uno 2341:0043 found on USB; plug in the motor's board or use --motor simulated");
-  decision = app::decide_motor(MotorMode::Auto, std::string("cannot list USB devices: LIBUSB_ERROR_IO"));
+  decision = site::decide_motor(MotorMode::Auto, std::string("cannot list USB devices: LIBUSB_ERROR_IO"));
   CHECK(decision.description == "simulated: no Arduino Uno 2341:0043 found (cannot list USB devices: LIBUSB_ERROR_IO)");
-  CHECK_FALSE(app::decide_motor(MotorMode::Usb, std::string("no USB")).error.empty());
+  CHECK_FALSE(site::decide_motor(MotorMode::Usb, std::string("no USB")).error.empty());
 
-  decision = app::decide_motor(MotorMode::Simulated, one);  // asked for: the board stays unused
+  decision = site::decide_motor(MotorMode::Simulated, one);  // asked for: the board stays unused
   CHECK_FALSE(decision.use_usb);
   CHECK(decision.description == "simulated (--motor simulated)");
 
-  CHECK(app::parse_motor_mode("auto") == MotorMode::Auto);
-  CHECK(app::parse_motor_mode("usb") == MotorMode::Usb);
-  CHECK_THROWS_WITH(app::parse_motor_mode("serial"), Contains("simulated, usb or auto"));
-  CHECK(app::open_site_motor(MotorMode::Simulated, {}).motor != nullptr);
+  CHECK(site::parse_motor_mode("auto") == MotorMode::Auto);
+  CHECK(site::parse_motor_mode("usb") == MotorMode::Usb);
+  CHECK_THROWS_WITH(site::parse_motor_mode("serial"), Contains("simulated, usb or auto"));
+  CHECK(site::open_site_motor(MotorMode::Simulated, {}).motor != nullptr);
 }
 
 TEST_CASE("a recording for replay: cameras at the images' size, ground truth where recorded", "[site_inputs][replay]") {
   const std::filesystem::path dir = write_recording("good");
-  app::SiteReplay replay(dir, 0, 4);
+  site::SiteReplay replay(dir, 0, 4);
   CHECK(replay.frame_count() == 3);
   CHECK(replay.origin_us() == 1'000'000);
   CHECK(replay.pacing().time_s(2) == Approx(0.066666));
@@ -317,58 +316,58 @@ TEST_CASE("a recording for replay: cameras at the images' size, ground truth whe
   CHECK_FALSE(replay.ground_truth(1));
   write_image(sim::ground_truth_color_path(dir, 1), HostImage(8, 6, PixelFormat::RGBA8, 1.0f));
   CHECK(replay.ground_truth(1)->width == 8);
-  CHECK(app::SiteReplay(dir, 2, 4).frame_count() == 2);  // --frames plays fewer
+  CHECK(site::SiteReplay(dir, 2, 4).frame_count() == 2);  // --frames plays fewer
 }
 
 TEST_CASE("a bad recording is refused before the site connects, naming the file", "[site_inputs][replay]") {
-  CHECK_THROWS_WITH(app::SiteReplay(kOut / "no-such-recording", 0, 4),
+  CHECK_THROWS_WITH(site::SiteReplay(kOut / "no-such-recording", 0, 4),
                     Contains("no-such-recording") && Contains("does not exist"));
 
   std::filesystem::path dir = write_recording("bad-format");
   nlohmann::json calibration = config::read_json_file(dir / "calibration.json");
   calibration["format"] = "something-else/2";
   config::write_json_file(dir / "calibration.json", calibration);
-  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains("calibration.json") && Contains("something-else/2"));
+  CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains("calibration.json") && Contains("something-else/2"));
 
   dir = write_recording("broken-calibration");
   std::ofstream(dir / "calibration.json") << "{\"format\": \"remotetouch-recording/1\", \"cameras\": [";
-  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains("calibration.json") && Contains("not valid JSON"));
+  CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains("calibration.json") && Contains("not valid JSON"));
 
   dir = write_recording("too-few-cameras");
-  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 7), Contains("calibration.json") && Contains("has 6 cameras"));
+  CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 7), Contains("calibration.json") && Contains("has 6 cameras"));
 
   dir = write_recording("missing-image");
   std::filesystem::remove(sim::depth_path(dir, 4, 2));
-  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains(sim::depth_path(dir, 4, 2).string()));
-  CHECK_NOTHROW(app::SiteReplay(dir, 2, 4));  // the frames played are all there
+  CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains(sim::depth_path(dir, 4, 2).string()));
+  CHECK_NOTHROW(site::SiteReplay(dir, 2, 4));  // the frames played are all there
 
   dir = write_recording("unreadable-image");
   std::ofstream(sim::color_path(dir, 2, 0)) << "not a png";
-  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains(sim::color_path(dir, 2, 0).string()));
+  CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains(sim::color_path(dir, 2, 0).string()));
 
   dir = write_recording("unreadable-later");
   std::ofstream(sim::color_path(dir, 3, 2)) << "not a png";
-  app::SiteReplay later(dir, 0, 4);  // only the first frame is read at start
+  site::SiteReplay later(dir, 0, 4);  // only the first frame is read at start
   CHECK_THROWS_WITH(later.read(2), Contains(sim::color_path(dir, 3, 2).string()));
 
   dir = write_recording("wrong-size");
   write_image(sim::color_path(dir, 1, 0), HostImage(10, 10, PixelFormat::RGBA8));
-  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains(sim::color_path(dir, 1, 0).string()) && Contains("10x10"));
+  CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains(sim::color_path(dir, 1, 0).string()) && Contains("10x10"));
 
   dir = write_recording("no-tracker");
   std::filesystem::remove(dir / "tracker.jsonl");
-  CHECK_THROWS_WITH(app::SiteReplay(dir, 0, 4), Contains("tracker.jsonl"));
+  CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains("tracker.jsonl"));
 }
 
 TEST_CASE("site config: replay relative to the config's folder, motor checked", "[site_inputs]") {
   const std::filesystem::path dir = fresh_dir("config");
   std::ofstream(dir / "site.json") << R"({"site": "B", "replay": "recordings/b", "motor": "simulated"})";
-  app::SiteRunOptions options;
-  app::apply_site_config(dir / "site.json", options);
+  site::SiteRunOptions options;
+  site::apply_site_config(dir / "site.json", options);
   CHECK(options.replay == dir / "recordings/b");
   CHECK(options.motor == "simulated");
   std::ofstream(dir / "bad.json") << R"({"motor": "serial"})";
-  CHECK_THROWS_WITH(app::apply_site_config(dir / "bad.json", options), Contains("bad.json") && Contains("'motor'"));
+  CHECK_THROWS_WITH(site::apply_site_config(dir / "bad.json", options), Contains("bad.json") && Contains("'motor'"));
 }
 
 TEST_CASE("the ground truth over the background: premultiplied edges are not darkened twice", "[site]") {
@@ -380,7 +379,7 @@ TEST_CASE("the ground truth over the background: premultiplied edges are not dar
   }
   truth.at(0, 0, 3) = 1.0f;
   truth.at(1, 0, 3) = 0.5f;
-  const HostImage shown = app::truth_over_background(truth, background);
+  const HostImage shown = site::truth_over_background(truth, background);
   CHECK(shown.at(0, 0, 0) == Approx(0.8f));
   CHECK(shown.at(1, 0, 0) == Approx(0.4f + 0.2f * 0.5f));
   CHECK(shown.at(1, 0, 3) == Approx(1.0f));

@@ -8,12 +8,14 @@
 #include <utility>
 #include <vector>
 
-#include "app/compositing_chain.h"
-#include "app/gpu_session.h"
+#include "pipeline/receiver_compositor.h"
+#include "pipeline/gpu_session.h"
 #include "app/options.h"
 #include "passes/copy.h"
 
 namespace rt::app {
+
+using namespace rt::pipeline;
 namespace {
 
 constexpr uint32_t kWarmUpFrames = 2;
@@ -24,7 +26,7 @@ double gigabytes_per_second(const vk::PassTiming& timing) {
 
 nlohmann::json bench_compositing_at(GpuSession& session, uint32_t width, uint32_t height, uint32_t frames) {
   vk::Context& context = session.context();
-  CompositingChain chain(context, width, height);
+  ReceiverCompositor chain(context, width, height);
   vk::Image copied(context, {"copied portrait", width, height, PixelFormat::RGBA32F});
   const passes::CopyPass copy_pass(context);
   vk::FrameGraph graph(context, "bench compositing " + std::to_string(width) + "x" + std::to_string(height));

@@ -7,13 +7,16 @@
 #include <nlohmann/json.hpp>
 
 #include "app/eval_hand.h"
-#include "app/gpu_session.h"
-#include "app/hand_renderer.h"
+#include "config/assets.h"
+#include "pipeline/gpu_session.h"
+#include "pipeline/hand_renderer.h"
 #include "geometry/target_view.h"
 #include "passes/copy.h"
 #include "sim/hand_model.h"
 
 namespace rt::app {
+
+using namespace rt::pipeline;
 namespace {
 
 constexpr uint32_t kWarmUpFrames = 2;
@@ -39,7 +42,7 @@ nlohmann::json print_timings(const std::string& title, const std::vector<vk::Pas
 nlohmann::json bench_hand_at(GpuSession& session, uint32_t width, uint32_t height, uint32_t frames) {
   vk::Context& context = session.context();
   const Camera camera = target_view_camera(Eigen::Vector3d(0.0, 0.05, -0.7), Screen{}, width, height);
-  HandRenderer renderer(context, std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "hand", width, height);
+  HandRenderer renderer(context, config::assets_dir() / "hand", width, height);
   vk::Image copied(context, {"copied hand color", width, height, PixelFormat::RGBA32F});
   const passes::CopyPass copy_pass(context);
   vk::FrameGraph graph(context, "bench hand " + std::to_string(width) + "x" + std::to_string(height));

@@ -7,16 +7,18 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/gpu_session.h"
-#include "app/ibr_renderer.h"
+#include "pipeline/gpu_session.h"
+#include "pipeline/ibr_renderer.h"
 #include "app/options.h"
 #include "app/simulate.h"
-#include "app/site_simulator.h"
+#include "pipeline/site_simulator.h"
 #include "geometry/target_view.h"
 #include "ibr/camera_selection.h"
 #include "passes/copy.h"
 
 namespace rt::app {
+
+using namespace rt::pipeline;
 namespace {
 
 constexpr uint32_t kWarmUpFrames = 2;
@@ -25,7 +27,7 @@ constexpr uint32_t kWarmUpFrames = 2;
 
 int run_bench_ibr(GpuSession& session, const RunOptions& options) {
   vk::Context& context = session.context();
-  sim::Scene scene = sim::load_scene(resolve_scene("clap"));
+  sim::Scene scene = sim::load_scene(sim::resolve_scene("clap"));
   scene.resolution_scale = 1.0;
   scene.frame_count = 1;
   SiteSimulator simulator(context, scene, Site::A);

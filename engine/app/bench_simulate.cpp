@@ -6,17 +6,19 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/gpu_session.h"
+#include "pipeline/gpu_session.h"
 #include "app/options.h"
 #include "app/simulate.h"
-#include "app/site_simulator.h"
+#include "pipeline/site_simulator.h"
 #include "sim/motion.h"
 #include "sim/person_mesh.h"
 
 namespace rt::app {
 
+using namespace rt::pipeline;
+
 int run_bench_simulate(GpuSession& session, const RunOptions& options) {
-  sim::Scene scene = sim::load_scene(resolve_scene("clap"));
+  sim::Scene scene = sim::load_scene(sim::resolve_scene("clap"));
   scene.resolution_scale = 1.0;
   const sim::SiteSetup& setup = scene.at(Site::A);
   std::vector<RgbdCameraSpec> specs;

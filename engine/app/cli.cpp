@@ -11,6 +11,8 @@
 #include "app/two_site_demo.h"
 
 namespace rt::app {
+
+using namespace rt::site;
 namespace {
 
 void add_common_options(CLI::App& command, RunOptions& options, const std::string& default_out) {

@@ -7,19 +7,21 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "app/compositing_chain.h"
-#include "app/gpu_session.h"
+#include "pipeline/receiver_compositor.h"
+#include "pipeline/gpu_session.h"
 #include "app/options.h"
 #include "image/image_io.h"
 
 namespace rt::app {
+
+using namespace rt::pipeline;
 
 int run_compose(const RunOptions& options) {
   GpuSession session(options);
   vk::Context& context = session.context();
   const uint32_t width = options.width, height = options.height;
 
-  CompositingChain chain(context, width, height);
+  ReceiverCompositor chain(context, width, height);
   vk::FrameGraph graph(context, "compose frame");
   float hand_distance_m = 0.0f;
   chain.add_to(graph, [&] { return hand_distance_m; });

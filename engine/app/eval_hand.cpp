@@ -8,8 +8,9 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "app/gpu_session.h"
-#include "app/hand_renderer.h"
+#include "config/assets.h"
+#include "pipeline/gpu_session.h"
+#include "pipeline/hand_renderer.h"
 #include "geometry/target_view.h"
 #include "hand/color_space.h"
 #include "image/image_io.h"
@@ -18,9 +19,11 @@
 #include "sim/person_mesh.h"
 
 namespace rt::app {
+
+using namespace rt::pipeline;
 namespace {
 
-const std::filesystem::path kTemplateDir = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "hand";
+const std::filesystem::path kTemplateDir = config::assets_dir() / "hand";
 const Eigen::Vector3d kRemoteEye(0.0, 0.05, -0.7);  // the local viewer's eye in the remote site's frame
 
 struct SyntheticUser {

@@ -11,15 +11,17 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "app/gpu_session.h"
-#include "app/ibr_renderer.h"
+#include "pipeline/gpu_session.h"
+#include "pipeline/ibr_renderer.h"
 #include "app/simulate.h"
-#include "app/site_simulator.h"
+#include "pipeline/site_simulator.h"
 #include "ibr/camera_selection.h"
 #include "ibr/portrait_metrics.h"
 #include "image/image_io.h"
 
 namespace rt::app {
+
+using namespace rt::pipeline;
 namespace {
 
 struct FusionRun {
@@ -52,7 +54,7 @@ HostImage as_png(const HostImage& portrait) {
 }  // namespace
 
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
-  sim::Scene scene = sim::load_scene(resolve_scene(eval.scene));
+  sim::Scene scene = sim::load_scene(sim::resolve_scene(eval.scene));
   if (eval.frame_step == 0) throw std::invalid_argument("eval ibr: --frame-step must be at least 1");
   if (eval.first_frame >= scene.frame_count)
     throw std::invalid_argument("eval ibr: --first-frame " + std::to_string(eval.first_frame) + " is past the scene's " +

@@ -5,26 +5,20 @@
 #include <fstream>
 #include <iostream>
 
-#include "app/gpu_session.h"
+#include "pipeline/gpu_session.h"
 #include "app/options.h"
 #include "app/simulate.h"
-#include "app/site_simulator.h"
+#include "pipeline/site_simulator.h"
 #include "sim/leap_json.h"
 #include "sim/recording.h"
 #include "sim/tracker_sim.h"
 
 namespace rt::app {
 
-std::filesystem::path resolve_scene(const std::string& scene) {
-  const std::filesystem::path given(scene);
-  if (given.has_extension() || given.has_parent_path()) return given;
-  const char* assets = std::getenv("REMOTETOUCH_ASSETS");
-  const std::filesystem::path root = assets && *assets ? assets : REMOTETOUCH_ASSETS_DIR;
-  return root / "scenes" / (scene + ".json");
-}
+using namespace rt::pipeline;
 
 int run_simulate(const RunOptions& options, const SimulateOptions& simulate) {
-  sim::Scene scene = sim::load_scene(resolve_scene(simulate.scene));
+  sim::Scene scene = sim::load_scene(sim::resolve_scene(simulate.scene));
   if (simulate.frames_given) scene.frame_count = options.frames;
   if (simulate.resolution_scale > 0) scene.resolution_scale = simulate.resolution_scale;
   const Site site = simulate.site;
@@ -67,11 +61,10 @@ int run_simulate(const RunOptions& options, const SimulateOptions& simulate) {
     ++tracker_frames;
   }
   std::printf("  %zu tracker frames in tracker.jsonl\n", tracker_frames);
-  if (options.profile) std::cout << vk::format_profile(renderer_timings(simulator));
+  if (options.profile) std::cout << vk::format_profile(simulator.renderer().graph().timings());
   session.report_capture();
   return 0;
 }
 
-std::vector<vk::PassTiming> renderer_timings(SiteSimulator& simulator) { return simulator.renderer().graph().timings(); }
 
 }  // namespace rt::app

@@ -9,7 +9,6 @@
 
 namespace rt::app {
 
-class SiteSimulator;
 
 struct SimulateOptions {
   std::string scene = "clap";  // a name under assets/scenes/, or a path to a scene file
@@ -19,9 +18,6 @@ struct SimulateOptions {
   double resolution_scale = 0.0;             // of the cameras; 0 = the scene's own
 };
 
-// A scene name (assets/scenes/NAME.json, or REMOTETOUCH_ASSETS/scenes/NAME.json) or a path.
-std::filesystem::path resolve_scene(const std::string& scene);
 int run_simulate(const RunOptions& options, const SimulateOptions& simulate);
-std::vector<vk::PassTiming> renderer_timings(SiteSimulator& simulator);
 
 }  // namespace rt::app

@@ -31,6 +31,8 @@
 extern char** environ;
 
 namespace rt::app {
+
+using namespace rt::site;
 namespace {
 
 struct Child {

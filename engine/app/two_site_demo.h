@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "app/options.h"
-#include "app/site_runner.h"
+#include "site/site_run.h"
 
 namespace rt::app {
 
@@ -47,7 +47,7 @@ class SiteCommand {
 
  private:
   CLI::App* command_;
-  SiteRunOptions options_;
+  site::SiteRunOptions options_;
   std::string site_ = "A";
   std::filesystem::path config_;
 };

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "config/assets.h"
 #include "config/json_fields.h"
 #include "sim/json_values.h"
 
@@ -108,6 +109,16 @@ Scene load_scene(const std::filesystem::path& path) {
   } catch (const nlohmann::json::exception& error) {
     throw JsonError(where + ": " + error.what());
   }
+}
+
+}  // namespace rt::sim
+
+namespace rt::sim {
+
+std::filesystem::path resolve_scene(const std::string& scene) {
+  const std::filesystem::path given(scene);
+  if (given.has_extension() || given.has_parent_path()) return given;
+  return config::assets_dir() / "scenes" / (scene + ".json");
 }
 
 }  // namespace rt::sim

@@ -51,6 +51,8 @@ struct Scene {
 // Errors start with `where` and name the field; a missing or bad site file is named.
 Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir, const std::string& where);
 Scene load_scene(const std::filesystem::path& path);
+// A scene name (assets/scenes/NAME.json, or $REMOTETOUCH_ASSETS/scenes/NAME.json) or a path.
+std::filesystem::path resolve_scene(const std::string& scene);
 
 // The motion of `site`'s user, ready to sample: pose_at(frame / scene.fps) for the cameras.
 MotionTrack make_motion_track(const Scene& scene, Site site);

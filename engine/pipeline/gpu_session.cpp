@@ -1,11 +1,11 @@
-#include "app/gpu_session.h"
+#include "pipeline/gpu_session.h"
 
 #include <cstdlib>
 #include <iostream>
 
 #include "image/image_io.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
 std::string default_pipeline_cache_path() {
   if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache && *cache)
@@ -56,4 +56,4 @@ void dump_pass_outputs(vk::Context& context, const vk::FrameGraph& graph, const 
   }
 }
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -15,7 +15,7 @@
 #include "passes/supersample_resolve.h"
 #include "vulkan/frame_graph.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
 struct RgbdCameraSpec {
   std::string name;
@@ -75,4 +75,4 @@ class RgbdRenderer {
   std::unique_ptr<vk::FrameGraph> graph_;
 };
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -5,12 +5,12 @@
 #include <optional>
 #include <string>
 
-#include "app/options.h"
+#include "pipeline/run_options.h"
 #include "vulkan/context.h"
 #include "vulkan/frame_graph.h"
 #include "vulkan/renderdoc_capture.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
 class GpuSession {
  public:
@@ -38,4 +38,4 @@ std::string default_pipeline_cache_path();
 // 16-bit PNG (--dump-passes).
 void dump_pass_outputs(vk::Context& context, const vk::FrameGraph& graph, const std::filesystem::path& folder);
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -1,4 +1,4 @@
-#include "app/site_eye.h"
+#include "site/site_eye.h"
 
 #include <opencv2/core.hpp>
 
@@ -10,7 +10,7 @@
 #include "viewer/eye_detector.h"
 #include "viewer/eye_locator.h"
 
-namespace rt::app {
+namespace rt::site {
 namespace {
 
 // The detector wants 8-bit BGR; HostImage holds [0, 1] floats.
@@ -165,4 +165,4 @@ void ViewerEyeFinder::run() {
   }
 }
 
-}  // namespace rt::app
+}  // namespace rt::site

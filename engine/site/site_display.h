@@ -15,7 +15,7 @@
 #include "net/messages.h"
 #include "tracking/hand_skeleton.h"
 
-namespace rt::app {
+namespace rt::site {
 
 // One geometry-hand render of the hand thread, for the display to fuse with the portrait of the
 // closest capture time: color and mask cut to the hand's box (it covers a small part of the
@@ -51,4 +51,4 @@ Camera portrait_camera(const net::PortraitMessage& portrait);
 // The hand nearer the glass: the one the receiver draws as geometry; null when none is finite.
 const HandSkeleton* touching(const std::vector<HandSkeleton>& hands);
 
-}  // namespace rt::app
+}  // namespace rt::site

@@ -1,10 +1,10 @@
-#include "app/rgbd_renderer.h"
+#include "pipeline/rgbd_renderer.h"
 
 #include <stdexcept>
 
-#include "app/site_simulator.h"
+#include "pipeline/site_simulator.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
 // The targets one person_raster draw fills.
 struct RgbdRenderer::View {
@@ -138,4 +138,4 @@ HostImage RgbdRenderer::target_part() const {
   return vk::download(context_, target_->view.part);
 }
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -11,7 +11,7 @@
 #include "motor/motor.h"
 #include "motor/usb_probe.h"
 
-namespace rt::app {
+namespace rt::site {
 
 enum class MotorMode { Simulated, Usb, Auto };
 
@@ -39,4 +39,4 @@ struct SiteMotor {
 // usb it throws, as does usb without a board. `log` gets the USB driver's status lines.
 SiteMotor open_site_motor(MotorMode mode, const std::function<void(const std::string&)>& log);
 
-}  // namespace rt::app
+}  // namespace rt::site

@@ -19,7 +19,7 @@
 #include "passes/ibr_warp.h"
 #include "sim/rgbd_source.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
 struct IbrSettings {
   uint32_t width = 640, height = 360;  // the target view
@@ -83,4 +83,4 @@ class IbrRenderer {
   std::vector<size_t> uploaded_selection_;  // whose depth rays the ray atlas holds
 };
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -4,7 +4,7 @@
 // mask, and a background. Smooth edges, so that blending errors would show.
 #include "image/host_image.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
 struct DemoLayers {
   HostImage portrait;    // rgba32f, straight alpha
@@ -18,4 +18,4 @@ DemoLayers make_demo_layers(uint32_t width, uint32_t height);
 // Hand distance to the screen over the demo: approach from 0.5 m, touch (5 cm), retract.
 float demo_hand_distance_m(uint32_t frame, uint32_t frame_count);
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -1,9 +1,9 @@
-#include "app/ibr_renderer.h"
+#include "pipeline/ibr_renderer.h"
 
 #include <stdexcept>
 #include <string>
 
-namespace rt::app {
+namespace rt::pipeline {
 namespace {
 
 IbrSettings with_fusion(IbrSettings settings) {
@@ -142,4 +142,4 @@ void IbrRenderer::prepare(std::span<const sim::RgbdImage> images, std::span<cons
   vk::upload(context_, images_->depth_mm, passes::stack_bands(depths));
 }
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

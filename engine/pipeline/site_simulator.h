@@ -5,12 +5,12 @@
 #include <memory>
 #include <random>
 
-#include "app/rgbd_renderer.h"
+#include "pipeline/rgbd_renderer.h"
 #include "sim/motion.h"
 #include "sim/rgbd_source.h"
 #include "sim/scene.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
 // The per-camera sensor models that a scene's effects ask for (all off by default).
 RgbdCameraSpec camera_spec(const sim::RgbdCamera& camera, const sim::Effects& effects, double resolution_scale);
@@ -39,4 +39,4 @@ class SiteSimulator : public sim::RgbdSource {
   uint64_t next_ = 0;
 };
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -1,11 +1,11 @@
-#include "app/site_display.h"
+#include "site/site_display.h"
 
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cstdio>
 
-namespace rt::app {
+namespace rt::site {
 
 HandRender cropped_hand_render(const HostImage& color, const HostImage& mask, float distance_m) {
   HandRender render;
@@ -75,4 +75,4 @@ const HandSkeleton* touching(const std::vector<HandSkeleton>& hands) {
   return best;
 }
 
-}  // namespace rt::app
+}  // namespace rt::site

@@ -1,15 +1,15 @@
-#include "app/site_inputs.h"
+#include "site/site_inputs.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "app/site_simulator.h"
+#include "pipeline/site_simulator.h"
 #include "image/image_io.h"
 #include "sim/tracker_replay.h"
 #include "sim/tracker_space.h"
 
-namespace rt::app {
+namespace rt::site {
 namespace {
 
 std::string size_text(uint32_t width, uint32_t height) { return std::to_string(width) + "x" + std::to_string(height); }
@@ -191,4 +191,4 @@ ibr::TouchingHand touching_side(const std::vector<HandSkeleton>& hands) {
   return nearest[1] ? ibr::TouchingHand::Left : ibr::TouchingHand::Right;
 }
 
-}  // namespace rt::app
+}  // namespace rt::site

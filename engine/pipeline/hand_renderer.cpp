@@ -1,4 +1,4 @@
-#include "app/hand_renderer.h"
+#include "pipeline/hand_renderer.h"
 
 #include <algorithm>
 #include <cstring>
@@ -7,7 +7,7 @@
 #include "geometry/site_frames.h"
 #include "hand/shape_adaption.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 namespace {
 
 constexpr double kNearM = 0.05, kFarM = 20.0;
@@ -177,4 +177,4 @@ bool HandRenderer::adapt_appearance_from(vk::Image& portrait_color, vk::Image& p
   return true;
 }
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -1,4 +1,4 @@
-#include "app/site_motor.h"
+#include "site/site_motor.h"
 
 #include <stdexcept>
 
@@ -6,7 +6,7 @@
 #include "motor/usb_motor.h"
 #include "time/monotonic_clock.h"
 
-namespace rt::app {
+namespace rt::site {
 
 MotorMode parse_motor_mode(const std::string& text) {
   if (text == "simulated") return MotorMode::Simulated;
@@ -74,4 +74,4 @@ SiteMotor open_site_motor(MotorMode mode, const std::function<void(const std::st
   return site;
 }
 
-}  // namespace rt::app
+}  // namespace rt::site

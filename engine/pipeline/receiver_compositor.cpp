@@ -1,8 +1,8 @@
-#include "app/compositing_chain.h"
+#include "pipeline/receiver_compositor.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
-CompositingChain::CompositingChain(vk::Context& context, uint32_t width, uint32_t height)
+ReceiverCompositor::ReceiverCompositor(vk::Context& context, uint32_t width, uint32_t height)
     : portrait(context, {"portrait", width, height, PixelFormat::RGBA32F}),
       hand_color(context, {"hand color", width, height, PixelFormat::RGBA32F}),
       hand_mask(context, {"hand mask", width, height, PixelFormat::R32F}),
@@ -20,10 +20,10 @@ CompositingChain::CompositingChain(vk::Context& context, uint32_t width, uint32_
   vk::upload(context, background, layers.background);
 }
 
-void CompositingChain::add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m) {
+void ReceiverCompositor::add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m) {
   hand_alpha_pass.add_to(graph, hand_mask, hand_alpha, std::move(hand_distance_m));
   overlay_pass.add_to(graph, hand_color, hand_alpha, portrait, fused);
   composite_pass.add_to(graph, fused, background, display);
 }
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -3,17 +3,17 @@
 // hand_alpha (Eq. 4) -> overlay (Eq. 5) -> composite over the background -> display.
 #include <functional>
 
-#include "app/demo_inputs.h"
+#include "pipeline/demo_layers.h"
 #include "passes/composite.h"
 #include "passes/hand_alpha.h"
 #include "passes/overlay.h"
 #include "vulkan/frame_graph.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
-struct CompositingChain {
+struct ReceiverCompositor {
   // Creates the images at this size and uploads the generated layers into them.
-  CompositingChain(vk::Context& context, uint32_t width, uint32_t height);
+  ReceiverCompositor(vk::Context& context, uint32_t width, uint32_t height);
   // Adds the three passes; hand_distance_m is read when each frame is recorded.
   void add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m);
 
@@ -24,4 +24,4 @@ struct CompositingChain {
   passes::CompositePass composite_pass;
 };
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -1,10 +1,10 @@
-#include "app/demo_inputs.h"
+#include "pipeline/demo_layers.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-namespace rt::app {
+namespace rt::pipeline {
 namespace {
 
 // Coverage of a pixel by a shape given its signed distance in pixels (negative inside).
@@ -78,4 +78,4 @@ float demo_hand_distance_m(uint32_t frame, uint32_t frame_count) {
   return 0.5f - 0.45f * std::sin(std::numbers::pi_v<float> * t);
 }
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

@@ -24,7 +24,7 @@
 #include "passes/hand_skinning.h"
 #include "vulkan/frame_graph.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 
 struct HandRendererOptions {
   float min_confidence = 0.5f;              // below: not tracked (no appearance adaption)
@@ -106,4 +106,4 @@ class HandRenderer {
   const vk::Image* appearance_portrait_[2] = {nullptr, nullptr};
 };
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

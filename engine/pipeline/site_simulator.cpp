@@ -1,4 +1,4 @@
-#include "app/site_simulator.h"
+#include "pipeline/site_simulator.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -6,7 +6,7 @@
 #include "geometry/target_view.h"
 #include "sim/person_mesh.h"
 
-namespace rt::app {
+namespace rt::pipeline {
 namespace {
 
 std::optional<Camera> ground_truth_view(const sim::Scene& scene, Site site, uint32_t width, uint32_t height) {
@@ -99,4 +99,4 @@ std::optional<sim::RgbdFrame> SiteSimulator::next_frame() {
   return frame;
 }
 
-}  // namespace rt::app
+}  // namespace rt::pipeline

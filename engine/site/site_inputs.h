@@ -18,7 +18,7 @@
 #include "sim/site_description.h"
 #include "tracking/hand_skeleton.h"
 
-namespace rt::app {
+namespace rt::site {
 
 // Recorded frame times on the scene clock: frame i is due `(t_i - t_0)` after the first, in
 // scene seconds (the scene clock already runs at --time-scale).
@@ -112,4 +112,4 @@ class TrackedHandsHistory {
 // (ibr::touching_hand); of one, that one; of none, the right (the paper's default side).
 ibr::TouchingHand touching_side(const std::vector<HandSkeleton>& hands);
 
-}  // namespace rt::app
+}  // namespace rt::site

@@ -1,4 +1,4 @@
-#include "app/site_runner.h"
+#include "site/site_run.h"
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -13,16 +13,16 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "app/demo_inputs.h"
-#include "app/gpu_session.h"
-#include "app/hand_renderer.h"
-#include "app/ibr_renderer.h"
-#include "app/simulate.h"
-#include "app/site_display.h"
-#include "app/site_eye.h"
-#include "app/site_inputs.h"
-#include "app/site_motor.h"
-#include "app/site_simulator.h"
+#include "config/assets.h"
+#include "pipeline/demo_layers.h"
+#include "pipeline/gpu_session.h"
+#include "pipeline/hand_renderer.h"
+#include "pipeline/ibr_renderer.h"
+#include "site/site_display.h"
+#include "site/site_eye.h"
+#include "site/site_inputs.h"
+#include "site/site_motor.h"
+#include "pipeline/site_simulator.h"
 #include "geometry/target_view.h"
 #include "ibr/camera_selection.h"
 #include "image/image_crop.h"
@@ -40,11 +40,11 @@
 #include "time/monotonic_clock.h"
 #include "touch/touch_loop.h"
 
-namespace rt::app {
+namespace rt::site {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-const std::filesystem::path kTemplateDir = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "hand";
+const std::filesystem::path kTemplateDir = config::assets_dir() / "hand";
 constexpr auto kMotorPulse = std::chrono::milliseconds(150);
 constexpr int kMotorStrength = 200;
 
@@ -75,7 +75,7 @@ uint64_t gap_us(uint64_t a, uint64_t b) { return a > b ? a - b : b - a; }
 // While the link is down, a frame this often shows the user that the remote side is lost.
 constexpr uint64_t kLinkLostFrameIntervalUs = 250'000;
 
-std::vector<passes::IbrCameraModel> camera_models(RgbdRenderer& renderer) {
+std::vector<passes::IbrCameraModel> camera_models(pipeline::RgbdRenderer& renderer) {
   std::vector<passes::IbrCameraModel> models;
   for (size_t k = 0; k < renderer.camera_count(); ++k) models.push_back({renderer.camera(k).color, renderer.camera(k).depth});
   return models;
@@ -114,17 +114,17 @@ class SiteRun {
   sim::Scene scene_;
   uint32_t width_, height_;
   std::filesystem::path out_;
-  GpuSession gpu_;
+  pipeline::GpuSession gpu_;
   vk::Context& context_;
   session::FairMutex gpu_turn_;
   session::EventLog events_;
   HostImage background_;
 
   // The site's inputs (site_inputs.h): simulated from the scene, or replayed from a recording.
-  std::unique_ptr<SiteSimulator> simulator_;
+  std::unique_ptr<pipeline::SiteSimulator> simulator_;
   std::unique_ptr<SiteReplay> replay_;
   TrackedHandsHistory tracked_hands_;
-  std::unique_ptr<IbrRenderer> ibr_;
+  std::unique_ptr<pipeline::IbrRenderer> ibr_;
   std::vector<Eigen::Vector3d> camera_positions_;
   std::unique_ptr<net::Session> net_;
   SiteMotor motor_;  // used by the touch loop's thread only (usb_motor.h)
@@ -167,14 +167,14 @@ SiteRun::SiteRun(const SiteRunOptions& options)
     : options_(options),
       site_name_(site_name(options.site)),
       remote_(other_site(options.site)),
-      scene_(sim::load_scene(resolve_scene(options.scene))),
+      scene_(sim::load_scene(sim::resolve_scene(options.scene))),
       width_(options.run.width),
       height_(options.run.height),
       out_(options.run.out),
       gpu_((std::filesystem::create_directories(options.run.out), options.run)),
       context_(gpu_.context()),
       events_(options.run.out / "events.jsonl", site_name(options.site)),
-      background_(make_demo_layers(width_, height_).background) {
+      background_(pipeline::make_demo_layers(width_, height_).background) {
   if (options_.frames_given) scene_.frame_count = options_.run.frames;
   if (options_.resolution_scale > 0) scene_.resolution_scale = options_.resolution_scale;
   if (!(options_.time_scale > 0) || !std::isfinite(options_.time_scale))
@@ -182,7 +182,7 @@ SiteRun::SiteRun(const SiteRunOptions& options)
   std::filesystem::create_directories(out_ / "frames");
   if (options_.write_truth) std::filesystem::create_directories(out_ / "truth");
 
-  IbrSettings settings;
+  pipeline::IbrSettings settings;
   settings.width = width_;
   settings.height = height_;
   std::vector<passes::IbrCameraModel> cameras;
@@ -198,11 +198,11 @@ SiteRun::SiteRun(const SiteRunOptions& options)
               << " (" << scene_.duration_s() << " s of scene time)" << (options_.resolution_scale > 0 ? "; --resolution-scale does not apply to a replay" : "")
               << "\n";
   } else {
-    simulator_ = std::make_unique<SiteSimulator>(context_, scene_, options_.site, options_.write_truth ? width_ : 0,
+    simulator_ = std::make_unique<pipeline::SiteSimulator>(context_, scene_, options_.site, options_.write_truth ? width_ : 0,
                                                  options_.write_truth ? height_ : 0);
     cameras = camera_models(simulator_->renderer());
   }
-  ibr_ = std::make_unique<IbrRenderer>(context_, cameras, settings);
+  ibr_ = std::make_unique<pipeline::IbrRenderer>(context_, cameras, settings);
   for (const auto& camera : scene_.at(options_.site).site.cameras) camera_positions_.push_back(camera.color_camera().position_in_site());
 
   motor_ = open_site_motor(parse_motor_mode(options_.motor), [this](const std::string& line) {
@@ -477,7 +477,7 @@ void SiteRun::hand_loop() {
   std::unique_lock<session::FairMutex> final_turn(gpu_turn_, std::defer_lock);
   vk::Image portrait(context_, {"adaption portrait", width_, height_, PixelFormat::RGBA32F});
   vk::Image portrait_depth(context_, {"adaption portrait depth", width_, height_, PixelFormat::R32F});
-  HandRenderer hand(context_, kTemplateDir, width_, height_);
+  pipeline::HandRenderer hand(context_, kTemplateDir, width_, height_);
   vk::FrameGraph graph(context_, "geometry hand");
   {
     std::lock_guard turn(gpu_turn_);
@@ -839,4 +839,4 @@ int run_site(const SiteRunOptions& options) {
   return site.run();
 }
 
-}  // namespace rt::app
+}  // namespace rt::site

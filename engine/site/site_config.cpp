@@ -5,9 +5,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "app/site_runner.h"
+#include "site/site_options.h"
 
-namespace rt::app {
+namespace rt::site {
 
 void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options) {
   std::ifstream file(config);
@@ -58,4 +58,4 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   }
 }
 
-}  // namespace rt::app
+}  // namespace rt::site

@@ -16,7 +16,7 @@
 #include "sim/rgbd_source.h"
 #include "viewer/initial_viewpoint.h"
 
-namespace rt::app {
+namespace rt::site {
 
 struct EyeSearchOptions {
   InitialViewpointOptions viewpoint;
@@ -91,4 +91,4 @@ class ViewerEyeFinder {
   std::thread thread_;
 };
 
-}  // namespace rt::app
+}  // namespace rt::site

@@ -1,0 +1,40 @@
+#pragma once
+// What one site takes from its command line or its --config file (site_config.cpp).
+#include <filesystem>
+#include <string>
+
+#include "geometry/site_frames.h"
+#include "pipeline/hand_renderer.h"
+#include "pipeline/ibr_renderer.h"
+#include "pipeline/run_options.h"
+
+namespace rt::site {
+
+struct SiteRunOptions {
+  pipeline::RunOptions run;             // out (this site's folder), device, validation, width x height, frames
+  bool frames_given = false;  // else the scene's own frame count
+  std::string scene = "clap";
+  Site site = Site::A;
+  std::string listen = "127.0.0.1:0";  // listener: where to listen (port 0: any; printed as "listening on PORT")
+  std::string peer;                    // connector: the listener's HOST:PORT; empty = be the listener
+  std::filesystem::path key_file;      // 64 hex digits; both sites need the same
+  double time_scale = 1.0;             // scene seconds per wall-clock second
+  double resolution_scale = 0.0;       // of the cameras; 0 = the scene's own
+  bool write_truth = true;             // this site's user seen from the remote eye, over the background
+  double connect_timeout_s = 60.0;
+  double linger_s = 1.5;  // after the last capture, how long without a new portrait ends the display
+  // This site's devices: empty = simulated from the scene; else a recording (sim/recording.h) to
+  // replay: its cameras, frames, times and tracker replace the scene's at this site.
+  std::filesystem::path replay;
+  std::string motor = "auto";  // simulated | usb | auto (the Arduino on USB when attached)
+  pipeline::IbrSettings ibr;            // the sender's image-based model (its width and height are the display's)
+  pipeline::HandRendererOptions hand;   // the receiver's geometry hand
+};
+
+// Fills the fields a --config JSON names (scene, site, listen, peer, key_file, time_scale,
+// resolution_scale, width, height, frames, replay, motor); a file path (key_file, replay) is
+// relative to the config's folder.
+// Throws naming the file and field.
+void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options);
+
+}  // namespace rt::site
