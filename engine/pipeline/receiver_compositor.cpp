@@ -20,6 +20,15 @@ ReceiverCompositor::ReceiverCompositor(vk::Context& context, uint32_t width, uin
   vk::upload(context, background, layers.background);
 }
 
+ReceiverCompositor::ReceiverCompositor(vk::Context& context, const HostImage& background_image)
+    : ReceiverCompositor(context, background_image.width, background_image.height) {
+  const HostImage none(background_image.width, background_image.height, PixelFormat::RGBA32F);
+  vk::upload(context, portrait, none);
+  vk::upload(context, hand_color, none);
+  vk::upload(context, hand_mask, HostImage(background_image.width, background_image.height, PixelFormat::R32F));
+  vk::upload(context, background, background_image);
+}
+
 void ReceiverCompositor::add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m) {
   hand_alpha_pass.add_to(graph, hand_mask, hand_alpha, std::move(hand_distance_m));
   overlay_pass.add_to(graph, hand_color, hand_alpha, portrait, fused);

@@ -1,5 +1,5 @@
 #pragma once
-// The receiver's compositing, as the demo and the benchmark run it on generated layers:
+// The receiver's compositing, one chain for the site's display, `compose` and the benchmark:
 // hand_alpha (Eq. 4) -> overlay (Eq. 5) -> composite over the background -> display.
 #include <functional>
 
@@ -12,8 +12,10 @@
 namespace rt::pipeline {
 
 struct ReceiverCompositor {
-  // Creates the images at this size and uploads the generated layers into them.
+  // Creates the images at this size and uploads the generated layers into them (compose, bench).
   ReceiverCompositor(vk::Context& context, uint32_t width, uint32_t height);
+  // For a site: no portrait and no hand yet, over `background` (rgba32f at this size).
+  ReceiverCompositor(vk::Context& context, const HostImage& background);
   // Adds the three passes; hand_distance_m is read when each frame is recorded.
   void add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m);
 

@@ -1,0 +1,249 @@
+#include "site/sender.h"
+
+#include <cmath>
+#include <iostream>
+#include <thread>
+
+#include "geometry/target_view.h"
+#include "ibr/camera_selection.h"
+#include "image/image_io.h"
+#include "site/site_display.h"
+#include "site/site_metrics.h"
+#include "sim/tracker_sim.h"
+#include "time/monotonic_clock.h"
+
+namespace rt::site {
+namespace {
+
+std::vector<passes::IbrCameraModel> camera_models(pipeline::RgbdRenderer& renderer) {
+  std::vector<passes::IbrCameraModel> models;
+  for (size_t k = 0; k < renderer.camera_count(); ++k) models.push_back({renderer.camera(k).color, renderer.camera(k).depth});
+  return models;
+}
+
+}  // namespace
+
+Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(touch) {
+  const SiteRunOptions& options = common_.options;
+  pipeline::IbrSettings settings = options.ibr;
+  settings.width = common_.width;
+  settings.height = common_.height;
+  std::vector<passes::IbrCameraModel> cameras;
+  if (!options.replay.empty()) {
+    // The recording stands for this site's devices: its calibration is the site, its frames and
+    // its times are the scene's.
+    replay_ = std::make_unique<SiteReplay>(options.replay, options.frames_given ? options.run.frames : 0, settings.views);
+    common_.scene.sites[options.site == Site::A ? 0 : 1].site = replay_->site();
+    common_.scene.frame_count = uint32_t(replay_->frame_count());
+    common_.scene.fps = replay_->pacing().fps(common_.scene.fps);
+    cameras = replay_->cameras();
+    std::cerr << "site " << common_.name << ": replaying " << replay_->frame_count() << " frames of "
+              << options.replay.string() << " (" << common_.scene.duration_s() << " s of scene time)"
+              << (options.resolution_scale > 0 ? "; --resolution-scale does not apply to a replay" : "") << "\n";
+  } else {
+    const uint32_t truth_width = options.write_truth ? common_.width : 0;
+    const uint32_t truth_height = options.write_truth ? common_.height : 0;
+    simulator_ = std::make_unique<pipeline::SiteSimulator>(*common_.context, common_.scene, options.site, truth_width,
+                                                           truth_height);
+    cameras = camera_models(simulator_->renderer());
+  }
+  ibr_ = std::make_unique<pipeline::IbrRenderer>(*common_.context, cameras, settings);
+  for (const auto& camera : common_.site().cameras) camera_positions_.push_back(camera.color_camera().position_in_site());
+
+  // The eye sent to the peer: the seat's head position until the cameras find the viewer's eyes.
+  std::vector<Camera> color_cameras;
+  for (const auto& camera : cameras) color_cameras.push_back(camera.color);
+  eye_finder_ = std::make_unique<ViewerEyeFinder>(
+      color_cameras, common_.site().seat.head_centre_m, EyeSearchOptions{}, [this](const std::string& source) {
+        std::cerr << "site " << common_.name << ": eye: " << source << "\n";
+        common_.events->write("eye_source", monotonic_now_us(), {{"source", source}});
+      });
+}
+
+void Sender::set_remote_eye(const Eigen::Vector3d& eye) {
+  std::lock_guard lock(eye_mutex_);
+  remote_eye_ = eye;
+}
+
+void Sender::stop() { captured_.close(); }
+
+std::optional<HostImage> Sender::ground_truth(uint64_t index, bool& told_no_truth) {
+  // The recording's ground truth is the view from the seat of the scene it was made in.
+  std::optional<HostImage> recorded = replay_->ground_truth(index);
+  if (recorded && recorded->width == common_.width && recorded->height == common_.height && recorded->channels() == 4)
+    return recorded;
+  if (!told_no_truth) {
+    told_no_truth = true;
+    const std::string why = recorded ? "its gt/ target view is " + std::to_string(recorded->width) + "x" +
+                                           std::to_string(recorded->height) + ", not the display's " +
+                                           std::to_string(common_.width) + "x" + std::to_string(common_.height)
+                                     : "it has no gt/ target view for frame " + std::to_string(index);
+    common_.events->write("warning", monotonic_now_us(), {{"message", "no ground truth from the recording: " + why}});
+  }
+  return std::nullopt;
+}
+
+void Sender::capture_loop() {
+  const double fps = common_.scene.fps;
+  const bool write_truth = common_.options.write_truth;
+  uint64_t last_index = UINT64_MAX;
+  bool told_no_truth = false;
+  while (!common_.stopping) {
+    const uint64_t now = monotonic_now_us();
+    // The cameras' frame due now: the simulator renders the scene's frame of this moment, a replay
+    // takes the newest recorded frame whose time has come; either skips the frames it missed.
+    std::optional<uint64_t> due;
+    double next_s = 0;  // when the frame after `last_index` is due
+    if (replay_) {
+      if (const auto i = replay_->pacing().due_at(common_.scene_time_s(now))) due = *i;
+      if (due && *due == last_index && last_index + 1 >= replay_->frame_count()) break;
+      next_s = replay_->pacing().time_s(due && *due == last_index ? last_index + 1 : 0);
+    } else {
+      due = uint64_t(std::floor(common_.scene_time_s(now) * fps));
+      if (*due >= common_.scene.frame_count) break;
+      next_s = double(*due + 1) / fps;
+    }
+    if (!due || *due == last_index) {  // wait for the cameras' next frame
+      const uint64_t due_us = common_.epoch_us + uint64_t(next_s / common_.options.time_scale * 1e6);
+      std::this_thread::sleep_for(std::chrono::microseconds(due_us > now ? due_us - now : 0));
+      continue;
+    }
+    const uint64_t index = *due;
+    last_index = index;
+    last_scene_frame_ = index;
+    CapturedFrame captured;
+    captured.index = index;
+    HostImage truth;
+    if (replay_) {
+      captured.frame = replay_->read(index);  // files only: no GPU turn
+      captured.capture_us = monotonic_now_us();
+      captured.scene_time_s = replay_->pacing().time_s(index);
+      if (write_truth)
+        if (std::optional<HostImage> recorded = ground_truth(index, told_no_truth)) truth = std::move(*recorded);
+    } else {
+      std::lock_guard turn(common_.gpu_turn);
+      const uint64_t start = monotonic_now_us();
+      simulator_->seek(index);
+      std::optional<sim::RgbdFrame> frame = simulator_->next_frame();
+      if (!frame) break;
+      captured.capture_us = monotonic_now_us();
+      captured.frame = std::move(*frame);
+      captured.scene_time_s = double(index) / fps;
+      if (write_truth) truth = simulator_->renderer().target_color();
+      simulator_wall_.add(double(monotonic_now_us() - start) / 1000.0);
+    }
+    // The viewer's eyes are looked for in the first frames, on the finder's own thread.
+    if (eye_finder_->wants_frame()) eye_finder_->offer(captured.capture_us, captured.frame.cameras);
+    ++frames_captured_;
+    captured_.put(std::move(captured));
+    if (!truth.texels.empty()) {
+      write_image(common_.out / "truth" / frame_name(index), truth_over_background(truth, common_.background));
+      ++truth_frames_;
+    }
+  }
+  captured_.close();
+}
+
+void Sender::ibr_loop() {
+  while (true) {
+    std::optional<CapturedFrame> captured = captured_.wait_take(std::chrono::milliseconds(50));
+    if (!captured) {
+      if (captured_.closed()) break;
+      continue;
+    }
+    std::optional<Eigen::Vector3d> eye;
+    {
+      std::lock_guard lock(eye_mutex_);
+      eye = remote_eye_;
+    }
+    if (!eye) {  // nobody to render for yet
+      ++frames_without_eye_;
+      continue;
+    }
+    const Camera target = target_view_camera(*eye, common_.site().screen, common_.width, common_.height);
+    // The cameras opposite the hand the tracker saw reaching at that moment (no ground truth here).
+    const std::vector<HandSkeleton> hands = tracked_hands_.closest(captured->scene_time_s).value_or(std::vector<HandSkeleton>{});
+    const auto selection = ibr::select_cameras(camera_positions_, touching_side(hands), ibr_->settings().views);
+    net::PortraitMessage message;
+    {
+      std::lock_guard turn(common_.gpu_turn);
+      const uint64_t start = monotonic_now_us();
+      ibr_->render(captured->frame.cameras, selection, target);
+      message.color = vk::download(*common_.context, ibr_->portrait());
+      message.depth = vk::download(*common_.context, ibr_->portrait_depth());
+      ibr_wall_.add(double(monotonic_now_us() - start) / 1000.0);
+    }
+    message.frame_index = captured->index;
+    message.capture_timestamp_us = captured->capture_us;
+    message.width = common_.width;
+    message.height = common_.height;
+    message.fx = target.intrinsics.fx;
+    message.fy = target.intrinsics.fy;
+    message.cx = target.intrinsics.cx;
+    message.cy = target.intrinsics.cy;
+    message.camera_from_site = target.camera_from_site.matrix();
+    common_.net->send(message);  // encodes here, on this thread
+    ++portraits_sent_;
+    capture_to_sent_.add(double(monotonic_now_us() - captured->capture_us) / 1000.0);
+  }
+  common_.sender_done = true;
+}
+
+void Sender::tracker_loop() {
+  const sim::SiteDescription& site = common_.site();
+  PacedHandTracker tracker =
+      replay_ ? PacedHandTracker(replay_->tracker(), site.tracker, replay_->origin_us())
+              : PacedHandTracker(std::make_unique<sim::SimulatedHandTracker>(
+                                     sim::make_simulated_tracker(common_.scene, common_.options.site)),
+                                 site.tracker, 0);
+  std::optional<Eigen::Vector3d> sent_eye;
+  auto next = std::chrono::steady_clock::now();
+  for (uint64_t tick = 0; !common_.stopping; ++tick) {
+    const uint64_t now = monotonic_now_us();
+    // The paper computes the viewpoint once; sent again every half second so that a peer that
+    // reconnects gets it too, and at once when the cameras' eye replaces the seat's.
+    const Eigen::Vector3d eye = eye_finder_->eye();
+    if (tick % 25 == 0 || !sent_eye || *sent_eye != eye) {
+      common_.net->send(net::EyeMessage{now, eye, true});
+      sent_eye = eye;
+    }
+    std::vector<HandSkeleton> hands;
+    if (const auto tracked = tracker.at(common_.scene_time_s(now))) {
+      tracked_hands_.add(tracked->time_s, tracked->hands);
+      hands = tracked->hands;
+      // Ages count on this machine's clock from when the site has the frame.
+      for (auto& hand : hands) hand.timestamp_us = now;
+    }
+    touch_.set_local_hands(hands);
+    common_.net->send(net::SkeletonMessage{now, hands});
+    ++tracker_ticks_;
+    next += std::chrono::microseconds(sim::kTrackerPeriodUs);
+    std::this_thread::sleep_until(next);
+  }
+}
+
+void Sender::add_metrics(nlohmann::json& m, double wall_s) const {
+  const net::NetCounters counters = common_.net->counters();
+  m["inputs"] = replay_ ? "replay of " + replay_->dir().string() : std::string("simulated scene");
+  m["eye_source"] = eye_finder_->source();
+  m["eye"] = {eye_finder_->eye().x(), eye_finder_->eye().y(), eye_finder_->eye().z()};
+  if (simulator_) m["gpu_ms"]["simulator"] = timings_json(simulator_->renderer().graph());
+  m["gpu_ms"]["ibr"] = timings_json(ibr_->graph());
+  m["stage_wall_ms"]["simulator_render_and_readback"] = simulator_wall_.to_json();
+  m["stage_wall_ms"]["ibr_render_and_readback"] = ibr_wall_.to_json();
+  m["latency_ms"]["capture_to_portrait_sent"] = capture_to_sent_.to_json();
+  m["fps"]["capture"] = double(frames_captured_) / wall_s;
+  m["fps"]["portraits_sent"] = double(portraits_sent_) / wall_s;
+  m["fps"]["tracker"] = double(tracker_ticks_) / wall_s;
+  const uint64_t scene_frames = common_.scene.frame_count;
+  m["frames"]["captured"] = frames_captured_.load();
+  m["frames"]["portraits_sent"] = portraits_sent_.load();
+  m["frames"]["dropped_before_ibr"] = captured_.dropped();
+  m["frames"]["dropped_without_remote_eye"] = frames_without_eye_.load();
+  m["frames"]["portraits_stale_on_wire_out"] =
+      counters.stale_dropped_out[net::message_type_index(net::MessageType::Portrait)];
+  m["frames"]["ground_truth_written"] = truth_frames_.load();
+  m["frames"]["scene_frames_not_captured"] = scene_frames - std::min<uint64_t>(scene_frames, frames_captured_);
+}
+
+}  // namespace rt::site

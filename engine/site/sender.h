@@ -1,0 +1,77 @@
+#pragma once
+// The sender of one site (DESIGN.md section 1, paper section 3.3): renders this site's user for
+// the remote viewer's eye and sends it, with the tracked hands and the local eye.
+//
+//   capture  (scene clock)  simulated or replayed RGBD frame -> mailbox; the ground truth of it
+//   ibr      newest frame + remote eye -> portrait (RGBA + depth) -> network
+//   tracker  (50 Hz)        local skeletons -> network, touch loop; local eye -> network
+//
+// Each loop runs on its own thread (site_run.cpp starts them); a stage that falls behind drops
+// stale frames rather than queueing them.
+#include <Eigen/Core>
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "pipeline/ibr_renderer.h"
+#include "pipeline/site_simulator.h"
+#include "session/latency_stats.h"
+#include "session/mailbox.h"
+#include "site/site_common.h"
+#include "site/site_eye.h"
+#include "site/site_inputs.h"
+#include "touch/touch_loop.h"
+
+namespace rt::site {
+
+class Sender {
+ public:
+  // Opens this site's inputs (a replay updates common.scene) and the image-based model.
+  Sender(SiteCommon& common, TouchLoop& touch);
+
+  void capture_loop();
+  void ibr_loop();
+  void tracker_loop();
+  // Ends the loops that wait on frames (a stage failed).
+  void stop();
+
+  // The remote viewer's eye, in this site's frame (from the network).
+  void set_remote_eye(const Eigen::Vector3d& eye);
+  uint64_t last_scene_frame() const { return last_scene_frame_; }
+  void add_metrics(nlohmann::json& metrics, double wall_s) const;
+
+ private:
+  struct CapturedFrame {
+    uint64_t index = 0;
+    uint64_t capture_us = 0;  // monotonic, when the cameras' images were taken
+    double scene_time_s = 0;  // of the frame, for the tracked hands of that moment
+    sim::RgbdFrame frame;
+  };
+  std::optional<HostImage> ground_truth(uint64_t index, bool& told_no_truth);
+
+  SiteCommon& common_;
+  TouchLoop& touch_;
+  // The site's inputs (site_inputs.h): simulated from the scene, or replayed from a recording.
+  std::unique_ptr<pipeline::SiteSimulator> simulator_;
+  std::unique_ptr<SiteReplay> replay_;
+  TrackedHandsHistory tracked_hands_;
+  std::unique_ptr<pipeline::IbrRenderer> ibr_;
+  std::vector<Eigen::Vector3d> camera_positions_;
+  std::unique_ptr<ViewerEyeFinder> eye_finder_;
+
+  session::Mailbox<CapturedFrame> captured_;
+  mutable std::mutex eye_mutex_;
+  std::optional<Eigen::Vector3d> remote_eye_;
+
+  std::atomic<uint64_t> frames_captured_{0}, portraits_sent_{0}, frames_without_eye_{0}, tracker_ticks_{0},
+      last_scene_frame_{0}, truth_frames_{0};
+  session::LatencyStats capture_to_sent_;
+  // Wall time of each stage's GPU turn (upload, graph run, download), next to the frame graph's
+  // per-pass timestamps.
+  session::LatencyStats simulator_wall_, ibr_wall_;
+};
+
+}  // namespace rt::site

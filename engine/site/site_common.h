@@ -1,0 +1,53 @@
+#pragma once
+// What the sender, the receiver and the run of one site share: the options, the scene, the
+// device and its GPU turn, the event log, the link and the scene clock. The run owns it; the
+// sender and the receiver hold a reference.
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "image/host_image.h"
+#include "net/session.h"
+#include "session/event_log.h"
+#include "session/fair_mutex.h"
+#include "sim/scene.h"
+#include "site/site_options.h"
+#include "vulkan/context.h"
+#include "vulkan/frame_graph.h"
+
+namespace rt::site {
+
+struct SiteCommon {
+  SiteRunOptions options;
+  std::string name;  // "A" or "B"
+  Site remote = Site::B;
+  sim::Scene scene;  // a replay replaces this site's description, frame count and rate (the sender does)
+  uint32_t width = 0, height = 0;  // of the portraits and the display
+  std::filesystem::path out;
+  vk::Context* context = nullptr;
+  session::FairMutex gpu_turn;  // lavapipe is one queue on the CPU: GPU work from all threads takes turns
+  session::EventLog* events = nullptr;
+  net::Session* net = nullptr;
+  HostImage background;  // what the display shows behind the remote user
+
+  // The scene clock: scene time = (now - epoch) * time_scale from the moment the sites connect.
+  uint64_t epoch_us = 0, end_us = 0;
+  std::atomic<bool> stopping{false};
+  std::atomic<bool> sender_done{false};  // no more portraits will be sent
+
+  double scene_time_s(uint64_t now_us) const { return double(now_us - epoch_us) * 1e-6 * options.time_scale; }
+  const sim::SiteDescription& site() const { return scene.at(options.site).site; }
+
+  // Per-pass GPU ms of a stage's graph, for metrics.json.
+  void record_gpu_ms(const std::string& stage, const vk::FrameGraph& graph);
+  nlohmann::json gpu_ms() const;
+
+ private:
+  mutable std::mutex gpu_ms_mutex_;
+  nlohmann::json gpu_ms_ = nlohmann::json::object();
+};
+
+}  // namespace rt::site
