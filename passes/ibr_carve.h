@@ -13,8 +13,9 @@
 namespace rt::passes {
 
 struct CarveSettings {
-  // The see-through probes' offset around the projection, in depth texels. On wave (six views,
-  // best options, every fifth frame): 0.15 / 0.25 / 0.35 / 0.45 give 29.95 / 30.08 / 30.12 / 30.08 dB.
+  // The see-through probes' offset around the projection, in depth texels: far enough to reach
+  // past the gap's own edge, near enough to stay on the finger (tuned with eval ibr; the record
+  // is in docs/image-based-model.md).
   float probe_texels = 0.35f;
   int march_steps = 3;         // of the ray onto the see-through view's depth
 };

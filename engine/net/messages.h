@@ -1,5 +1,5 @@
 #pragma once
-// What the two sites exchange (issue 7): one message type per stream. Coordinates are metres in
+// What the two sites exchange: one message type per stream. Coordinates are metres in
 // the SENDER's site frame (the receiver maps them with geometry/site_frames.h); timestamps are
 // microseconds of the sender's monotonic clock (engine/time/monotonic_clock.h): the two machines'
 // clocks are unrelated, so a receiver restamps on arrival where it needs its own clock.

@@ -55,7 +55,7 @@ struct DepthSensorParams {
 };
 
 
-// ---- The geometry hand (issue 5) ----
+// ---- The geometry hand ----
 // Bones of the hand template, in the tracker's hierarchy: arm, wrist, then per digit (thumb to
 // pinky) metacarpal, proximal, intermediate, distal. Bone 2 + 4 digit + b.
 #define RT_HAND_BONES 22
