@@ -5,7 +5,8 @@
 // (header.z still records the pixel count).
 //   in:  partials (ColorStatsPartial[group_count])
 //   in/out: state (AppearanceState)
-// Tested in tests/test_hand_color_stats.cpp with the pass that feeds it.
+// Tested in tests/test_hand_color_reduce.cpp, and in tests/test_hand_color_stats.cpp with the pass
+// that feeds it.
 #include <span>
 
 #include "shared/config.h"

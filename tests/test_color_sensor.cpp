@@ -3,7 +3,7 @@
 
 #include "passes/color_sensor.h"
 #include "support/gpu_test.h"
-#include "vulkan/frame_graph.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 
@@ -17,15 +17,10 @@ HostImage quantised(HostImage image) {
 }
 
 HostImage run_gpu(const HostImage& input, const passes::ColorSensorModel& model) {
-  vk::Context& context = test::gpu();
-  vk::Image rendered(context, {"rendered", input.width, input.height, PixelFormat::RGBA8});
-  vk::Image sensed(context, {"sensed", input.width, input.height, PixelFormat::RGBA8});
-  vk::upload(context, rendered, input);
-  const passes::ColorSensorPass pass(context, model);
-  vk::FrameGraph graph(context, "test color_sensor");
-  pass.add_to(graph, rendered, sensed);
-  graph.run();
-  return vk::download(context, sensed);
+  const passes::ColorSensorPass pass(test::gpu(), model);
+  test::PassHarness gpu("color_sensor");
+  pass.add_to(gpu.graph(), gpu.input("rendered", input), gpu.output("sensed", input.width, input.height, PixelFormat::RGBA8));
+  return gpu.run().image("sensed");
 }
 
 }  // namespace

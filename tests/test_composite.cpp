@@ -4,7 +4,7 @@
 
 #include "passes/composite.h"
 #include "support/gpu_test.h"
-#include "vulkan/frame_graph.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 
@@ -12,19 +12,12 @@ namespace {
 
 constexpr double kOneStep = 1.0 / 255.0 + 1e-6;
 
-HostImage run_gpu(const HostImage& fused_in, const HostImage& background_in) {
-  vk::Context& context = test::gpu();
-  const uint32_t w = fused_in.width, h = fused_in.height;
-  vk::Image fused(context, {"fused", w, h, PixelFormat::RGBA32F});
-  vk::Image background(context, {"background", w, h, PixelFormat::RGBA32F});
-  vk::Image display(context, {"display", w, h, PixelFormat::RGBA8});
-  vk::upload(context, fused, fused_in);
-  vk::upload(context, background, background_in);
-  const passes::CompositePass pass(context);
-  vk::FrameGraph graph(context, "test composite");
-  pass.add_to(graph, fused, background, display);
-  graph.run();
-  return vk::download(context, display);
+HostImage run_gpu(const HostImage& fused, const HostImage& background) {
+  const passes::CompositePass pass(test::gpu());
+  test::PassHarness gpu("composite");
+  pass.add_to(gpu.graph(), gpu.input("fused", fused), gpu.input("background", background),
+              gpu.output("display", fused.width, fused.height, PixelFormat::RGBA8));
+  return gpu.run().image("display");
 }
 
 // Random premultiplied layers: color never above alpha.

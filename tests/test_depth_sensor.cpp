@@ -9,7 +9,7 @@
 #include "passes/depth_sensor.h"
 #include "shared/config.h"
 #include "support/gpu_test.h"
-#include "vulkan/frame_graph.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 using passes::DepthSensorModel;
@@ -17,17 +17,11 @@ using passes::DepthSensorModel;
 namespace {
 
 HostImage run_gpu(const HostImage& depth, const HostImage& part, const DepthSensorModel& model, uint32_t seed) {
-  vk::Context& context = test::gpu();
-  vk::Image depth_m(context, {"depth m", depth.width, depth.height, PixelFormat::R32F});
-  vk::Image part_image(context, {"part", depth.width, depth.height, PixelFormat::R32F});
-  vk::Image depth_mm(context, {"depth mm", depth.width, depth.height, PixelFormat::R16U});
-  vk::upload(context, depth_m, depth);
-  vk::upload(context, part_image, part);
-  const passes::DepthSensorPass pass(context, model);
-  vk::FrameGraph graph(context, "test depth_sensor");
-  pass.add_to(graph, depth_m, part_image, depth_mm, [seed] { return seed; });
-  graph.run();
-  return vk::download(context, depth_mm);
+  const passes::DepthSensorPass pass(test::gpu(), model);
+  test::PassHarness gpu("depth_sensor");
+  pass.add_to(gpu.graph(), gpu.input("depth m", depth), gpu.input("part", part),
+              gpu.output("depth mm", depth.width, depth.height, PixelFormat::R16U), [seed] { return seed; });
+  return gpu.run().image("depth mm");
 }
 
 // A scene-like depth image: a background at 2.5 m, a body at 1.2 m, a hand at 0.6 m, holes.

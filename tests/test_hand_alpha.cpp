@@ -4,7 +4,7 @@
 
 #include "passes/hand_alpha.h"
 #include "support/gpu_test.h"
-#include "vulkan/frame_graph.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 
@@ -13,15 +13,11 @@ namespace {
 constexpr double kAbs = 1e-6, kRel = 1e-6;
 
 HostImage run_gpu(const HostImage& mask, float distance, passes::FusionRamp ramp = {}) {
-  vk::Context& context = test::gpu();
-  vk::Image mask_image(context, {"hand mask", mask.width, mask.height, PixelFormat::R32F});
-  vk::Image alpha_image(context, {"hand alpha", mask.width, mask.height, PixelFormat::R32F});
-  vk::upload(context, mask_image, mask);
-  const passes::HandAlphaPass pass(context, ramp);
-  vk::FrameGraph graph(context, "test hand_alpha");
-  pass.add_to(graph, mask_image, alpha_image, [distance] { return distance; });
-  graph.run();
-  return vk::download(context, alpha_image);
+  const passes::HandAlphaPass pass(test::gpu(), ramp);
+  test::PassHarness gpu("hand_alpha");
+  pass.add_to(gpu.graph(), gpu.input("hand mask", mask), gpu.output("hand alpha", mask.width, mask.height, PixelFormat::R32F),
+              [distance] { return distance; });
+  return gpu.run().image("hand alpha");
 }
 
 }  // namespace

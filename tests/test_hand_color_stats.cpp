@@ -13,6 +13,7 @@
 #include "passes/hand_color_stats.h"
 #include "passes/hand_color_transfer.h"
 #include "support/gpu_test.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 using passes::AppearanceState;
@@ -44,35 +45,20 @@ struct GpuResult {
 };
 
 GpuResult run_gpu(const Inputs& in, const AppearanceState& state, const shader_abi::ColorStatsReduceParams& reduce) {
-  vk::Context& context = test::gpu();
-  const uint32_t w = in.mesh_color.width, h = in.mesh_color.height;
-  vk::Image pc(context, {"portrait color", w, h, PixelFormat::RGBA32F}), pd(context, {"portrait depth", w, h, PixelFormat::R32F}),
-      mc(context, {"mesh color", w, h, PixelFormat::RGBA32F}), md(context, {"mesh depth", w, h, PixelFormat::R32F}),
-      mm(context, {"mesh mask", w, h, PixelFormat::R32F});
-  vk::upload(context, pc, in.portrait_color);
-  vk::upload(context, pd, in.portrait_depth);
-  vk::upload(context, mc, in.mesh_color);
-  vk::upload(context, md, in.mesh_depth);
-  vk::upload(context, mm, in.mesh_mask);
-  const uint32_t groups = passes::color_stats_group_count(w, h);
-  vk::Buffer partials(context, {"partials", groups * sizeof(ColorStatsPartial)});
-  vk::Buffer state_buffer(context, {"appearance state", sizeof(AppearanceState)});
-  vk::upload(context, state_buffer, std::as_bytes(std::span(&state, 1)));
-  const passes::HandColorStatsPass stats(context);
-  const passes::HandColorReducePass reducer(context);
-  vk::FrameGraph graph(context, "test hand_color_stats");
-  stats.add_to(graph, pc, pd, mc, md, mm, partials);
+  const passes::HandColorStatsPass stats(test::gpu());
+  const passes::HandColorReducePass reducer(test::gpu());
+  test::PassHarness gpu("hand_color_stats");
+  const uint32_t groups = passes::color_stats_group_count(in.mesh_color.width, in.mesh_color.height);
+  vk::Buffer& partials = gpu.output_buffer<ColorStatsPartial>("partials", groups);
+  stats.add_to(gpu.graph(), gpu.input("portrait color", in.portrait_color), gpu.input("portrait depth", in.portrait_depth),
+               gpu.input("mesh color", in.mesh_color), gpu.input("mesh depth", in.mesh_depth),
+               gpu.input("mesh mask", in.mesh_mask), partials);
   auto params = reduce;
   params.group_count = groups;
-  reducer.add_to(graph, partials, state_buffer, [params] { return params; });
-  graph.run();
-  GpuResult result;
-  result.partials.resize(groups);
-  const auto bytes = vk::download(context, partials);
-  std::memcpy(result.partials.data(), bytes.data(), groups * sizeof(ColorStatsPartial));
-  const auto state_bytes = vk::download(context, state_buffer);
-  std::memcpy(&result.state, state_bytes.data(), sizeof(AppearanceState));
-  return result;
+  reducer.add_to(gpu.graph(), partials, gpu.input_buffer("appearance state", std::span(&state, 1), true),
+                 [params] { return params; });
+  const test::PassOutputs out = gpu.run();
+  return {out.values<ColorStatsPartial>("partials"), out.value<AppearanceState>("appearance state")};
 }
 
 void require_sums_match(const std::vector<ColorStatsPartial>& partials, const passes::ColorSums& reference) {

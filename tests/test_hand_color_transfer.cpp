@@ -7,6 +7,7 @@
 
 #include "passes/hand_color_transfer.h"
 #include "support/gpu_test.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 using passes::AppearanceState;
@@ -14,17 +15,11 @@ using passes::AppearanceState;
 namespace {
 
 HostImage run_gpu(const HostImage& texture, const AppearanceState& state) {
-  vk::Context& context = test::gpu();
-  vk::Image t(context, {"template texture", texture.width, texture.height, PixelFormat::RGBA32F});
-  vk::Image adapted(context, {"adapted texture", texture.width, texture.height, PixelFormat::RGBA32F});
-  vk::Buffer state_buffer(context, {"appearance state", sizeof(AppearanceState)});
-  vk::upload(context, t, texture);
-  vk::upload(context, state_buffer, std::as_bytes(std::span(&state, 1)));
-  const passes::HandColorTransferPass pass(context);
-  vk::FrameGraph graph(context, "test hand_color_transfer");
-  pass.add_to(graph, t, state_buffer, adapted);
-  graph.run();
-  return vk::download(context, adapted);
+  const passes::HandColorTransferPass pass(test::gpu());
+  test::PassHarness gpu("hand_color_transfer");
+  pass.add_to(gpu.graph(), gpu.input("template texture", texture), gpu.input_buffer("appearance state", std::span(&state, 1)),
+              gpu.output("adapted texture", texture.width, texture.height, PixelFormat::RGBA32F));
+  return gpu.run().image("adapted texture");
 }
 
 AppearanceState random_state(std::mt19937& rng) {

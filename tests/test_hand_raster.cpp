@@ -14,6 +14,7 @@
 #include "passes/hand_skinning.h"
 #include "sim/hand_model.h"
 #include "support/gpu_test.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 using passes::SkinnedVertex;
@@ -26,26 +27,18 @@ struct GpuRaster {
 
 GpuRaster run_gpu(const std::vector<SkinnedVertex>& skinned, const std::vector<uint32_t>& indices, const HostImage& texture,
                   const Camera& camera) {
-  vk::Context& context = test::gpu();
+  const passes::HandRasterPass pass(test::gpu());
+  const vk::Sampler sampler(test::gpu(), "bilinear clamp");
+  test::PassHarness gpu("hand_raster");
   const uint32_t w = camera.intrinsics.width, h = camera.intrinsics.height;
-  vk::Buffer vertex_buffer(context, {"skinned", std::max<size_t>(1, skinned.size()) * sizeof(SkinnedVertex)});
-  vk::Buffer index_buffer(context, {"indices", std::max<size_t>(1, indices.size()) * sizeof(uint32_t)});
-  if (!skinned.empty()) vk::upload(context, vertex_buffer, std::as_bytes(std::span(skinned)));
-  if (!indices.empty()) vk::upload(context, index_buffer, std::as_bytes(std::span(indices)));
-  vk::Image texture_image(context, {"skin texture", texture.width, texture.height, PixelFormat::RGBA32F});
-  vk::upload(context, texture_image, texture);
-  const vk::Sampler sampler(context, "bilinear clamp");
-  vk::Image color(context, {"hand color", w, h, PixelFormat::RGBA32F});
-  vk::Image depth_m(context, {"hand depth", w, h, PixelFormat::R32F});
-  vk::Image mask(context, {"hand mask", w, h, PixelFormat::R32F});
-  vk::Image depth_buffer(context, {"hand depth buffer", w, h, PixelFormat::D32F});
-  const passes::HandRasterPass pass(context);
-  vk::FrameGraph graph(context, "test hand_raster");
   const auto view = passes::raster_view(camera, 0.05, 10.0);
-  pass.add_to(graph, vertex_buffer, index_buffer, [n = uint32_t(indices.size())] { return n; }, texture_image, sampler,
-              [view] { return view; }, {&color, &depth_m, &mask, &depth_buffer});
-  graph.run();
-  return {vk::download(context, color), vk::download(context, depth_m), vk::download(context, mask)};
+  pass.add_to(gpu.graph(), gpu.input_buffer("skinned", skinned), gpu.input_buffer("indices", indices),
+              [n = uint32_t(indices.size())] { return n; }, gpu.input("skin texture", texture), sampler,
+              [view] { return view; },
+              {&gpu.output("hand color", w, h, PixelFormat::RGBA32F), &gpu.output("hand depth", w, h, PixelFormat::R32F),
+               &gpu.output("hand mask", w, h, PixelFormat::R32F), &gpu.scratch("hand depth buffer", w, h, PixelFormat::D32F)});
+  const test::PassOutputs out = gpu.run();
+  return {out.image("hand color"), out.image("hand depth"), out.image("hand mask")};
 }
 
 size_t require_matches(const GpuRaster& gpu, const passes::HandRasterReference& reference) {

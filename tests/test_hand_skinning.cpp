@@ -10,6 +10,7 @@
 #include "passes/hand_skinning.h"
 #include "sim/hand_model.h"
 #include "support/gpu_test.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 using passes::BoneMatrices;
@@ -19,20 +20,11 @@ using passes::SkinnedVertex;
 namespace {
 
 std::vector<SkinnedVertex> run_gpu(const std::vector<HandVertex>& rest, const BoneMatrices& bones) {
-  vk::Context& context = test::gpu();
-  vk::Buffer rest_buffer(context, {"rest vertices", std::max<size_t>(1, rest.size()) * sizeof(HandVertex)});
-  vk::Buffer bone_buffer(context, {"bone transforms", sizeof(BoneMatrices)});
-  vk::Buffer skinned(context, {"skinned vertices", std::max<size_t>(1, rest.size()) * sizeof(SkinnedVertex)});
-  if (!rest.empty()) vk::upload(context, rest_buffer, std::as_bytes(std::span(rest)));
-  vk::upload(context, bone_buffer, std::as_bytes(std::span(bones)));
-  const passes::HandSkinningPass pass(context);
-  vk::FrameGraph graph(context, "test hand_skinning");
-  pass.add_to(graph, rest_buffer, bone_buffer, skinned, [n = uint32_t(rest.size())] { return n; });
-  graph.run();
-  const auto bytes = vk::download(context, skinned);
-  std::vector<SkinnedVertex> out(rest.size());
-  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(SkinnedVertex));
-  return out;
+  const passes::HandSkinningPass pass(test::gpu());
+  test::PassHarness gpu("hand_skinning");
+  pass.add_to(gpu.graph(), gpu.input_buffer("rest vertices", rest), gpu.input_buffer("bone transforms", bones),
+              gpu.output_buffer<SkinnedVertex>("skinned vertices", rest.size()), [n = uint32_t(rest.size())] { return n; });
+  return gpu.run().values<SkinnedVertex>("skinned vertices");
 }
 
 double require_matches(const std::vector<SkinnedVertex>& gpu, const std::vector<SkinnedVertex>& reference) {

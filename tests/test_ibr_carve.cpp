@@ -6,6 +6,7 @@
 #include "passes/ibr_carve.h"
 #include "support/gpu_test.h"
 #include "support/ibr_rig.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 
@@ -13,22 +14,15 @@ namespace {
 
 constexpr uint32_t kDepthW = 9, kDepthH = 7;
 
-HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused_in, const HostImage& points_in,
+HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused, const HostImage& points,
                   const passes::CarveSettings& settings = {}) {
-  vk::Context& context = test::gpu();
-  const uint32_t w = fused_in.width, h = fused_in.height;
-  vk::Image fused(context, {"fused depth", w, h, PixelFormat::R32F});
-  vk::Image points(context, {"points", points_in.width, points_in.height, PixelFormat::RGBA32F});
-  vk::Image carved(context, {"carved depth", w, h, PixelFormat::R32F});
-  vk::upload(context, fused, fused_in);
-  vk::upload(context, points, points_in);
-  passes::IbrSceneBuffer scene(context);
+  const passes::IbrCarvePass pass(test::gpu(), settings);
+  passes::IbrSceneBuffer scene(test::gpu());
   scene.write(rig.table);
-  const passes::IbrCarvePass pass(context, settings);
-  vk::FrameGraph graph(context, "test ibr_carve");
-  pass.add_to(graph, scene, fused, points, carved, uint32_t(rig.cameras.size()));
-  graph.run();
-  return vk::download(context, carved);
+  test::PassHarness gpu("ibr_carve");
+  pass.add_to(gpu.graph(), scene, gpu.input("fused depth", fused), gpu.input("points", points),
+              gpu.output("carved depth", fused.width, fused.height, PixelFormat::R32F), uint32_t(rig.cameras.size()));
+  return gpu.run().image("carved depth");
 }
 
 // View `view`'s texel (x, y) at camera depth `depth`: its site point (no lens distortion in

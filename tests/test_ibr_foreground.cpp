@@ -6,27 +6,21 @@
 #include "passes/ibr_foreground.h"
 #include "support/gpu_test.h"
 #include "support/ibr_rig.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 
 namespace {
 
-HostImage run_gpu(const test::IbrRig& rig, const HostImage& depth_mm_in, const HostImage& rays_in,
+HostImage run_gpu(const test::IbrRig& rig, const HostImage& depth_mm, const HostImage& rays,
                   const passes::ForegroundSettings& settings = {}) {
-  vk::Context& context = test::gpu();
-  const uint32_t w = depth_mm_in.width, h = depth_mm_in.height, views = uint32_t(rig.cameras.size());
-  vk::Image depth_mm(context, {"depth mm", w, h, PixelFormat::R16U});
-  vk::Image rays(context, {"depth rays", w, h, PixelFormat::RGBA32F});
-  vk::Image points(context, {"points", w, h, PixelFormat::RGBA32F});
-  vk::upload(context, depth_mm, depth_mm_in);
-  vk::upload(context, rays, rays_in);
-  passes::IbrSceneBuffer scene(context);
+  const passes::IbrForegroundPass pass(test::gpu(), settings);
+  passes::IbrSceneBuffer scene(test::gpu());
   scene.write(rig.table);
-  const passes::IbrForegroundPass pass(context, settings);
-  vk::FrameGraph graph(context, "test ibr_foreground");
-  pass.add_to(graph, scene, depth_mm, rays, points, views);
-  graph.run();
-  return vk::download(context, points);
+  test::PassHarness gpu("ibr_foreground");
+  pass.add_to(gpu.graph(), scene, gpu.input("depth mm", depth_mm), gpu.input("depth rays", rays),
+              gpu.output("points", depth_mm.width, depth_mm.height, PixelFormat::RGBA32F), uint32_t(rig.cameras.size()));
+  return gpu.run().image("points");
 }
 
 size_t foreground_pixels(const HostImage& points) {

@@ -5,6 +5,7 @@
 #include "passes/ibr_refine.h"
 #include "support/gpu_test.h"
 #include "support/ibr_rig.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 
@@ -23,25 +24,15 @@ HostImage points_atlas(std::mt19937& rng, const test::IbrRig& rig, float own_dep
 // A tolerance that accepts any valid own depth, to test the sweep apart from occlusion.
 constexpr passes::VisibilityTolerance kSeesEveryValidDepth{10.0f, 0.01f};
 
-HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused_in, const HostImage& color_in,
-                  const HostImage& points_in, const passes::RefineSettings& settings,
-                  passes::VisibilityTolerance visibility) {
-  vk::Context& context = test::gpu();
-  const uint32_t w = fused_in.width, h = fused_in.height;
-  vk::Image fused(context, {"fused depth", w, h, PixelFormat::R32F});
-  vk::Image color(context, {"color", color_in.width, color_in.height, PixelFormat::RGBA8});
-  vk::Image points(context, {"points", points_in.width, points_in.height, PixelFormat::RGBA32F});
-  vk::Image refined(context, {"refined depth", w, h, PixelFormat::R32F});
-  vk::upload(context, fused, fused_in);
-  vk::upload(context, color, color_in);
-  vk::upload(context, points, points_in);
-  passes::IbrSceneBuffer scene(context);
+HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused, const HostImage& color, const HostImage& points,
+                  const passes::RefineSettings& settings, passes::VisibilityTolerance visibility) {
+  const passes::IbrRefinePass pass(test::gpu(), settings, visibility);
+  passes::IbrSceneBuffer scene(test::gpu());
   scene.write(rig.table);
-  const passes::IbrRefinePass pass(context, settings, visibility);
-  vk::FrameGraph graph(context, "test ibr_refine");
-  pass.add_to(graph, scene, fused, color, points, refined, uint32_t(rig.cameras.size()));
-  graph.run();
-  return vk::download(context, refined);
+  test::PassHarness gpu("ibr_refine");
+  pass.add_to(gpu.graph(), scene, gpu.input("fused depth", fused), gpu.input("color", color), gpu.input("points", points),
+              gpu.output("refined depth", fused.width, fused.height, PixelFormat::R32F), uint32_t(rig.cameras.size()));
+  return gpu.run().image("refined depth");
 }
 
 }  // namespace

@@ -11,25 +11,20 @@
 #include "passes/ibr_resolve.h"
 #include "sim/scene.h"
 #include "support/gpu_test.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 
 namespace {
 
 passes::Portrait run_gpu(const HostImage& fine_portrait, const HostImage& fine_depth, uint32_t factor) {
-  vk::Context& context = test::gpu();
+  const passes::IbrResolvePass pass(test::gpu(), factor);
+  test::PassHarness gpu("ibr_resolve");
   const uint32_t w = fine_portrait.width / factor, h = fine_portrait.height / factor;
-  vk::Image fine(context, {"fine portrait", fine_portrait.width, fine_portrait.height, PixelFormat::RGBA32F});
-  vk::Image fine_z(context, {"fine depth", fine_depth.width, fine_depth.height, PixelFormat::R32F});
-  vk::Image portrait(context, {"portrait", w, h, PixelFormat::RGBA32F});
-  vk::Image depth(context, {"portrait depth", w, h, PixelFormat::R32F});
-  vk::upload(context, fine, fine_portrait);
-  vk::upload(context, fine_z, fine_depth);
-  const passes::IbrResolvePass pass(context, factor);
-  vk::FrameGraph graph(context, "test ibr_resolve");
-  pass.add_to(graph, fine, fine_z, portrait, depth);
-  graph.run();
-  return {vk::download(context, portrait), vk::download(context, depth)};
+  pass.add_to(gpu.graph(), gpu.input("fine portrait", fine_portrait), gpu.input("fine depth", fine_depth),
+              gpu.output("portrait", w, h, PixelFormat::RGBA32F), gpu.output("portrait depth", w, h, PixelFormat::R32F));
+  const test::PassOutputs out = gpu.run();
+  return {out.image("portrait"), out.image("portrait depth")};
 }
 
 // A fine portrait as the blend writes it: alpha 0 or 1 (some 0.5 to exercise partial input),

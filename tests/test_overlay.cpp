@@ -4,7 +4,7 @@
 
 #include "passes/overlay.h"
 #include "support/gpu_test.h"
-#include "vulkan/frame_graph.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 
@@ -17,20 +17,11 @@ struct Layers {
 };
 
 HostImage run_gpu(const Layers& in) {
-  vk::Context& context = test::gpu();
-  const uint32_t w = in.portrait.width, h = in.portrait.height;
-  vk::Image hand_color(context, {"hand color", w, h, PixelFormat::RGBA32F});
-  vk::Image hand_alpha(context, {"hand alpha", w, h, PixelFormat::R32F});
-  vk::Image portrait(context, {"portrait", w, h, PixelFormat::RGBA32F});
-  vk::Image fused(context, {"fused", w, h, PixelFormat::RGBA32F});
-  vk::upload(context, hand_color, in.hand_color);
-  vk::upload(context, hand_alpha, in.hand_alpha);
-  vk::upload(context, portrait, in.portrait);
-  const passes::OverlayPass pass(context);
-  vk::FrameGraph graph(context, "test overlay");
-  pass.add_to(graph, hand_color, hand_alpha, portrait, fused);
-  graph.run();
-  return vk::download(context, fused);
+  const passes::OverlayPass pass(test::gpu());
+  test::PassHarness gpu("overlay");
+  pass.add_to(gpu.graph(), gpu.input("hand color", in.hand_color), gpu.input("hand alpha", in.hand_alpha),
+              gpu.input("portrait", in.portrait), gpu.output("fused", in.portrait.width, in.portrait.height, PixelFormat::RGBA32F));
+  return gpu.run().image("fused");
 }
 
 Layers random_layers(std::mt19937& rng, uint32_t w, uint32_t h) {

@@ -9,7 +9,7 @@
 
 #include "passes/person_raster.h"
 #include "support/gpu_test.h"
-#include "vulkan/frame_graph.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 using passes::MeshVertex;
@@ -54,22 +54,15 @@ struct GpuRaster {
 };
 
 GpuRaster run_gpu(const std::vector<MeshVertex>& mesh, const Camera& camera) {
-  vk::Context& context = test::gpu();
+  const passes::PersonRasterPass pass(test::gpu());
+  test::PassHarness gpu("person_raster");
   const uint32_t w = camera.intrinsics.width, h = camera.intrinsics.height;
-  vk::Buffer buffer(context, {"test mesh", std::max<size_t>(1, mesh.size()) * sizeof(MeshVertex)});
-  if (!mesh.empty())
-    vk::upload(context, buffer, std::as_bytes(std::span(mesh.data(), mesh.size())));
-  vk::Image color(context, {"color", w, h, PixelFormat::RGBA8});
-  vk::Image depth_m(context, {"depth m", w, h, PixelFormat::R32F});
-  vk::Image part(context, {"part", w, h, PixelFormat::R32F});
-  vk::Image depth_buffer(context, {"depth buffer", w, h, PixelFormat::D32F});
-  const passes::PersonRasterPass pass(context);
-  vk::FrameGraph graph(context, "test person_raster");
   const auto view = passes::raster_view(camera, 0.1, 10.0);
-  pass.add_to(graph, buffer, [&] { return uint32_t(mesh.size()); }, [view] { return view; },
-              {&color, &depth_m, &part, &depth_buffer});
-  graph.run();
-  return {vk::download(context, color), vk::download(context, depth_m), vk::download(context, part)};
+  pass.add_to(gpu.graph(), gpu.input_buffer("test mesh", mesh), [&] { return uint32_t(mesh.size()); }, [view] { return view; },
+              {&gpu.output("color", w, h, PixelFormat::RGBA8), &gpu.output("depth m", w, h, PixelFormat::R32F),
+               &gpu.output("part", w, h, PixelFormat::R32F), &gpu.scratch("depth buffer", w, h, PixelFormat::D32F)});
+  const test::PassOutputs out = gpu.run();
+  return {out.image("color"), out.image("depth m"), out.image("part")};
 }
 
 // Compares away from edges; returns how many covered pixels were compared.

@@ -2,6 +2,7 @@
 // tolerance for the GPU's rounding of the mean; depth and part are copied exactly.
 #include "passes/supersample_resolve.h"
 #include "support/gpu_test.h"
+#include "support/pass_harness.h"
 
 using namespace rt;
 
@@ -11,23 +12,15 @@ struct Resolved {
   HostImage color, depth_m, part;
 };
 
-Resolved run_gpu(const HostImage& color_in, const HostImage& depth_in, const HostImage& part_in, uint32_t factor) {
-  vk::Context& context = test::gpu();
-  const uint32_t fw = color_in.width, fh = color_in.height, w = fw / factor, h = fh / factor;
-  vk::Image fine_color(context, {"fine color", fw, fh, PixelFormat::RGBA8});
-  vk::Image fine_depth(context, {"fine depth", fw, fh, PixelFormat::R32F});
-  vk::Image fine_part(context, {"fine part", fw, fh, PixelFormat::R32F});
-  vk::Image color(context, {"color", w, h, PixelFormat::RGBA8});
-  vk::Image depth(context, {"depth", w, h, PixelFormat::R32F});
-  vk::Image part(context, {"part", w, h, PixelFormat::R32F});
-  vk::upload(context, fine_color, color_in);
-  vk::upload(context, fine_depth, depth_in);
-  vk::upload(context, fine_part, part_in);
-  const passes::SupersampleResolvePass pass(context, factor);
-  vk::FrameGraph graph(context, "test supersample_resolve");
-  pass.add_to(graph, {&fine_color, &fine_depth, &fine_part}, {&color, &depth, &part});
-  graph.run();
-  return {vk::download(context, color), vk::download(context, depth), vk::download(context, part)};
+Resolved run_gpu(const HostImage& color, const HostImage& depth, const HostImage& part, uint32_t factor) {
+  const passes::SupersampleResolvePass pass(test::gpu(), factor);
+  test::PassHarness gpu("supersample_resolve");
+  const uint32_t w = color.width / factor, h = color.height / factor;
+  pass.add_to(gpu.graph(), {&gpu.input("fine color", color), &gpu.input("fine depth", depth), &gpu.input("fine part", part)},
+              {&gpu.output("color", w, h, PixelFormat::RGBA8), &gpu.output("depth", w, h, PixelFormat::R32F),
+               &gpu.output("part", w, h, PixelFormat::R32F)});
+  const test::PassOutputs out = gpu.run();
+  return {out.image("color"), out.image("depth"), out.image("part")};
 }
 
 }  // namespace

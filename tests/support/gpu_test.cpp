@@ -3,6 +3,7 @@
 #include <cmath>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 namespace rt::test {
 namespace {
@@ -63,15 +64,32 @@ size_t count_non_finite(const HostImage& image) {
   return count;
 }
 
+namespace {
+
+std::string shape_of(const HostImage& image) {
+  return std::to_string(image.width) + "x" + std::to_string(image.height) + " with " + std::to_string(image.channels()) +
+         (image.channels() == 1 ? " channel" : " channels") + " (" + format_name(image.format) + ")";
+}
+
+void require_same_shape(const char* comparison, const HostImage& gpu_image, const HostImage& reference) {
+  const size_t values = size_t(reference.width) * reference.height * reference.channels();
+  if (gpu_image.width != reference.width || gpu_image.height != reference.height ||
+      gpu_image.channels() != reference.channels())
+    throw std::invalid_argument(std::string(comparison) + ": the GPU image is " + shape_of(gpu_image) +
+                                ", the reference " + shape_of(reference));
+  if (gpu_image.texels.size() != values || reference.texels.size() != values)
+    throw std::invalid_argument(std::string(comparison) + ": an image of " + shape_of(reference) + " holds " +
+                                std::to_string(gpu_image.texels.size()) + " (GPU) and " +
+                                std::to_string(reference.texels.size()) + " (reference) values, not " +
+                                std::to_string(values));
+}
+
+}  // namespace
+
 Comparison compare(const HostImage& gpu_image, const HostImage& reference, double abs_tol, double rel_tol) {
+  require_same_shape("compare", gpu_image, reference);
   Comparison result;
   result.non_finite = count_non_finite(gpu_image);
-  if (gpu_image.width != reference.width || gpu_image.height != reference.height ||
-      gpu_image.channels() != reference.channels()) {
-    result.mismatches = std::max<size_t>(1, reference.texels.size());
-    result.first_mismatch = "sizes or channel counts differ";
-    return result;
-  }
   const uint32_t channels = reference.channels();
   for (size_t i = 0; i < reference.texels.size(); ++i) {
     const double got = gpu_image.texels[i], want = reference.texels[i];
@@ -86,6 +104,27 @@ Comparison compare(const HostImage& gpu_image, const HostImage& reference, doubl
         result.first_mismatch = where.str();
       }
     }
+  }
+  return result;
+}
+
+PixelComparison compare_pixels(const HostImage& gpu_image, const HostImage& reference, double abs_tol, double rel_tol) {
+  require_same_shape("compare_pixels", gpu_image, reference);
+  PixelComparison result;
+  const uint32_t channels = reference.channels();
+  for (size_t pixel = 0; pixel < size_t(reference.width) * reference.height; ++pixel) {
+    bool mismatch = false;
+    for (uint32_t c = 0; c < channels; ++c) {
+      const double g = gpu_image.texels[pixel * channels + c], r = reference.texels[pixel * channels + c];
+      if (!std::isfinite(g)) {
+        ++result.non_finite;
+        continue;
+      }
+      const double error = std::abs(g - r);
+      result.max_abs_error = std::max(result.max_abs_error, error);
+      if (!(error <= abs_tol + rel_tol * std::abs(r))) mismatch = true;
+    }
+    result.mismatched_pixels += mismatch;
   }
   return result;
 }

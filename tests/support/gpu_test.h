@@ -44,8 +44,19 @@ struct Comparison {
   std::string first_mismatch;
 };
 
+// Both comparisons throw, saying both shapes, when the images differ in width, height or channel
+// count: a result of the wrong size is a failure of its own, never a count of mismatches.
 Comparison compare(const HostImage& gpu, const HostImage& reference, double abs_tol, double rel_tol);
 size_t count_non_finite(const HostImage& image);
+
+// Per pixel: counts pixels with a value beyond abs + rel * |ref| in any channel, and non-finite
+// values, for tests that allow a stated number of pixels to differ.
+struct PixelComparison {
+  size_t mismatched_pixels = 0;
+  size_t non_finite = 0;
+  double max_abs_error = 0;
+};
+PixelComparison compare_pixels(const HostImage& gpu, const HostImage& reference, double abs_tol, double rel_tol);
 
 }  // namespace rt::test
 

@@ -22,12 +22,7 @@ IbrRig ibr_rig(uint32_t views, uint32_t color_w, uint32_t color_h, uint32_t dept
 // R16U atlas: each view sees a surface about 0.5-0.9 m away; `hole_fraction` of pixels are 0.
 HostImage random_depth_atlas(std::mt19937& rng, const IbrRig& rig, float hole_fraction = 0.1f);
 
-// Counts pixels whose values differ beyond abs + rel * |ref| in any channel, and non-finite ones.
-struct PixelComparison {
-  size_t mismatched_pixels = 0;
-  size_t non_finite = 0;
-  double max_abs_error = 0;
-};
-PixelComparison compare_pixels(const HostImage& gpu, const HostImage& reference, double abs_tol, double rel_tol);
+// R32F target-view depth of a surface 1.3-1.5 m from the eye, 15% of pixels holes (0).
+HostImage random_fused_depth(std::mt19937& rng, uint32_t width, uint32_t height);
 
 }  // namespace rt::test

@@ -1,0 +1,148 @@
+// hand_color_reduce (paper Eq. 3, the second half): the GPU's one-workgroup reduction of given
+// partial sums against the double-precision reference, on random partials of counts around the
+// workgroup size (one, fewer than a workgroup, exactly one, one more, several), with and without
+// a previous state to smooth into; and the hard cases: partials past group_count are ignored,
+// too few pixels or a non-finite sum leave the state unchanged (the pixel count still recorded),
+// no pixel at all. Tolerance: means and sigmas 1e-4 absolute (float sums over thousands of
+// pixels); the header's counts exactly.
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "passes/hand_color_reduce.h"
+#include "passes/hand_color_transfer.h"
+#include "support/gpu_test.h"
+#include "support/pass_harness.h"
+
+using namespace rt;
+using passes::AppearanceState;
+using shader_abi::ColorStatsPartial;
+
+namespace {
+
+// Partials as the statistics pass writes them: each the sums over a few pixels whose L, alpha,
+// beta lie in [-1, 0.5].
+std::vector<ColorStatsPartial> random_partials(std::mt19937& rng, size_t groups) {
+  std::uniform_real_distribution<float> value(-1.0f, 0.5f);
+  std::uniform_int_distribution<int> pixels(0, 8);
+  std::vector<ColorStatsPartial> partials(groups);
+  for (ColorStatsPartial& p : partials) {
+    const int n = pixels(rng);
+    p.count[0] = float(n);
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const float image = value(rng), mesh = value(rng);
+        p.image_sum[c] += image;
+        p.image_sum_sq[c] += image * image;
+        p.mesh_sum[c] += mesh;
+        p.mesh_sum_sq[c] += mesh * mesh;
+      }
+  }
+  return partials;
+}
+
+AppearanceState run_gpu(const std::vector<ColorStatsPartial>& partials, const AppearanceState& state,
+                        const shader_abi::ColorStatsReduceParams& params) {
+  const passes::HandColorReducePass pass(test::gpu());
+  test::PassHarness gpu("hand_color_reduce");
+  pass.add_to(gpu.graph(), gpu.input_buffer("partials", partials),
+              gpu.input_buffer("appearance state", std::span(&state, 1), true), [params] { return params; });
+  return gpu.run().value<AppearanceState>("appearance state");
+}
+
+void require_state_matches(const AppearanceState& gpu, const AppearanceState& reference) {
+  CHECK(gpu.header == reference.header);
+  for (std::array<float, 4> AppearanceState::*field :
+       {&AppearanceState::image_mean, &AppearanceState::image_sigma, &AppearanceState::mesh_mean, &AppearanceState::mesh_sigma})
+    for (int c = 0; c < 4; ++c) {
+      INFO("channel " << c << ": gpu " << (gpu.*field)[c] << ", reference " << (reference.*field)[c]);
+      REQUIRE(std::isfinite((gpu.*field)[c]));
+      REQUIRE(std::abs((gpu.*field)[c] - (reference.*field)[c]) <= 1e-4);
+    }
+}
+
+shader_abi::ColorStatsReduceParams params_for(size_t groups) {
+  return {uint32_t(groups), 10.0f, 0.25f, passes::kSigmaFloor};
+}
+
+AppearanceState some_previous_state() {
+  AppearanceState previous{};
+  previous.header = {1.0f, 4.0f, 0.0f, 0.0f};
+  previous.image_mean = {-0.5f, 0.05f, 0.01f, 0.0f};
+  previous.image_sigma = {0.1f, 0.02f, 0.02f, 0.0f};
+  previous.mesh_mean = {-0.4f, 0.04f, 0.02f, 0.0f};
+  previous.mesh_sigma = {0.05f, 0.01f, 0.01f, 0.0f};
+  return previous;
+}
+
+}  // namespace
+
+TEST_CASE("hand_color_reduce matches the reference on random partials", "[hand_color_reduce][gpu]") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(23);
+  for (size_t groups : {size_t(1), size_t(37), size_t(RT_COLOR_STATS_GROUP), size_t(RT_COLOR_STATS_GROUP + 1), size_t(1000)}) {
+    for (const AppearanceState& previous : {AppearanceState{}, some_previous_state()}) {
+      INFO(groups << " partials, " << (previous.header[0] > 0.5f ? "smoothed into a previous state" : "no previous state"));
+      const std::vector<ColorStatsPartial> partials = random_partials(rng, groups);
+      auto params = params_for(groups);
+      params.min_pixels = 1.0f;  // a single partial of a few pixels is still used
+      const AppearanceState gpu = run_gpu(partials, previous, params);
+      const AppearanceState reference = passes::color_reduce_reference(partials, previous, params);
+      require_state_matches(gpu, reference);
+      if (reference.header[2] >= 1.0f) {
+        CHECK(gpu.header[0] == 1.0f);
+        CHECK(gpu.header[1] == previous.header[1] + 1.0f);
+      }
+    }
+  }
+}
+
+TEST_CASE("hand_color_reduce hard cases", "[hand_color_reduce][gpu]") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(24);
+  const AppearanceState previous = some_previous_state();
+  const std::vector<ColorStatsPartial> partials = random_partials(rng, 300);
+  double pixels = 0;
+  for (const auto& p : partials) pixels += p.count[0];
+
+  SECTION("smoothing: the new statistics weigh `smoothing`, the update is counted") {
+    const AppearanceState gpu = run_gpu(partials, previous, params_for(partials.size()));
+    require_state_matches(gpu, passes::color_reduce_reference(partials, previous, params_for(partials.size())));
+    CHECK(gpu.header[1] == 5.0f);
+    CHECK(gpu.header[2] == float(pixels));
+  }
+  SECTION("partials past group_count are not read") {
+    std::vector<ColorStatsPartial> with_garbage = partials;
+    ColorStatsPartial garbage{};
+    garbage.count = {1e6f, 0.0f, 0.0f, 0.0f};
+    garbage.image_sum = {std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f, 0.0f};
+    with_garbage.insert(with_garbage.end(), 50, garbage);
+    const auto params = params_for(partials.size());
+    require_state_matches(run_gpu(with_garbage, previous, params), run_gpu(partials, previous, params));
+  }
+  SECTION("too few pixels leave the statistics unchanged") {
+    auto strict = params_for(partials.size());
+    strict.min_pixels = float(pixels + 1);
+    const AppearanceState unchanged = run_gpu(partials, previous, strict);
+    CHECK(unchanged.header[1] == 4.0f);
+    CHECK(unchanged.image_mean == previous.image_mean);
+    CHECK(unchanged.mesh_sigma == previous.mesh_sigma);
+    CHECK(unchanged.header[2] == float(pixels));
+    require_state_matches(unchanged, passes::color_reduce_reference(partials, previous, strict));
+  }
+  SECTION("a non-finite sum leaves the statistics unchanged") {
+    std::vector<ColorStatsPartial> infinite = partials;
+    infinite[7].mesh_sum_sq[1] = std::numeric_limits<float>::infinity();
+    const AppearanceState unchanged = run_gpu(infinite, previous, params_for(infinite.size()));
+    CHECK(unchanged.header[1] == 4.0f);
+    CHECK(unchanged.mesh_sigma == previous.mesh_sigma);
+    CHECK(unchanged.header[2] == float(pixels));
+  }
+  SECTION("no valid pixel at all") {
+    const std::vector<ColorStatsPartial> empty(40);
+    const AppearanceState result = run_gpu(empty, AppearanceState{}, params_for(empty.size()));
+    CHECK(result.header[0] == 0.0f);
+    CHECK(result.header[2] == 0.0f);
+    CHECK(result.image_mean == AppearanceState{}.image_mean);
+  }
+}
