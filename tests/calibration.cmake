@@ -59,92 +59,81 @@ set(calibration_out ${CMAKE_BINARY_DIR}/test-out/calibration)
 set(opencv_data /usr/share/doc/opencv-doc/examples/data)
 set(checker ${CMAKE_CURRENT_LIST_FILE})
 
-add_test(NAME calibrate_help COMMAND ${rt} calibrate --help)
-set_tests_properties(calibrate_help PROPERTIES PASS_REGULAR_EXPRESSION "intrinsics.*extrinsics.*tracker.*synthesize")
+add_cli_test(calibrate_help 0 "intrinsics.*extrinsics.*tracker.*synthesize" ${rt} calibrate --help)
 foreach(step intrinsics synthesize)
-  add_test(NAME calibrate_${step}_help COMMAND ${rt} calibrate ${step} --help)
-  set_tests_properties(calibrate_${step}_help PROPERTIES PASS_REGULAR_EXPRESSION "--out.*--device TEXT *Not used")
+  add_cli_test(calibrate_${step}_help 0 "--out.*--device TEXT *Not used" ${rt} calibrate ${step} --help)
 endforeach()
 # These two update a site file in place instead of writing an --out.
 foreach(step extrinsics tracker)
-  add_test(NAME calibrate_${step}_help COMMAND ${rt} calibrate ${step} --help)
-  set_tests_properties(calibrate_${step}_help PROPERTIES
-    PASS_REGULAR_EXPRESSION "--site TEXT REQUIRED *Site file to update in place.*--device TEXT *Not used")
+  add_cli_test(calibrate_${step}_help 0 "--site TEXT REQUIRED *Site file to update in place.*--device TEXT *Not used"
+               ${rt} calibrate ${step} --help)
 endforeach()
-add_test(NAME calibrate_without_step COMMAND ${rt} calibrate)
-set_tests_properties(calibrate_without_step PROPERTIES WILL_FAIL TRUE)
+add_cli_test(calibrate_without_step 106 "A subcommand is required" ${rt} calibrate)
 
 # The real photographs: the board is found in the 13 leftNN.jpg, not in left.jpg (a scene).
-add_test(NAME calibrate_intrinsics_opencv_doc
-         COMMAND ${rt} calibrate intrinsics --images "${opencv_data}/left*.jpg" --board 9x6 --square 0.025
-                 --device unused --out ${calibration_out}/left_intrinsics.json)
-set_tests_properties(calibrate_intrinsics_opencv_doc PROPERTIES
-  FIXTURES_SETUP calibration_left_intrinsics
-  PASS_REGULAR_EXPRESSION "found in 13 of 14 images.*board not found in:.*left\\.jpg.*left14\\.jpg.*RMS reprojection error 0\\.[0-2][0-9]* px over 13 images.*wrote")
+add_cli_test(calibrate_intrinsics_opencv_doc 0
+             "found in 13 of 14 images.*board not found in:.*left\\.jpg.*left14\\.jpg.*RMS reprojection error 0\\.[0-2][0-9]* px over 13 images.*wrote"
+             ${rt} calibrate intrinsics --images "${opencv_data}/left*.jpg" --board 9x6 --square 0.025
+                   --device unused --out ${calibration_out}/left_intrinsics.json)
+set_tests_properties(calibrate_intrinsics_opencv_doc PROPERTIES FIXTURES_SETUP calibration_left_intrinsics)
 add_test(NAME calibrate_intrinsics_json
          COMMAND ${CMAKE_COMMAND} -DKIND=intrinsics -DJSON=${calibration_out}/left_intrinsics.json -P ${checker})
 set_tests_properties(calibrate_intrinsics_json PROPERTIES FIXTURES_REQUIRED calibration_left_intrinsics)
 
-add_test(NAME calibrate_intrinsics_bad_board
-         COMMAND ${rt} calibrate intrinsics --images "${opencv_data}/left*.jpg" --board 9by6 --square 0.025
-                 --out ${calibration_out}/unused.json)
-set_tests_properties(calibrate_intrinsics_bad_board PROPERTIES
-  PASS_REGULAR_EXPRESSION "remotetouch: error: board '9by6': expected COLSxROWS")
-add_test(NAME calibrate_intrinsics_wrong_board
-         COMMAND ${rt} calibrate intrinsics --images "${opencv_data}/left0[1-4].jpg" --board 10x7 --square 0.025
-                 --out ${calibration_out}/unused.json)
-set_tests_properties(calibrate_intrinsics_wrong_board PROPERTIES
-  PASS_REGULAR_EXPRESSION "remotetouch: error: the board \\(10x7 inner corners, 25 mm squares\\) was found in 0 of 4 images.*left01\\.jpg")
-add_test(NAME calibrate_intrinsics_square_in_mm
-         COMMAND ${rt} calibrate intrinsics --images "${opencv_data}/left*.jpg" --board 9x6 --square 25)
-set_tests_properties(calibrate_intrinsics_square_in_mm PROPERTIES PASS_REGULAR_EXPRESSION "in metres \\(25 mm is 0.025\\)")
-add_test(NAME calibrate_intrinsics_no_images
-         COMMAND ${rt} calibrate intrinsics --images "${calibration_out}/none*.jpg" --board 9x6 --square 0.025)
-set_tests_properties(calibrate_intrinsics_no_images PROPERTIES PASS_REGULAR_EXPRESSION "none\\*\\.jpg': the pattern matches no file")
-add_test(NAME calibrate_intrinsics_too_few
-         COMMAND ${rt} calibrate intrinsics --images ${opencv_data}/left01.jpg ${opencv_data}/left02.jpg
-                 --board 9x6 --square 0.025)
-set_tests_properties(calibrate_intrinsics_too_few PROPERTIES PASS_REGULAR_EXPRESSION "found in 2 of 2 images, at least 3 are needed")
+add_cli_test(calibrate_intrinsics_bad_board 1 "remotetouch: error: board '9by6': expected COLSxROWS"
+             ${rt} calibrate intrinsics --images "${opencv_data}/left*.jpg" --board 9by6 --square 0.025
+                   --out ${calibration_out}/unused.json)
+add_cli_test(calibrate_intrinsics_wrong_board 1
+             "remotetouch: error: the board \\(10x7 inner corners, 25 mm squares\\) was found in 0 of 4 images.*left01\\.jpg"
+             ${rt} calibrate intrinsics --images "${opencv_data}/left0[1-4].jpg" --board 10x7 --square 0.025
+                   --out ${calibration_out}/unused.json)
+add_cli_test(calibrate_intrinsics_square_in_mm 1 "remotetouch: error: square size 25 m .*in metres \\(25 mm is 0.025\\)"
+             ${rt} calibrate intrinsics --images "${opencv_data}/left*.jpg" --board 9x6 --square 25)
+add_cli_test(calibrate_intrinsics_no_images 1 "remotetouch: error: images '.*none\\*\\.jpg': the pattern matches no file"
+             ${rt} calibrate intrinsics --images "${calibration_out}/none*.jpg" --board 9x6 --square 0.025)
+add_cli_test(calibrate_intrinsics_too_few 1 "remotetouch: error: .*found in 2 of 2 images, at least 3 are needed"
+             ${rt} calibrate intrinsics --images ${opencv_data}/left01.jpg ${opencv_data}/left02.jpg
+                   --board 9x6 --square 0.025)
 
 # A simulated site, calibrated step by step into a copy of the default site file.
-add_test(NAME calibrate_synthesize COMMAND ${rt} calibrate synthesize --out ${calibration_out}/synthetic)
-set_tests_properties(calibrate_synthesize PROPERTIES FIXTURES_SETUP calibration_synthetic
-  PASS_REGULAR_EXPRESSION "6 cameras, 24 chessboard views, 20 touches \\(3 slipped\\).*cp assets/sites/default.json SITE.json")
+add_cli_test(calibrate_synthesize 0 "6 cameras, 24 chessboard views, 20 touches \\(3 slipped\\).*cp assets/sites/default.json SITE.json"
+             ${rt} calibrate synthesize --out ${calibration_out}/synthetic)
+set_tests_properties(calibrate_synthesize PROPERTIES FIXTURES_SETUP calibration_synthetic)
 add_test(NAME calibrate_site_copy
          COMMAND ${CMAKE_COMMAND} -E copy ${CMAKE_SOURCE_DIR}/assets/sites/default.json ${calibration_out}/site.json)
 set_tests_properties(calibrate_site_copy PROPERTIES FIXTURES_SETUP calibration_site_copy)
-add_test(NAME calibrate_extrinsics_synthetic
-         COMMAND ${rt} calibrate extrinsics --input ${calibration_out}/synthetic/extrinsics_input.json
-                 --site ${calibration_out}/site.json)
+add_cli_test(calibrate_extrinsics_synthetic 0
+             "top-centre +\\(reference\\).*bottom-right +bottom-centre +[0-9]+ .*alignment RMS [0-4]\\.[0-9]+ mm.*updated .*site\\.json \\(6 cameras: color intrinsics and poses; kept the tracker"
+             ${rt} calibrate extrinsics --input ${calibration_out}/synthetic/extrinsics_input.json
+                   --site ${calibration_out}/site.json)
 set_tests_properties(calibrate_extrinsics_synthetic PROPERTIES
-  FIXTURES_REQUIRED "calibration_synthetic;calibration_site_copy" FIXTURES_SETUP calibration_site_cameras
-  PASS_REGULAR_EXPRESSION "bottom-right +top-centre.*alignment RMS [0-4]\\.[0-9]+ mm.*updated .*site\\.json \\(6 cameras: color intrinsics and poses; kept the tracker")
-add_test(NAME calibrate_tracker_synthetic
-         COMMAND ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
-                 --site ${calibration_out}/site.json)
+  FIXTURES_REQUIRED "calibration_synthetic;calibration_site_copy" FIXTURES_SETUP calibration_site_cameras)
+# The three touches rejected are the three the synthetic site slipped (truth_touch_outliers.json).
+add_cli_test(calibrate_tracker_synthetic 0
+             "row1-col3 +[0-9.]+ mm  rejected.*row2-col0 +[0-9.]+ mm  rejected.*row3-col4 +[0-9.]+ mm  rejected.*rejected 3 of 20 touches.*residual RMS [2-3]\\.[0-9]+ mm over the 17 touches kept.*updated .*site\\.json \\(tracker pose; kept the cameras"
+             ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
+                   --site ${calibration_out}/site.json)
 set_tests_properties(calibrate_tracker_synthetic PROPERTIES
-  FIXTURES_REQUIRED "calibration_synthetic;calibration_site_cameras" FIXTURES_SETUP calibration_site_full
-  PASS_REGULAR_EXPRESSION "row0-col0 +[0-9.]+ mm  rejected.*rejected 3 of 20 touches.*residual RMS [2-3]\\.[0-9]+ mm over the 17 touches kept.*updated .*site\\.json \\(tracker pose; kept the cameras")
+  FIXTURES_REQUIRED "calibration_synthetic;calibration_site_cameras" FIXTURES_SETUP calibration_site_full)
 add_test(NAME calibrate_site_json COMMAND ${CMAKE_COMMAND} -DKIND=site -DJSON=${calibration_out}/site.json -P ${checker})
 set_tests_properties(calibrate_site_json PROPERTIES FIXTURES_REQUIRED calibration_site_full)
 
-add_test(NAME calibrate_tracker_missing_input
-         COMMAND ${rt} calibrate tracker --input ${calibration_out}/no-such-touches.json --site ${calibration_out}/site.json)
-set_tests_properties(calibrate_tracker_missing_input PROPERTIES PASS_REGULAR_EXPRESSION "--input: File does not exist")
-add_test(NAME calibrate_tracker_missing_site
-         COMMAND ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
-                 --site ${calibration_out}/no-such-site.json)
-set_tests_properties(calibrate_tracker_missing_site PROPERTIES FIXTURES_REQUIRED calibration_synthetic
-  PASS_REGULAR_EXPRESSION "no-such-site\\.json' does not exist: start from a copy of assets/sites/default\\.json")
+# CLI11's own file check (ValidationError).
+add_cli_test(calibrate_tracker_missing_input 105 "--input: File does not exist"
+             ${rt} calibrate tracker --input ${calibration_out}/no-such-touches.json --site ${calibration_out}/site.json)
+add_cli_test(calibrate_tracker_missing_site 1
+             "remotetouch: error: site file '.*no-such-site\\.json' does not exist: start from a copy of assets/sites/default\\.json"
+             ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
+                   --site ${calibration_out}/no-such-site.json)
+set_tests_properties(calibrate_tracker_missing_site PROPERTIES FIXTURES_REQUIRED calibration_synthetic)
 # A --site that is not a site file (here: a camera JSON) is not overwritten.
-add_test(NAME calibrate_tracker_foreign_site
-         COMMAND ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
-                 --site ${calibration_out}/left_intrinsics.json)
+add_cli_test(calibrate_tracker_foreign_site 1 "remotetouch: error: '.*left_intrinsics\\.json' is not a site file to update"
+             ${rt} calibrate tracker --input ${calibration_out}/synthetic/tracker_touches.json
+                   --site ${calibration_out}/left_intrinsics.json)
 set_tests_properties(calibrate_tracker_foreign_site PROPERTIES
-  FIXTURES_REQUIRED "calibration_synthetic;calibration_left_intrinsics"
-  PASS_REGULAR_EXPRESSION "left_intrinsics\\.json' is not a site file to update")
-add_test(NAME calibrate_extrinsics_wrong_input
-         COMMAND ${rt} calibrate extrinsics --input ${calibration_out}/synthetic/tracker_touches.json
-                 --site ${calibration_out}/unused.json)
-set_tests_properties(calibrate_extrinsics_wrong_input PROPERTIES FIXTURES_REQUIRED calibration_synthetic
-  PASS_REGULAR_EXPRESSION "extrinsics input '.*tracker_touches\\.json': missing field 'board'")
+  FIXTURES_REQUIRED "calibration_synthetic;calibration_left_intrinsics")
+add_cli_test(calibrate_extrinsics_wrong_input 1
+             "remotetouch: error: extrinsics input '.*tracker_touches\\.json': missing field 'board'"
+             ${rt} calibrate extrinsics --input ${calibration_out}/synthetic/tracker_touches.json
+                   --site ${calibration_out}/unused.json)
+set_tests_properties(calibrate_extrinsics_wrong_input PROPERTIES FIXTURES_REQUIRED calibration_synthetic)

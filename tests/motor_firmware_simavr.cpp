@@ -1,6 +1,7 @@
 // The motor firmware itself (the .elf the build makes for the Uno), run cycle by cycle in
-// simavr: its UART, its 1 ms tick, its PWM and its watchdog, not only the parser. Registered in
-// tests/motor.cmake when simavr's library (Debian libsimavr-dev) is installed.
+// simavr: its UART, its 1 ms tick, its PWM and its watchdog, not only the parser. Built by
+// tests/motor.cmake when simavr's library (Debian libsimavr-dev) is installed; without it the
+// ctest of this name reports a skip that says so.
 #include <catch2/catch.hpp>
 
 #include <optional>

@@ -21,9 +21,8 @@ add_test(NAME session_demo_lossy
 # A wrong key: both sites refuse the handshake and give up cleanly, saying why.
 add_test(NAME session_site_wrong_key
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_wrong_key.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-wrong-key)
-add_test(NAME session_site_bad_config
-         COMMAND ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
-set_tests_properties(session_site_bad_config PROPERTIES PASS_REGULAR_EXPRESSION "unknown field 'peers'")
+add_cli_test(session_site_bad_config 1 "remotetouch: error: .*site_config_bad\\.json: unknown field 'peers'"
+             ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
 set_tests_properties(session_demo_clap session_demo_miss session_demo_wave session_demo_disconnect session_demo_outage session_demo_lossy
                      session_site_wrong_key
                      PROPERTIES TIMEOUT 300
@@ -31,15 +30,13 @@ set_tests_properties(session_demo_clap session_demo_miss session_demo_wave sessi
                      # Vulkan driver: they run alone. Beside other lavapipe tests under ctest -j2, the
                      # touch loop got 40 % of its ticks and a clap went undetected.
                      RUN_SERIAL TRUE)
-add_test(NAME session_demo_unknown_device
-         COMMAND ${rt} demo --frames 2 --width 32 --height 18 --device no-such-gpu --out ${CMAKE_BINARY_DIR}/test-out/session-no-device)
-set_tests_properties(session_demo_unknown_device PROPERTIES PASS_REGULAR_EXPRESSION "no Vulkan device fits.*site A ended")
-add_test(NAME session_site_needs_key COMMAND ${rt} site --site A --out ${CMAKE_BINARY_DIR}/test-out/site-no-key)
-set_tests_properties(session_site_needs_key PROPERTIES PASS_REGULAR_EXPRESSION "needs --key-file")
-add_test(NAME session_site_bad_key_file
-         COMMAND ${rt} site --site A --key-file ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json
-                 --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-bad-key)
-set_tests_properties(session_site_bad_key_file PROPERTIES PASS_REGULAR_EXPRESSION "site_config_bad.json")
+add_cli_test(session_demo_unknown_device 1 "no Vulkan device fits.*site A ended"
+             ${rt} demo --frames 2 --width 32 --height 18 --device no-such-gpu --out ${CMAKE_BINARY_DIR}/test-out/session-no-device)
+add_cli_test(session_site_needs_key 1 "remotetouch: error: a site needs --key-file"
+             ${rt} site --site A --out ${CMAKE_BINARY_DIR}/test-out/site-no-key)
+add_cli_test(session_site_bad_key_file 1 "remotetouch: error: .*site_config_bad\\.json: session key: expected 64 hex digits"
+             ${rt} site --site A --key-file ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json
+                   --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-bad-key)
 # A site replaying a recording (`site --replay`): site B of clap recorded once by `simulate`
 # (tiny: 115 frames at a tenth of the cameras' resolution, ground truth at the display's size),
 # then played against a simulated site A; an image unreadable mid-run; bad inputs.
