@@ -3,6 +3,7 @@
 // a skeleton scaled by a known factor gives the analytically expected vertices.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -76,6 +77,94 @@ TEST_CASE("The committed hand templates load with the promised invariants") {
   uintmax_t bytes = 0;
   for (const auto& entry : std::filesystem::directory_iterator(kAssets)) bytes += entry.file_size();
   CHECK(bytes < 700 * 1024);
+}
+
+TEST_CASE("The rest shape: the generator's flat medium hand, bones and mesh") {
+  // The skeleton definition (sim/hand_model.h) read here directly, in the template's frame:
+  // wrist at the origin, fingers along +y, palm towards +z, the right hand's thumb at +x.
+  constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
+  constexpr double kForearmM = 0.25;  // the generator's forearm
+  const Eigen::Vector3d palm_out = Eigen::Vector3d::UnitZ();
+  for (bool is_left : {false, true})
+    for (bool committed : {true, false}) {
+      const HandTemplate hand = committed ? load_hand_template(kAssets, is_left) : build_hand_template(is_left);
+      INFO((is_left ? "left" : "right") << (committed ? ", committed" : ", generated"));
+      const double mirror = is_left ? -1.0 : 1.0;
+      auto at = [&](const Eigen::Vector2d& uv) { return Eigen::Vector3d(mirror * uv.x(), uv.y(), 0.0); };
+      // Bone starts, ends and directions as the definition gives them.
+      std::array<Eigen::Vector3d, kBoneCount> start, end;
+      start[kArmBone] = Eigen::Vector3d(0, -kForearmM, 0);
+      end[kArmBone] = Eigen::Vector3d::Zero();
+      start[kWristBone] = Eigen::Vector3d::Zero();
+      end[kWristBone] = at(sim::medium_adult_hand()[int(Digit::Middle)].mcp_uv);
+      for (int d = 0; d < kDigitCount; ++d) {
+        const sim::DigitModel& model = sim::medium_adult_hand()[d];
+        const double splay = model.splay_deg * kRadiansPerDegree;
+        const Eigen::Vector3d straight(mirror * std::sin(splay), std::cos(splay), 0.0);
+        start[digit_bone(d, 0)] = at(model.carp_uv);
+        end[digit_bone(d, 0)] = at(model.mcp_uv);
+        Eigen::Vector3d joint = at(model.mcp_uv);
+        for (int b = 1; b < kBonesPerDigit; ++b) {
+          start[digit_bone(d, b)] = joint;
+          joint += model.phalanges_m[size_t(b - 1)] * straight;
+          end[digit_bone(d, b)] = joint;
+        }
+      }
+      for (int bone = 0; bone < kBoneCount; ++bone) {
+        INFO("bone " << bone_name(bone));
+        const BoneRest& rest = hand.rest[bone];
+        CHECK((rest.frame.translation() - start[bone]).norm() < 1e-6);
+        CHECK(rest.length_m == Approx((end[bone] - start[bone]).norm()).margin(1e-6));
+        // +y along the bone (the thumb's zero-length metacarpal: along its proximal bone; the
+        // wrist bone: along the hand's direction, +y, not quite towards the middle knuckle), +z out
+        // of the palm: the flat hand's bones all lie in its plane.
+        const int along_bone = bone == digit_bone(0, 0) ? digit_bone(0, 1) : bone;
+        const Eigen::Vector3d along = bone == kWristBone ? Eigen::Vector3d::UnitY()
+                                                         : Eigen::Vector3d((end[along_bone] - start[along_bone]).normalized());
+        CHECK((rest.frame.linear().col(1) - along).norm() < 1e-6);
+        CHECK((rest.frame.linear().col(2) - palm_out).norm() < 1e-6);
+        CHECK(std::abs(rest.frame.linear().determinant() - 1.0) < 1e-9);
+      }
+      // This reading of the definition gives its own hand length (wrist to middle fingertip).
+      CHECK((end[digit_bone(2, 3)] - start[kWristBone]).norm() == Approx(sim::medium_hand_length_m()).epsilon(1e-12));
+
+      // The mesh in its bind pose lies on these bones: each vertex within a finger's or the palm's
+      // thickness of the bone that weighs most on it, and each finger ends just past its tip joint.
+      auto distance_to_bone = [&](const Eigen::Vector3d& p, int bone) {
+        const Eigen::Vector3d a = start[bone], ab = end[bone] - start[bone];
+        const double t = ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+        return (p - (a + t * ab)).norm();
+      };
+      std::array<double, kBoneCount> worst_by_bone{};
+      std::array<double, kDigitCount> reach{};
+      reach.fill(-1.0);
+      for (const HandVertex& v : hand.vertices) {
+        const Eigen::Vector3d p(v.position_u[0], v.position_u[1], v.position_u[2]);
+        int heaviest = 0;
+        for (int k = 1; k < 4; ++k)
+          if (v.weights[k] > v.weights[heaviest]) heaviest = k;
+        const int bone = int(v.joints[heaviest]);
+        REQUIRE(bone >= 0);
+        REQUIRE(bone < kBoneCount);
+        worst_by_bone[size_t(bone)] = std::max(worst_by_bone[size_t(bone)], distance_to_bone(p, bone));
+        for (int d = 0; d < kDigitCount; ++d)
+          if (bone == digit_bone(d, 3)) {
+            const Eigen::Vector3d along = (end[bone] - start[bone]).normalized();
+            reach[size_t(d)] = std::max(reach[size_t(d)], (p - end[bone]).dot(along));
+          }
+      }
+      // A finger's tube is at most 13 mm thick (the thumb's), the forearm 29 mm; the wrist bone
+      // carries the palm (4.5 cm either side of it at the knuckles) and the thumb's base.
+      for (int bone = 0; bone < kBoneCount; ++bone) {
+        INFO("bone " << bone_name(bone));
+        CHECK(worst_by_bone[size_t(bone)] < (bone == kWristBone ? 0.055 : bone == kArmBone ? 0.030 : 0.014));
+      }
+      for (int d = 0; d < kDigitCount; ++d) {
+        INFO("digit " << d << " reaches " << reach[size_t(d)] * 1000 << " mm past its tip joint");
+        CHECK(reach[size_t(d)] > 0.002);  // the fingertip's cap: 5 to 8 mm
+        CHECK(reach[size_t(d)] < 0.010);
+      }
+    }
 }
 
 TEST_CASE("Bad template files give an error that names the file and the problem") {
@@ -153,7 +242,17 @@ TEST_CASE("Hard skeletons: zero-length thumb metacarpal, collinear joints, missi
     for (auto& digit : point.digits) digit.fill(point.wrist);
     const BonePose pose = pose_bones(point, hand.rest);
     REQUIRE(pose.ok());
-    CHECK(all_finite(skin(pose.frames, hand.rest, hand.vertices)));
+    CHECK(pose.fallback_bones == 5 * kBonesPerDigit);  // no digit bone has a direction
+    const auto skinned = skin(pose.frames, hand.rest, hand.vertices);
+    REQUIRE(all_finite(skinned));
+    // The hand frame is the rest one (orientation identity): every vertex is its rest position
+    // moved by the wrist, the mesh unbent.
+    double worst = 0;
+    for (size_t i = 0; i < skinned.size(); ++i) {
+      const Eigen::Vector3d rest(hand.vertices[i].position_u[0], hand.vertices[i].position_u[1], hand.vertices[i].position_u[2]);
+      worst = std::max(worst, (skinned[i] - (rest + point.wrist)).norm());
+    }
+    CHECK(worst < 1e-6);
   }
   SECTION("no wrist, or no way to form the hand frame, is a clear error") {
     HandSkeleton no_wrist = posed_hand(true, 1.0, 0.0, palm);
