@@ -6,7 +6,7 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "geometry/camera.h"
 
 using namespace rt;
