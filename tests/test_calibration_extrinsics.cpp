@@ -15,7 +15,7 @@
 #include "calibration/intrinsics_calibration.h"
 #include "calibration/image_files.h"
 #include "calibration/synthetic_site.h"
-#include "config/json_fields.h"
+#include "config/json.h"
 
 using namespace rt;
 using namespace rt::calibration;

@@ -15,7 +15,7 @@
 #include "calibration/site_update.h"
 #include "calibration/synthetic_site.h"
 #include "calibration/tracker_calibration.h"
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "sim/default_site.h"
 #include "sim/motion.h"
 #include "sim/scene.h"

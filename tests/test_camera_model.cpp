@@ -8,7 +8,7 @@
 
 #include <opencv2/calib3d.hpp>
 
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "geometry/camera.h"
 #include "passes/common/ibr_scene.h"
 

@@ -115,3 +115,9 @@ TEST_CASE("no devices at all names the package to install", "[device]") {
   CHECK_FALSE(choice.index);
   CHECK_THAT(choice.explanation, Catch::Contains("mesa-vulkan-drivers"));
 }
+
+TEST_CASE("a name from the environment is blamed on the variable, not on --device", "[device]") {
+  const auto choice = choose_device({lavapipe}, "amd", "REMOTETOUCH_DEVICE");
+  CHECK_FALSE(choice.index);
+  CHECK_THAT(choice.explanation, Catch::Contains("does not match REMOTETOUCH_DEVICE 'amd'") && !Catch::Contains("--device"));
+}

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <random>
 
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "sim/leap_json.h"
 #include "sim/scene.h"
 #include "sim/tracker_replay.h"

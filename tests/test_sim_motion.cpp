@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "sim/hand_model.h"
 #include "sim/motion.h"
 #include "sim/person.h"

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "geometry/site_frames.h"
 #include "sim/motion.h"
 #include "sim/scene.h"

@@ -9,7 +9,7 @@
 #include <numbers>
 #include <string>
 
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "sim/default_site.h"
 #include "sim/site_description.h"
 

@@ -17,7 +17,7 @@
 #include "site/site_motor.h"
 #include "site/site_run.h"
 #include "pipeline/site_simulator.h"
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "image/image_io.h"
 #include "sim/default_site.h"
 #include "sim/recording.h"

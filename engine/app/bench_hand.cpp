@@ -6,6 +6,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "app/bench_command.h"
 #include "app/eval_hand.h"
 #include "config/assets.h"
 #include "pipeline/gpu_session.h"
@@ -96,6 +97,19 @@ int run_bench_hand(const RunOptions& options) {
   std::cout << "\nwritten to " << (options.out / "bench_hand.json").string() << "\n";
   session.report_capture();
   return 0;
+}
+
+std::unique_ptr<Command> make_bench_hand_command() {
+  class BenchHand : public BenchCommand {
+   public:
+    BenchHand()
+        : BenchCommand("hand",
+                       "GPU ms of the geometry hand's passes (skinning, rasterization, appearance adaption), next to a "
+                       "copy pass; OUT/bench_hand.json",
+                       "Frames per size (median over them)", "1280x720 and 2560x1440") {}
+    int run() override { return run_bench_hand(options_); }
+  };
+  return std::make_unique<BenchHand>();
 }
 
 }  // namespace rt::app

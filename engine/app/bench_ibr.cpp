@@ -1,4 +1,5 @@
-// `remotetouch bench ibr`: per-pass GPU ms of the image-based model for 2, 4 and 6 views at
+// `remotetouch bench ibr`: per-pass GPU ms of the image-based model for 2, 4 and 6 views (or
+// --views N alone; the other image-based-model options apply to every run) at
 // 640x360, 1280x720 and 2560x1440, from the frame graph's timestamps, next to a copy pass of a
 // target-sized RGBA32F image in the same graph (the bandwidth roofline of the same run). The
 // input is one frame of the clap scene rendered by the simulator at the site's full resolution.
@@ -9,7 +10,7 @@
 
 #include "pipeline/gpu_session.h"
 #include "pipeline/ibr_renderer.h"
-#include "app/options.h"
+#include "app/bench_command.h"
 #include "app/simulate.h"
 #include "pipeline/site_simulator.h"
 #include "geometry/target_view.h"
@@ -25,7 +26,7 @@ constexpr uint32_t kWarmUpFrames = 2;
 
 }  // namespace
 
-int run_bench_ibr(GpuSession& session, const RunOptions& options) {
+int run_bench_ibr(GpuSession& session, const RunOptions& options, const IbrSettings& base, bool views_given) {
   vk::Context& context = session.context();
   sim::Scene scene = sim::load_scene(sim::resolve_scene("clap"));
   scene.resolution_scale = 1.0;
@@ -49,11 +50,12 @@ int run_bench_ibr(GpuSession& session, const RunOptions& options) {
                                          std::to_string(cameras[0].color.intrinsics.height) + ", depth " +
                                          std::to_string(cameras[0].depth.intrinsics.width) + "x" +
                                          std::to_string(cameras[0].depth.intrinsics.height)}};
+  report["ibr"] = ibr_settings_json(base);  // views: each run's own
   std::printf("bench ibr on %s: %s; median GPU ms of %u frames per pass\n", context.device_name().c_str(),
               report["input"].get<std::string>().c_str(), options.frames);
   for (const auto& [width, height] : sizes)
-    for (uint32_t views : {2u, 4u, 6u}) {
-      IbrSettings settings;
+    for (uint32_t views : views_given ? std::vector<uint32_t>{base.views} : std::vector<uint32_t>{2, 4, 6}) {
+      IbrSettings settings = base;
       settings.width = width;
       settings.height = height;
       settings.views = views;
@@ -93,6 +95,33 @@ int run_bench_ibr(GpuSession& session, const RunOptions& options) {
   std::printf("\nwritten to %s\n", (options.out / "bench_ibr.json").string().c_str());
   session.report_capture();
   return 0;
+}
+
+std::unique_ptr<Command> make_bench_ibr_command() {
+  class BenchIbr : public BenchCommand {
+   public:
+    BenchIbr()
+        : BenchCommand("ibr",
+                       "Per-pass GPU ms of the image-based model for 2, 4 and 6 views (or --views N) on one frame of "
+                       "the clap scene, next to a copy pass; OUT/bench_ibr.json",
+                       "Frames per size and view count (median over them)", "640x360, 1280x720 and 2560x1440") {}
+    int run() override {
+      IbrSettings settings;
+      ibr_.apply(settings);
+      GpuSession session(options_);
+      return run_bench_ibr(session, options_, settings, ibr_.given("views"));
+    }
+
+   protected:
+    void add_options(CLI::App& command) override {
+      ibr_ = add_ibr_options(command);
+      ibr_.option("views")->description("Only this many cameras per frame (default: 2, 4 and 6)")->default_str("");
+    }
+
+   private:
+    IbrOptions ibr_;
+  };
+  return std::make_unique<BenchIbr>();
 }
 
 }  // namespace rt::app

@@ -13,7 +13,7 @@
 #include <time.h>
 #include <thread>
 
-#include "app/options.h"
+#include "app/bench_command.h"
 #include "net/image_codec.h"
 #include "net/session.h"
 #include "time/monotonic_clock.h"
@@ -184,6 +184,19 @@ int run_bench_net(const RunOptions& options) {
   std::filesystem::create_directories(options.out);
   std::ofstream(options.out / "bench_net.json") << report.dump(2) << "\n";
   return 0;
+}
+
+std::unique_ptr<Command> make_bench_net_command() {
+  class BenchNet : public BenchCommand {
+   public:
+    BenchNet()
+        : BenchCommand("net",
+                       "Portraits at 30 fps from one session to another over loopback: bytes per portrait by part, "
+                       "bytes per second on the wire, encode/decode ms; OUT/bench_net.json",
+                       "Portraits per size", "640x360 and 1280x720") {}
+    int run() override { return run_bench_net(options_); }
+  };
+  return std::make_unique<BenchNet>();
 }
 
 }  // namespace rt::app

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/gpu_session.h"
-#include "app/options.h"
+#include "app/bench_command.h"
 #include "app/simulate.h"
 #include "pipeline/site_simulator.h"
 #include "sim/motion.h"
@@ -57,6 +57,22 @@ int run_bench_simulate(GpuSession& session, const RunOptions& options) {
   std::filesystem::create_directories(options.out);
   std::ofstream(options.out / "bench_simulate.json") << report.dump(2) << "\n";
   return 0;
+}
+
+std::unique_ptr<Command> make_bench_simulate_command() {
+  class BenchSimulate : public BenchCommand {
+   public:
+    BenchSimulate()
+        : BenchCommand("simulate",
+                       "One frame of all six simulated RGBD cameras at full resolution: wall ms per frame and GPU ms "
+                       "per pass",
+                       "Frames to time (median over them)") {}
+    int run() override {
+      GpuSession session(options_);
+      return run_bench_simulate(session, options_);
+    }
+  };
+  return std::make_unique<BenchSimulate>();
 }
 
 }  // namespace rt::app

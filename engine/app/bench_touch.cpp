@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "app/options.h"
+#include "app/bench_command.h"
 #include "geometry/site_frames.h"
 #include "motor/simulated_motor.h"
 #include "time/monotonic_clock.h"
@@ -76,6 +76,19 @@ int run_bench_touch(const RunOptions& options) {
   std::filesystem::create_directories(options.out);
   std::ofstream(options.out / "bench_touch.json") << report.dump(2) << "\n";
   return 0;
+}
+
+std::unique_ptr<Command> make_bench_touch_command() {
+  class BenchTouch : public BenchCommand {
+   public:
+    BenchTouch()
+        : BenchCommand("touch",
+                       "Software latency from both palms meeting on the glass to the motor command, through the 50 Hz "
+                       "touch loop and the simulated motor",
+                       "Claps to time") {}
+    int run() override { return run_bench_touch(options_); }
+  };
+  return std::make_unique<BenchTouch>();
 }
 
 }  // namespace rt::app

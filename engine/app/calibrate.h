@@ -1,7 +1,9 @@
 #pragma once
 // `remotetouch calibrate intrinsics | extrinsics | tracker | synthesize`: the site calibration
-// (paper section 4, "Device Calibration"). Runs on the CPU.
+// (paper section 4, "Device Calibration"), one file per command. Runs on the CPU.
 #include <CLI/CLI.hpp>
+
+#include "app/command.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -48,24 +50,10 @@ int run_calibrate_extrinsics(const ExtrinsicsCommandOptions& options);
 int run_calibrate_tracker(const TrackerCommandOptions& options);
 int run_calibrate_synthesize(const SynthesizeCommandOptions& options);
 
-// Registers `calibrate` and its subcommands on the application; run() runs the one parsed.
-class CalibrateCommand {
- public:
-  explicit CalibrateCommand(CLI::App& app);
-  bool parsed() const { return command_->parsed(); }
-  int run() const;
-
- private:
-  CLI::App* command_ = nullptr;
-  CLI::App* intrinsics_ = nullptr;
-  CLI::App* extrinsics_ = nullptr;
-  CLI::App* tracker_ = nullptr;
-  CLI::App* synthesize_ = nullptr;
-  IntrinsicsCommandOptions intrinsics_options_;
-  ExtrinsicsCommandOptions extrinsics_options_;
-  TrackerCommandOptions tracker_options_;
-  SynthesizeCommandOptions synthesize_options_;
-  std::string unused_device_;
-};
+// --device on a calibration command: accepted, so that a script can pass it to every command,
+// and not used (calibration runs on the CPU).
+inline void add_unused_device_option(CLI::App& command, std::string& device) {
+  command.add_option("--device", device, "Not used: calibration runs on the CPU (accepted like on the GPU commands)");
+}
 
 }  // namespace rt::app

@@ -5,7 +5,9 @@
 #include <cstdio>
 
 #include "app/calibrate.h"
+#include "calibration/camera_network.h"
 #include "calibration/extrinsics_calibration.h"
+#include "calibration/screen_trilateration.h"
 #include "calibration/site_update.h"
 
 namespace rt::app {
@@ -60,5 +62,50 @@ int run_calibrate_extrinsics(const ExtrinsicsCommandOptions& options) {
     std::printf("note: camera '%s' of the site file was not in the calibration input; left as it was\n", name.c_str());
   return 0;
 }
+
+namespace {
+
+class CalibrateExtrinsicsCommand : public Command {
+ public:
+  CLI::App* add_to(CLI::App& parent) override {
+    ExtrinsicsCommandOptions& ex = options_;
+    ex.max_distance_residual_mm = calibration::kMaxCornerDistanceResidualM * 1000.0;
+    ex.max_link_rms_px = calibration::kMaxLinkRmsPx;
+    ex.max_alignment_residual_mm = calibration::kMaxAlignmentResidualM * 1000.0;
+    CLI::App* command = parent.add_subcommand(
+        "extrinsics", "The cameras' poses in the site frame, from simultaneous chessboard views and each camera's "
+                      "measured distances to the four screen corners");
+    command->add_option("--input", ex.input, "Extrinsics input JSON (see engine/calibration/extrinsics_input.h)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    command->add_option("--site", ex.site,
+                            "Site file to update in place (start from a copy of assets/sites/default.json): "
+                            "each calibrated camera's color intrinsics and pose, by name; the rest is kept")
+        ->required();
+    add_unused_device_option(*command, unused_device_);
+    command->add_option("--max-distance-residual-mm", ex.max_distance_residual_mm,
+                            "Largest disagreement between a camera's four corner distances")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    command->add_option("--max-link-rms-px", ex.max_link_rms_px,
+                            "Largest RMS reprojection error of a camera pair's shared views")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    command->add_option("--max-alignment-residual-mm", ex.max_alignment_residual_mm,
+                            "Largest distance between a camera's position from the chessboards and from the distances")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    return command;
+  }
+  int run() override { return run_calibrate_extrinsics(options_); }
+
+ private:
+  ExtrinsicsCommandOptions options_;
+  std::string unused_device_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_calibrate_extrinsics_command() { return std::make_unique<CalibrateExtrinsicsCommand>(); }
 
 }  // namespace rt::app

@@ -6,7 +6,7 @@
 #include "app/calibrate.h"
 #include "calibration/image_files.h"
 #include "calibration/intrinsics_calibration.h"
-#include "config/json_fields.h"
+#include "config/json.h"
 
 namespace rt::app {
 namespace {
@@ -59,5 +59,35 @@ int run_calibrate_intrinsics(const IntrinsicsCommandOptions& options) {
   std::printf("wrote %s\n", options.out.c_str());
   return 0;
 }
+
+namespace {
+
+class CalibrateIntrinsicsCommand : public Command {
+ public:
+  CLI::App* add_to(CLI::App& parent) override {
+    IntrinsicsCommandOptions& in = options_;
+    in.out = "out/calibration/intrinsics.json";
+    CLI::App* command = parent.add_subcommand(
+        "intrinsics", "One camera's focal lengths, principal point and distortion from chessboard photographs (Zhang)");
+    command->add_option("--images", in.images, "Photographs: paths or quoted patterns such as 'data/left*.jpg'")
+        ->required();
+    command->add_option("--board", in.board, "Inner corners per row and per column, COLSxROWS (e.g. 9x6)")->required();
+    command->add_option("--square", in.square_m, "Side of one square in metres (e.g. 0.025)")->required();
+    command->add_option("--out", in.out, "Camera JSON to write")->capture_default_str();
+    add_unused_device_option(*command, unused_device_);
+    command->add_flag("--fix-aspect-ratio", in.fix_aspect_ratio, "Square pixels: estimate one focal length (fx = fy)");
+    command->add_flag("--rational-model", in.rational_model, "Also estimate k4, k5, k6 (wide-angle lenses)");
+    return command;
+  }
+  int run() override { return run_calibrate_intrinsics(options_); }
+
+ private:
+  IntrinsicsCommandOptions options_;
+  std::string unused_device_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_calibrate_intrinsics_command() { return std::make_unique<CalibrateIntrinsicsCommand>(); }
 
 }  // namespace rt::app

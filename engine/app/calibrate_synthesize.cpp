@@ -29,4 +29,48 @@ int run_calibrate_synthesize(const SynthesizeCommandOptions& options) {
   return 0;
 }
 
+namespace {
+
+class CalibrateSynthesizeCommand : public Command {
+ public:
+  CLI::App* add_to(CLI::App& parent) override {
+    SynthesizeCommandOptions& sy = options_;
+    const calibration::SyntheticSiteOptions defaults;
+    sy.out = "out/calibration/synthetic";
+    sy.corner_noise_px = defaults.corner_noise_px;
+    sy.distance_noise_mm = defaults.distance_noise_mm;
+    sy.tip_noise_mm = defaults.tip_noise_mm;
+    sy.tip_outliers = defaults.tip_outliers;
+    sy.seed = defaults.seed;
+    CLI::App* command = parent.add_subcommand(
+        "synthesize", "Write the inputs of `calibrate extrinsics` and `calibrate tracker` for a simulated site, "
+                      "with its true calibration, to try and check the calibration");
+    command->add_option("--out", sy.out, "Folder to write")->capture_default_str();
+    add_unused_device_option(*command, unused_device_);
+    command->add_option("--corner-noise-px", sy.corner_noise_px, "Noise on the chessboard corners (sigma)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    command->add_option("--distance-noise-mm", sy.distance_noise_mm, "Noise on the measured distances (sigma)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    command->add_option("--tip-noise-mm", sy.tip_noise_mm, "Noise on the fingertip positions (sigma, per axis)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    command->add_option("--tip-outliers", sy.tip_outliers, "Touches that slipped by 30 to 60 mm")
+        ->check(CLI::Range(0, 20))
+        ->capture_default_str();
+    command->add_option("--seed", sy.seed, "Random seed")->capture_default_str();
+    return command;
+  }
+  int run() override { return run_calibrate_synthesize(options_); }
+
+ private:
+  SynthesizeCommandOptions options_;
+  std::string unused_device_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_calibrate_synthesize_command() { return std::make_unique<CalibrateSynthesizeCommand>(); }
+
 }  // namespace rt::app

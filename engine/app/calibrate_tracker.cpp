@@ -35,4 +35,38 @@ int run_calibrate_tracker(const TrackerCommandOptions& options) {
   return 0;
 }
 
+namespace {
+
+class CalibrateTrackerCommand : public Command {
+ public:
+  CLI::App* add_to(CLI::App& parent) override {
+    TrackerCommandOptions& tr = options_;
+    tr.inlier_threshold_mm = calibration::kDefaultInlierThresholdMm;
+    CLI::App* command = parent.add_subcommand(
+        "tracker", "The hand tracker's pose in the site frame from fingertip touches on known screen points");
+    command->add_option("--input", tr.input, "Touches JSON (see engine/calibration/tracker_calibration.h)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    command->add_option("--site", tr.site,
+                         "Site file to update in place (start from a copy of assets/sites/default.json): "
+                         "the tracker pose and its residual; the rest is kept")
+        ->required();
+    add_unused_device_option(*command, unused_device_);
+    command->add_option("--inlier-threshold-mm", tr.inlier_threshold_mm,
+                         "A touch farther than this from its screen point is rejected")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    return command;
+  }
+  int run() override { return run_calibrate_tracker(options_); }
+
+ private:
+  TrackerCommandOptions options_;
+  std::string unused_device_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_calibrate_tracker_command() { return std::make_unique<CalibrateTrackerCommand>(); }
+
 }  // namespace rt::app

@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "app/command.h"
+#include "app/option_groups.h"
 #include "config/assets.h"
 #include "pipeline/gpu_session.h"
 #include "pipeline/hand_renderer.h"
@@ -278,20 +280,24 @@ int run_eval_hand(const RunOptions& options) {
   return 0;
 }
 
+class EvalHandCommand : public Command {
+ public:
+  CLI::App* add_to(CLI::App& parent) override {
+    CLI::App* command = parent.add_subcommand("hand", "Measure the geometry hand: skinning, shape and appearance adaption");
+    add_run_options(*command, options_, "out/eval-hand");
+    options_.width = 960;
+    options_.height = 540;
+    add_size_options(*command, options_, "Target view", 16, 16384);
+    return command;
+  }
+  int run() override { return run_eval_hand(options_); }
+
+ private:
+  RunOptions options_;
+};
+
 }  // namespace
 
-EvalHandCommand::EvalHandCommand(CLI::App& eval) {
-  command_ = eval.add_subcommand("hand", "Measure the geometry hand: skinning, shape and appearance adaption");
-  options_.out = "out/eval-hand";
-  options_.width = 960;
-  options_.height = 540;
-  command_->add_option("--out", options_.out, "Output directory")->capture_default_str();
-  command_->add_option("--device", options_.device, "Vulkan device: a part of its name");
-  command_->add_flag("--validation", options_.validation, "Enable the Khronos validation layer");
-  command_->add_option("--width", options_.width, "Target view width")->check(CLI::Range(16u, 16384u))->capture_default_str();
-  command_->add_option("--height", options_.height, "Target view height")->check(CLI::Range(16u, 16384u))->capture_default_str();
-}
-
-int EvalHandCommand::run() const { return run_eval_hand(options_); }
+std::unique_ptr<Command> make_eval_hand_command() { return std::make_unique<EvalHandCommand>(); }
 
 }  // namespace rt::app

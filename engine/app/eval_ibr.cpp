@@ -11,6 +11,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "app/command.h"
+#include "app/option_groups.h"
 #include "pipeline/gpu_session.h"
 #include "pipeline/ibr_renderer.h"
 #include "app/simulate.h"
@@ -51,8 +53,6 @@ HostImage as_png(const HostImage& portrait) {
   return out;
 }
 
-}  // namespace
-
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   sim::Scene scene = sim::load_scene(sim::resolve_scene(eval.scene));
   if (eval.frame_step == 0) throw std::invalid_argument("eval ibr: --frame-step must be at least 1");
@@ -80,19 +80,12 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   // A fixed selection by name (throws naming an unknown camera), else per frame by the hand.
   const std::vector<size_t> fixed_selection =
       eval.cameras.empty() ? std::vector<size_t>{} : ibr::cameras_by_name(camera_names, eval.cameras);
-  const uint32_t views = fixed_selection.empty() ? eval.views : uint32_t(fixed_selection.size());
+  const uint32_t views = fixed_selection.empty() ? eval.ibr.views : uint32_t(fixed_selection.size());
 
-  IbrSettings settings;
+  IbrSettings settings = eval.ibr;
   settings.width = options.width;
   settings.height = options.height;
   settings.views = views;
-  settings.refine = eval.refine_hypotheses > 0;
-  settings.supersample = eval.portrait_supersample;
-  settings.splat.average_tolerance_m = eval.average_tolerance_m;
-  settings.splat.edge_inset = eval.edge_inset_depth_px;
-  settings.blend.best_views = eval.best_views;
-  settings.carve = eval.carve;
-  if (settings.refine) settings.refinement.hypotheses = eval.refine_hypotheses;
   std::vector<FusionRun> runs;
   for (const std::string& name : {std::string("min"), std::string("avg")}) {
     if (eval.fusion != name && eval.fusion != "both") continue;
@@ -107,8 +100,8 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   const CameraIntrinsics& depth = simulator.renderer().camera(0).depth.intrinsics;
   std::printf("eval ibr: scene %s, site %s's user for the other site's eye, %ux%u (portrait supersampled %ux%u), "
               "%u of %zu cameras (color %ux%u, depth %ux%u), %u frames, simulated color supersampled %ux%u, on %s\n",
-              eval.scene.c_str(), eval.site.c_str(), options.width, options.height, eval.portrait_supersample,
-              eval.portrait_supersample, views, positions.size(), color.width, color.height, depth.width,
+              eval.scene.c_str(), eval.site.c_str(), options.width, options.height, settings.supersample,
+              settings.supersample, views, positions.size(), color.width, color.height, depth.width,
               depth.height, frames, eval.supersample, eval.supersample, context.device_name().c_str());
   if (frames == 1 && eval.first_frame > 0) std::printf("scene frame %u\n", eval.first_frame);
   if (frames > 1 && (eval.first_frame > 0 || eval.frame_step > 1))
@@ -164,16 +157,17 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"views", views},
                            {"cameras", fixed_selection.empty() ? nlohmann::json("opposite the touching hand, each frame")
                                                                : nlohmann::json(eval.cameras)},
-                           {"refine_hypotheses", eval.refine_hypotheses},
-                           {"best_views", eval.best_views},
-                           {"see_through_carving", eval.carve},
-                           {"edge_inset_depth_px", eval.edge_inset_depth_px},
+                           {"refine_hypotheses", settings.refine ? settings.refinement.hypotheses : 0},
+                           {"best_views", settings.blend.best_views},
+                           {"see_through_carving", settings.carve},
+                           {"edge_inset_depth_px", settings.splat.edge_inset},
                            {"color_supersampling", eval.supersample},
-                           {"portrait_supersampling", eval.portrait_supersample},
+                           {"portrait_supersampling", settings.supersample},
                            {"resolution_scale", scene.resolution_scale},
                            {"camera_color", {color.width, color.height}},
                            {"camera_depth", {depth.width, depth.height}},
-                           {"average_tolerance_m", eval.average_tolerance_m},
+                           {"average_tolerance_m", settings.splat.average_tolerance_m},
+                           {"ibr", ibr_settings_json(settings)},
                            {"frames", frames},
                            {"first_frame", eval.first_frame},
                            {"frame_step", eval.frame_step},
@@ -229,5 +223,65 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   session.report_capture();
   return 0;
 }
+
+class EvalIbrCommand : public Command {
+ public:
+  CLI::App* add_to(CLI::App& parent) override {
+    CLI::App* command = parent.add_subcommand(
+        "ibr", "The image-based model (fusion, warping, blending) against ground truth: metrics.json, PNGs, a table");
+    command->add_option("--scene", eval_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
+    // Its own --fusion: both renders every frame with each and compares them.
+    command->add_option("--fusion", eval_.fusion, "Depth fusion: min (the paper), avg (baseline), both")
+        ->check(CLI::IsMember({"min", "avg", "both"}))
+        ->capture_default_str()
+        ->group("Image-based model");
+    ibr_ = add_ibr_options(*command, {"fusion"});
+    command
+        ->add_option("--cameras", eval_.cameras,
+                     "These cameras (site names, comma-separated) in every frame, instead of the ones opposite the "
+                     "touching hand")
+        ->delimiter(',')
+        ->excludes(ibr_.option("views"));
+    command->add_option("--supersample", eval_.supersample,
+                        "Simulated color and ground truth rendered at N x N samples per pixel, box-filtered (odd)")
+        ->check(CLI::IsMember({1u, 3u, 5u, 7u}))
+        ->capture_default_str();
+    command->add_option("--resolution-scale", eval_.resolution_scale, "Camera resolution scale (1 is the site's own)")
+        ->check(CLI::Range(0.01, 1.0))
+        ->default_str("the scene's");
+    command->add_flag("--dump-passes", options_.dump_passes,
+                      "Write every pass output of the last frame (EXR and PNG) to OUT/passes/FUSION/");
+    command->add_option("--first-frame", eval_.first_frame, "Scene frame to start at")
+        ->check(CLI::Range(0u, 1000000u))
+        ->capture_default_str();
+    command->add_option("--frame-step", eval_.frame_step, "Render every Nth scene frame (the whole motion at 1/N of the time)")
+        ->check(CLI::Range(1u, 1000u))
+        ->capture_default_str();
+    command->add_option("--site", eval_.site, "Whose user is rendered")->check(CLI::IsMember({"A", "B"}))->capture_default_str();
+    add_run_options(*command, options_, "out/eval-ibr");
+    frames_ = add_frames_option(*command, options_, 1, "the rest of the scene from --first-frame at --frame-step");
+    add_inspection_options(*command, options_);
+    options_.width = 640;
+    options_.height = 360;
+    add_size_options(*command, options_, "Target view", 1, 16384);
+    return command;
+  }
+  void check() override {
+    eval_.frames_given = frames_->count() > 0;
+    if (eval_.frames_given) check_capture_frame(options_);
+    ibr_.apply(eval_.ibr);
+  }
+  int run() override { return run_eval_ibr(options_, eval_); }
+
+ private:
+  RunOptions options_;
+  EvalIbrOptions eval_;
+  IbrOptions ibr_;
+  CLI::Option* frames_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_eval_ibr_command() { return std::make_unique<EvalIbrCommand>(); }
 
 }  // namespace rt::app

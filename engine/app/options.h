@@ -8,7 +8,4 @@ namespace rt::app {
 
 using pipeline::RunOptions;
 
-int run_compose(const RunOptions& options);
-int run_bench(const std::string& what, const RunOptions& options);
-
 }  // namespace rt::app

@@ -6,7 +6,8 @@
 #include <iostream>
 
 #include "pipeline/gpu_session.h"
-#include "app/options.h"
+#include "app/command.h"
+#include "app/option_groups.h"
 #include "app/simulate.h"
 #include "pipeline/site_simulator.h"
 #include "sim/leap_json.h"
@@ -65,6 +66,46 @@ int run_simulate(const RunOptions& options, const SimulateOptions& simulate) {
   session.report_capture();
   return 0;
 }
+
+namespace {
+
+class SimulateCommand : public Command {
+ public:
+  CLI::App* add_to(CLI::App& parent) override {
+    command_ = parent.add_subcommand("simulate", "Record one site of a synthetic scene: RGBD cameras, tracker, ground truth");
+    command_->add_option("--scene", simulate_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
+    command_->add_option("--site", site_, "Which site to record")->check(CLI::IsMember({"A", "B"}))->capture_default_str();
+    add_run_options(*command_, options_, "out/simulate");
+    frames_ = add_frames_option(*command_, options_, 1, "the scene's own count");
+    frames_->description("Frames to record");
+    add_inspection_options(*command_, options_);
+    command_->add_option("--resolution-scale", simulate_.resolution_scale, "Camera resolution scale")
+        ->check(CLI::Range(0.01, 1.0))
+        ->default_str("the scene's");
+    command_->add_option("--gt-width", simulate_.gt_width, "Ground-truth target view width")
+        ->check(CLI::Range(1u, 16384u))->capture_default_str();
+    command_->add_option("--gt-height", simulate_.gt_height, "Ground-truth target view height")
+        ->check(CLI::Range(1u, 16384u))->capture_default_str();
+    return command_;
+  }
+  void check() override {
+    simulate_.frames_given = frames_->count() > 0;
+    simulate_.site = site_ == "B" ? Site::B : Site::A;
+    if (simulate_.frames_given) check_capture_frame(options_);
+  }
+  int run() override { return run_simulate(options_, simulate_); }
+
+ private:
+  CLI::App* command_ = nullptr;
+  CLI::Option* frames_ = nullptr;
+  RunOptions options_;
+  SimulateOptions simulate_;
+  std::string site_ = "A";
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_simulate_command() { return std::make_unique<SimulateCommand>(); }
 
 
 }  // namespace rt::app

@@ -24,6 +24,8 @@
 #include <sstream>
 
 #include "net/fault_proxy.h"
+#include "pipeline/hand_settings.h"
+#include "pipeline/ibr_settings.h"
 #include "net/secure_channel.h"
 #include "session/event_log.h"
 #include "time/monotonic_clock.h"
@@ -32,7 +34,6 @@ extern char** environ;
 
 namespace rt::app {
 
-using namespace rt::site;
 namespace {
 
 struct Child {
@@ -266,6 +267,12 @@ int run_two_site_demo(const DemoOptions& options) {
     if (options.run.validation) args.push_back("--validation");
     const std::filesystem::path& replay = site == "A" ? options.replay_a : options.replay_b;
     if (!replay.empty()) args.insert(args.end(), {"--replay", replay.string()});
+    // The image-based model's and the hand's options, as the demo was given them.
+    for (const std::string& arg : config::knob_arguments(pipeline::ibr_knobs(), options.ibr, pipeline::IbrSettings{}))
+      args.push_back(arg);
+    for (const std::string& arg : config::knob_arguments(pipeline::hand_knobs(), options.hand,
+                                                         pipeline::HandRendererOptions{}, pipeline::kHandOptionPrefix))
+      args.push_back(arg);
     return args;
   };
 
@@ -393,95 +400,6 @@ int run_two_site_demo(const DemoOptions& options) {
   std::printf("written to %s: site_A/ and site_B/ (frames/*.png, site.mp4, truth/), events.jsonl, metrics.json\n",
               out.string().c_str());
   return 0;
-}
-
-DemoCommand::DemoCommand(CLI::App& app) {
-  command_ = app.add_subcommand("demo", "Run the main job: both sites of a scene as two processes over loopback");
-  options_.run.out = "out/demo";
-  options_.run.width = 640;
-  options_.run.height = 360;
-  options_.run.frames = 1;
-  command_->add_option("--out", options_.run.out, "Output directory")->capture_default_str();
-  command_->add_option("--device", options_.run.device, "Vulkan device: a part of its name (e.g. llvmpipe, NVIDIA)");
-  command_->add_flag("--validation", options_.run.validation, "Enable the Khronos validation layer; errors fail the run");
-  command_->add_option("--scene", options_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
-  command_->add_option("--frames", options_.run.frames, "Scene frames to play (default: the scene's own count)")
-      ->check(CLI::Range(1u, 1000000u));
-  command_->add_option("--width", options_.run.width, "Portrait and display width")->check(CLI::Range(16u, 4096u))->capture_default_str();
-  command_->add_option("--height", options_.run.height, "Portrait and display height")->check(CLI::Range(16u, 4096u))->capture_default_str();
-  command_->add_option("--time-scale", options_.time_scale,
-                       "Scene seconds per wall-clock second (below 1 plays the scene slower, for slow devices)")
-      ->check(CLI::Range(0.01, 10.0))->capture_default_str();
-  command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale (default: the scene's)")
-      ->check(CLI::Range(0.01, 1.0));
-  command_->add_option("--disconnect-after-ms", disconnect_after_ms_,
-                       "Fault injection: cut the link once, this long after the sites connect");
-  command_->add_option("--outage-ms", options_.outage_ms,
-                       "Fault injection: with --disconnect-after-ms, the link stays silent this long after the cut")
-      ->check(CLI::Range(0, 60000));
-  command_->add_option("--delay-ms", options_.delay_ms, "Fault injection: delay every record")->check(CLI::Range(0, 10000));
-  command_->add_option("--jitter-ms", options_.jitter_ms, "Fault injection: extra random delay per record")->check(CLI::Range(0, 10000));
-  command_->add_option("--loss", options_.loss, "Fault injection: probability of dropping a record")->check(CLI::Range(0.0, 0.9));
-  command_->add_option("--replay-a", options_.replay_a, "Site A plays this recording instead of the scene (site --replay)");
-  command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
-}
-
-int DemoCommand::run() {
-  options_.frames_given = command_->count("--frames") > 0;
-  if (disconnect_after_ms_ >= 0) options_.disconnect_after_ms = disconnect_after_ms_;
-  return run_two_site_demo(options_);
-}
-
-SiteCommand::SiteCommand(CLI::App& app) {
-  command_ = app.add_subcommand("site", "Run one site of a two-site session (sender and receiver) against a peer");
-  options_.run.out = "out/site";
-  options_.run.width = 640;
-  options_.run.height = 360;
-  command_->add_option("--config", config_, "Site config JSON (scene, site, listen, peer, key_file, ...); flags override it");
-  command_->add_option("--peer", options_.peer, "Connect to the other site at HOST:PORT (else listen)");
-  command_->add_option("--listen", options_.listen, "Listen on HOST:PORT (port 0: any, printed)")->capture_default_str();
-  command_->add_option("--key-file", options_.key_file, "Session key: 64 hex digits, the same at both sites");
-  command_->add_option("--site", site_, "Which site this is")->check(CLI::IsMember({"A", "B"}))->capture_default_str();
-  command_->add_option("--scene", options_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
-  command_->add_option("--out", options_.run.out, "Output directory")->capture_default_str();
-  command_->add_option("--device", options_.run.device, "Vulkan device: a part of its name");
-  command_->add_flag("--validation", options_.run.validation, "Enable the Khronos validation layer");
-  command_->add_option("--frames", options_.run.frames, "Scene frames to play")->check(CLI::Range(1u, 1000000u));
-  command_->add_option("--width", options_.run.width, "Portrait and display width")->check(CLI::Range(16u, 4096u))->capture_default_str();
-  command_->add_option("--height", options_.run.height, "Portrait and display height")->check(CLI::Range(16u, 4096u))->capture_default_str();
-  command_->add_option("--time-scale", options_.time_scale, "Scene seconds per wall-clock second")->check(CLI::Range(0.01, 10.0));
-  command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale")->check(CLI::Range(0.01, 1.0));
-  command_->add_option("--connect-timeout", options_.connect_timeout_s, "Seconds to wait for the other site")
-      ->check(CLI::Range(0.1, 3600.0))->capture_default_str();
-  command_->add_option("--replay", options_.replay,
-                       "Replay a recording (remotetouch simulate's format) as this site's cameras and tracker");
-  command_->add_option("--motor", options_.motor, "simulated, usb (the Arduino; an error without it) or auto")
-      ->check(CLI::IsMember({"simulated", "usb", "auto"}))->capture_default_str();
-}
-
-int SiteCommand::run() {
-  // The config first, then the flags given on the command line over it.
-  SiteRunOptions flags = options_;
-  if (!config_.empty()) {
-    apply_site_config(config_, options_);
-    auto given = [&](const char* name) { return command_->count(name) > 0; };
-    if (given("--peer")) options_.peer = flags.peer;
-    if (given("--listen")) options_.listen = flags.listen;
-    if (given("--key-file")) options_.key_file = flags.key_file;
-    if (given("--scene")) options_.scene = flags.scene;
-    if (given("--time-scale")) options_.time_scale = flags.time_scale;
-    if (given("--resolution-scale")) options_.resolution_scale = flags.resolution_scale;
-    if (given("--width")) options_.run.width = flags.run.width;
-    if (given("--height")) options_.run.height = flags.run.height;
-    if (given("--frames")) options_.run.frames = flags.run.frames;
-    if (given("--site")) options_.site = site_ == "B" ? Site::B : Site::A;
-    if (given("--replay")) options_.replay = flags.replay;
-    if (given("--motor")) options_.motor = flags.motor;
-  } else {
-    options_.site = site_ == "B" ? Site::B : Site::A;
-  }
-  if (command_->count("--frames") > 0) options_.frames_given = true;
-  return run_site(options_);
 }
 
 }  // namespace rt::app

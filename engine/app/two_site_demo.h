@@ -1,13 +1,12 @@
 #pragma once
-// `remotetouch demo` (both sites of a scene as two processes over loopback, with a progress bar,
-// merged events, metrics and a summary table) and `remotetouch site` (one site, for a real
-// two-machine set-up or as the demo's child).
-#include <CLI/CLI.hpp>
-
+// `remotetouch demo`'s run (the command is demo.cpp): both sites of a scene as two processes
+// (`remotetouch site`, site.cpp) over loopback, with a progress bar, merged events, metrics and a
+// summary table.
 #include <optional>
 
 #include "app/options.h"
-#include "site/site_run.h"
+#include "pipeline/hand_renderer.h"
+#include "pipeline/ibr_settings.h"
 
 namespace rt::app {
 
@@ -23,33 +22,10 @@ struct DemoOptions {
   int delay_ms = 0, jitter_ms = 0;
   double loss = 0.0;
   std::filesystem::path replay_a, replay_b;  // a site that plays a recording (site --replay)
+  pipeline::IbrSettings ibr;                 // both sites' image-based model (forwarded to each)
+  pipeline::HandRendererOptions hand;        // both sites' geometry hand
 };
 
 int run_two_site_demo(const DemoOptions& options);
-
-class DemoCommand {
- public:
-  explicit DemoCommand(CLI::App& app);  // registers `demo`
-  bool parsed() const { return command_->parsed(); }
-  int run();
-
- private:
-  CLI::App* command_;
-  DemoOptions options_;
-  int disconnect_after_ms_ = -1;
-};
-
-class SiteCommand {
- public:
-  explicit SiteCommand(CLI::App& app);  // registers `site`
-  bool parsed() const { return command_->parsed(); }
-  int run();
-
- private:
-  CLI::App* command_;
-  site::SiteRunOptions options_;
-  std::string site_ = "A";
-  std::filesystem::path config_;
-};
 
 }  // namespace rt::app

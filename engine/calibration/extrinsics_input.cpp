@@ -6,7 +6,7 @@
 
 #include "calibration/calibration_error.h"
 #include "calibration/image_files.h"
-#include "config/json_fields.h"
+#include "config/json.h"
 
 namespace rt::calibration {
 namespace {

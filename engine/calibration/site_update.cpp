@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "calibration/calibration_error.h"
-#include "config/json_fields.h"
+#include "config/json.h"
 
 namespace rt::calibration {
 namespace {

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "calibration/calibration_error.h"
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "sim/default_site.h"
 
 namespace rt::calibration {

@@ -8,7 +8,7 @@
 
 #include "calibration/calibration_error.h"
 #include "calibration/rigid_alignment.h"
-#include "config/json_fields.h"
+#include "config/json.h"
 
 namespace rt::calibration {
 namespace {

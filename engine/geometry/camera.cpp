@@ -7,7 +7,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
-#include "config/json_fields.h"
+#include "config/json.h"
 
 namespace rt {
 

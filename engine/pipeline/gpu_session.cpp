@@ -1,5 +1,6 @@
 #include "pipeline/gpu_session.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 
@@ -50,7 +51,10 @@ void GpuSession::report_capture() const {
 void dump_pass_outputs(vk::Context& context, const vk::FrameGraph& graph, const std::filesystem::path& folder) {
   for (const auto& [pass, image] : graph.written_images()) {
     const HostImage pixels = vk::download(context, *image);
-    const std::filesystem::path stem = folder / (pass + "." + image->name());
+    // No spaces in file names: "ibr_carve.ibr_carved_depth", not "ibr_carve.ibr carved depth".
+    std::string name = pass + "." + image->name();
+    std::replace(name.begin(), name.end(), ' ', '_');
+    const std::filesystem::path stem = folder / name;
     write_image(stem.string() + ".exr", pixels);
     write_image(stem.string() + ".png", pixels, PngDepth::Sixteen);
   }

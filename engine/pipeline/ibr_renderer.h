@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "pipeline/ibr_settings.h"
 #include "passes/ibr_blend.h"
 #include "passes/ibr_carve.h"
 #include "passes/ibr_foreground.h"
@@ -20,25 +21,6 @@
 #include "sim/rgbd_source.h"
 
 namespace rt::pipeline {
-
-struct IbrSettings {
-  uint32_t width = 640, height = 360;  // the target view
-  uint32_t views = 4;                  // cameras used per frame (the paper: 4 of 6)
-  // The portrait rendered at this many times the target's resolution per axis and resolved
-  // (ibr_resolve): partial alpha on silhouettes, texture filtered over each pixel; 1 = off.
-  // The splats' largest footprint scales with it.
-  uint32_t supersample = 1;
-  passes::DepthFusion fusion = passes::DepthFusion::Min;
-  bool carve = false;   // see-through carving of the fused depth, off by default
-  bool refine = false;  // plane sweep, off by default
-  passes::ForegroundSettings foreground;
-  passes::SplatSettings splat;  // its `fusion` is set from `fusion`
-  passes::FuseSettings fuse;    // likewise
-  passes::CarveSettings carving;
-  passes::RefineSettings refinement;
-  passes::WarpSettings warp;
-  passes::BlendSettings blend;
-};
 
 class IbrRenderer {
  public:

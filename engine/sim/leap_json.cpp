@@ -3,10 +3,11 @@
 #include <cmath>
 #include <map>
 
-#include "config/json_fields.h"
-#include "sim/json_values.h"
+#include "config/json.h"
 
 namespace rt::sim {
+
+using namespace config;  // the JSON readers
 
 using config::JsonError;
 

@@ -6,10 +6,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "config/json_fields.h"
-#include "sim/json_values.h"
+#include "config/json.h"
 
 namespace rt::sim {
+
+using namespace config;  // the JSON readers
 
 namespace {
 

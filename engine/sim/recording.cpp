@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "image/image_io.h"
 
 namespace rt::sim {

@@ -5,10 +5,11 @@
 #include <set>
 #include <sstream>
 
-#include "config/json_fields.h"
-#include "sim/json_values.h"
+#include "config/json.h"
 
 namespace rt::sim {
+
+using namespace config;  // the JSON readers
 
 using config::JsonError;
 

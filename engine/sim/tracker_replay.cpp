@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "config/json_fields.h"
+#include "config/json.h"
 #include "sim/leap_json.h"
 
 namespace rt::sim {

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "pipeline/hand_settings.h"
+#include "pipeline/ibr_settings.h"
 #include "site/site_options.h"
 
 namespace rt::site {
@@ -30,7 +32,7 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   for (const auto& [key, value] : json.items())
     if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
         key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" &&
-        key != "motor")
+        key != "motor" && key != "ibr" && key != "hand")
       throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
   std::string site = site_name(options.site), key_file;
   string_field("scene", options.scene);
@@ -52,6 +54,10 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   number_field("resolution_scale", options.resolution_scale, 0.0, 1.0);
   number_field("width", options.run.width, 16, 4096);
   number_field("height", options.run.height, 16, 4096);
+  // The image-based model's and the hand's knobs, keys as their options with '_' for '-'.
+  if (json.contains("ibr")) config::read_knobs_json(pipeline::ibr_knobs(), json["ibr"], options.ibr, config.string() + ": 'ibr'");
+  if (json.contains("hand"))
+    config::read_knobs_json(pipeline::hand_knobs(), json["hand"], options.hand, config.string() + ": 'hand'");
   if (json.contains("frames")) {
     number_field("frames", options.run.frames, 1, 1e6);
     options.frames_given = true;

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include "pipeline/hand_settings.h"
+#include "pipeline/ibr_settings.h"
+
 namespace rt::site {
 
 nlohmann::json timings_json(const vk::FrameGraph& graph) {
@@ -38,6 +41,8 @@ nlohmann::json site_metrics(const SiteCommon& common, double elapsed_s) {
   m["resolution_scale"] = common.scene.resolution_scale;
   m["time_scale"] = common.options.time_scale;
   m["elapsed_s"] = elapsed_s;
+  m["ibr"] = pipeline::ibr_settings_json(common.options.ibr);
+  m["hand"] = pipeline::hand_settings_json(common.options.hand);
   m["gpu_ms"] = common.gpu_ms();
   m["latency_notes"] =
       "portrait and hand: the remote sender's capture time to this site's display (both processes share the "

@@ -5,7 +5,7 @@
 
 #include "geometry/site_frames.h"
 #include "pipeline/hand_renderer.h"
-#include "pipeline/ibr_renderer.h"
+#include "pipeline/ibr_settings.h"
 #include "pipeline/run_options.h"
 
 namespace rt::site {
@@ -32,8 +32,9 @@ struct SiteRunOptions {
 };
 
 // Fills the fields a --config JSON names (scene, site, listen, peer, key_file, time_scale,
-// resolution_scale, width, height, frames, replay, motor); a file path (key_file, replay) is
-// relative to the config's folder.
+// resolution_scale, width, height, frames, replay, motor, and the objects "ibr" and "hand" of
+// the knobs in pipeline/ibr_settings.h and hand_settings.h, e.g. "ibr": {"refine": 9,
+// "best_views": 4}); a file path (key_file, replay) is relative to the config's folder.
 // Throws naming the file and field.
 void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options);
 

@@ -121,7 +121,10 @@ VkBool32 VKAPI_PTR on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT 
 ContextOptions apply_environment(ContextOptions options) {
   if (env_flag("REMOTETOUCH_VALIDATION")) options.validation = true;
   if (env_flag("REMOTETOUCH_SYNC_VALIDATION")) options.validation = options.synchronization_validation = true;
-  if (const char* device = std::getenv("REMOTETOUCH_DEVICE"); device && *device) options.device_name = device;
+  if (const char* device = std::getenv("REMOTETOUCH_DEVICE"); device && *device) {
+    options.device_name = device;
+    options.device_name_source = "REMOTETOUCH_DEVICE";  // the error names what the user set
+  }
   return options;
 }
 
@@ -208,7 +211,7 @@ void Context::choose_physical_device(const ContextOptions& options) {
   RT_VK_CHECK(vkEnumeratePhysicalDevices(instance_, &count, devices.data()));
   std::vector<DeviceFacts> facts;
   for (VkPhysicalDevice device : devices) facts.push_back(facts_of(device));
-  const DeviceChoice choice = choose_device(facts, options.device_name);
+  const DeviceChoice choice = choose_device(facts, options.device_name, options.device_name_source);
   if (!choice.index) throw std::runtime_error(choice.explanation);
   physical_device_ = devices[*choice.index];
   vkGetPhysicalDeviceProperties(physical_device_, &properties_);

@@ -15,6 +15,7 @@ namespace rt::vk {
 
 struct ContextOptions {
   std::string device_name;                  // --device: substring of the device name; empty = automatic
+  std::string device_name_source = "--device";  // what set device_name, for errors (or REMOTETOUCH_DEVICE)
   bool validation = false;                  // Khronos validation layer; errors are counted
   bool synchronization_validation = false;  // also its synchronization checks
   bool print_device = true;                 // say on stderr which device was chosen

@@ -57,7 +57,8 @@ std::string rejection_reason(const DeviceFacts& device) {
   return join(reasons);
 }
 
-DeviceChoice choose_device(const std::vector<DeviceFacts>& devices, const std::string& requested_name) {
+DeviceChoice choose_device(const std::vector<DeviceFacts>& devices, const std::string& requested_name,
+                           const std::string& requested_by) {
   DeviceChoice choice;
   std::ostringstream why;
   if (devices.empty()) {
@@ -71,7 +72,7 @@ DeviceChoice choose_device(const std::vector<DeviceFacts>& devices, const std::s
     const DeviceFacts& device = devices[i];
     const std::string label = "'" + device.name + "' (" + device_type_name(device.type) + ")";
     if (!wanted.empty() && lower(device.name).find(wanted) == std::string::npos) {
-      why << "\n  " << label << ": name does not match --device '" << requested_name << "'";
+      why << "\n  " << label << ": name does not match " << requested_by << " '" << requested_name << "'";
       continue;
     }
     if (const std::string reason = rejection_reason(device); !reason.empty()) {

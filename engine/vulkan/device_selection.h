@@ -28,8 +28,10 @@ struct DeviceChoice {
 std::string rejection_reason(const DeviceFacts& device);
 
 // requested_name: empty for automatic choice, else a case-insensitive substring of the device
-// name (e.g. "llvmpipe", "NVIDIA").
-DeviceChoice choose_device(const std::vector<DeviceFacts>& devices, const std::string& requested_name);
+// name (e.g. "llvmpipe", "NVIDIA"); requested_by: what the user set it with, named in the
+// explanation ("--device", or the environment variable "REMOTETOUCH_DEVICE").
+DeviceChoice choose_device(const std::vector<DeviceFacts>& devices, const std::string& requested_name,
+                           const std::string& requested_by = "--device");
 
 const char* device_type_name(VkPhysicalDeviceType type);
 

@@ -42,7 +42,7 @@ grep -q '"see_through_carving": true' "$out-carved/metrics.json" || { echo "carv
 grep -q '"best_views": 4' "$out-carved/metrics.json" || { echo "best views not recorded" >&2; exit 1; }
 tr -d ' \n' < "$out-carved/metrics.json" | grep -q '"scene_frames":\[4,7\]' || { echo "scene frames not 4, 7" >&2; exit 1; }
 [ -s "$out-carved/images/0007_min_portrait.png" ] || { echo "frame 7 not written" >&2; exit 1; }
-[ -s "$out-carved/passes/min/ibr_carve.ibr carved depth.exr" ] || { echo "carve pass not dumped" >&2; exit 1; }
+[ -s "$out-carved/passes/min/ibr_carve.ibr_carved_depth.exr" ] || { echo "carve pass not dumped" >&2; exit 1; }
 # A first frame past the scene's end is refused, naming the option.
 if "$binary" eval ibr --scene wave --first-frame 100000 --out "$out-past" > "$out-past.log" 2>&1; then
   echo "a first frame past the end was accepted" >&2; exit 1

@@ -10,7 +10,7 @@
 
 #include "pipeline/receiver_compositor.h"
 #include "pipeline/gpu_session.h"
-#include "app/options.h"
+#include "app/bench_command.h"
 #include "passes/copy.h"
 
 namespace rt::app {
@@ -63,26 +63,7 @@ nlohmann::json bench_compositing_at(GpuSession& session, uint32_t width, uint32_
 
 }  // namespace
 
-int run_bench_touch(const RunOptions& options);
-int run_bench_simulate(GpuSession& session, const RunOptions& options);
-int run_bench_ibr(GpuSession& session, const RunOptions& options);
-int run_bench_hand(const RunOptions& options);
-int run_bench_net(const RunOptions& options);
-
-int run_bench(const std::string& what, const RunOptions& options) {
-  if (what == "touch") return run_bench_touch(options);
-  if (what == "hand") return run_bench_hand(options);
-  if (what == "net") return run_bench_net(options);
-  if (what == "simulate") {
-    GpuSession session(options);
-    return run_bench_simulate(session, options);
-  }
-  if (what == "ibr") {
-    GpuSession session(options);
-    return run_bench_ibr(session, options);
-  }
-  if (what != "compositing")
-    throw std::invalid_argument("unknown benchmark '" + what + "' (known: compositing, touch, simulate, ibr, hand, net)");
+int run_bench_compositing(const RunOptions& options) {
   GpuSession session(options);
   std::vector<std::pair<uint32_t, uint32_t>> sizes = {{1280, 720}, {2560, 1440}};
   if (options.width > 0) sizes = {{options.width, options.height}};
@@ -97,6 +78,19 @@ int run_bench(const std::string& what, const RunOptions& options) {
   std::cout << "\nwritten to " << (options.out / "bench_compositing.json").string() << "\n";
   session.report_capture();
   return 0;
+}
+
+std::unique_ptr<Command> make_bench_compositing_command() {
+  class BenchCompositing : public BenchCommand {
+   public:
+    BenchCompositing()
+        : BenchCommand("compositing",
+                       "Per-pass GPU ms of the compositing passes and the bandwidth each achieves, next to a plain "
+                       "copy pass in the same run (the roofline); OUT/bench_compositing.json",
+                       "Frames per size (median over them)", "1280x720 and 2560x1440") {}
+    int run() override { return run_bench_compositing(options_); }
+  };
+  return std::make_unique<BenchCompositing>();
 }
 
 }  // namespace rt::app

@@ -1,20 +1,80 @@
-#include "sim/json_values.h"
+#include "config/json.h"
 
 #include <charconv>
 #include <cmath>
+#include <fstream>
 
-#include "config/json_fields.h"
+namespace rt::config {
 
-namespace rt::sim {
 
-using config::JsonError;
+nlohmann::json read_json_file(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  if (!file) throw JsonError("cannot open '" + path.string() + "'");
+  try {
+    return nlohmann::json::parse(file);
+  } catch (const nlohmann::json::exception& error) {  // parse errors, and numbers out of range (1E999)
+    throw JsonError("'" + path.string() + "' is not valid JSON: " + error.what());
+  }
+}
+
+void write_json_file(const std::filesystem::path& path, const nlohmann::json& document) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  std::ofstream file(path);
+  if (!file) throw JsonError("cannot write '" + path.string() + "'");
+  file << document.dump(2) << "\n";
+  if (!file) throw JsonError("writing '" + path.string() + "' failed");
+}
+
+const nlohmann::json& require(const nlohmann::json& object, const std::string& field, const std::string& where) {
+  if (!object.is_object()) throw JsonError(where + ": expected an object");
+  const auto it = object.find(field);
+  if (it == object.end()) throw JsonError(where + ": missing field '" + field + "'");
+  return *it;
+}
+
+double require_number(const nlohmann::json& object, const std::string& field, const std::string& where) {
+  const nlohmann::json& value = require(object, field, where);
+  if (!value.is_number()) throw JsonError(where + ": field '" + field + "' must be a number, not " + value.type_name());
+  const double number = value.get<double>();
+  if (!std::isfinite(number)) throw JsonError(where + ": field '" + field + "' must be finite");
+  return number;
+}
+
+double require_positive(const nlohmann::json& object, const std::string& field, const std::string& where) {
+  const double number = require_number(object, field, where);
+  if (!(number > 0.0)) throw JsonError(where + ": field '" + field + "' must be > 0, is " + std::to_string(number));
+  return number;
+}
+
+std::string require_string(const nlohmann::json& object, const std::string& field, const std::string& where) {
+  const nlohmann::json& value = require(object, field, where);
+  if (!value.is_string()) throw JsonError(where + ": field '" + field + "' must be a string, not " + value.type_name());
+  return value.get<std::string>();
+}
+
+const nlohmann::json& require_array(const nlohmann::json& object, const std::string& field, const std::string& where,
+                                    size_t min_size, size_t max_size) {
+  const nlohmann::json& value = require(object, field, where);
+  if (!value.is_array()) throw JsonError(where + ": field '" + field + "' must be an array, not " + value.type_name());
+  if (value.size() < min_size || value.size() > max_size)
+    throw JsonError(where + ": field '" + field + "' has " + std::to_string(value.size()) + " entries, expected " +
+                    (min_size == max_size ? std::to_string(min_size)
+                                          : std::to_string(min_size) + " to " +
+                                                (max_size == size_t(-1) ? "any" : std::to_string(max_size))));
+  for (const auto& entry : value)
+    if (entry.is_number() && !std::isfinite(entry.get<double>()))
+      throw JsonError(where + ": field '" + field + "' holds a non-finite number");
+  return value;
+}
+
+
 
 namespace {
 
 template <int N>
 Eigen::Matrix<double, N, 1> require_vector(const nlohmann::json& object, const std::string& field,
                                            const std::string& where) {
-  const nlohmann::json& array = config::require_array(object, field, where, N, N);
+  const nlohmann::json& array = require_array(object, field, where, N, N);
   Eigen::Matrix<double, N, 1> v;
   for (int i = 0; i < N; ++i) {
     if (!array[i].is_number())
@@ -50,7 +110,7 @@ Eigen::Vector3f require_rgb(const nlohmann::json& object, const std::string& fie
 
 double require_in_range(const nlohmann::json& object, const std::string& field, const std::string& where, double low,
                         double high) {
-  const double value = config::require_number(object, field, where);
+  const double value = require_number(object, field, where);
   if (value < low || value > high)
     throw JsonError(where + ": field '" + field + "' must be in [" + format_number(low) + ", " + format_number(high) +
                     "], is " + format_number(value));
@@ -59,7 +119,7 @@ double require_in_range(const nlohmann::json& object, const std::string& field, 
 
 int64_t require_integer(const nlohmann::json& object, const std::string& field, const std::string& where, int64_t low,
                         int64_t high) {
-  const nlohmann::json& value = config::require(object, field, where);
+  const nlohmann::json& value = require(object, field, where);
   if (!value.is_number_integer())
     throw JsonError(where + ": field '" + field + "' must be an integer, not " +
                     (value.is_number() ? std::string("a fraction") : std::string(value.type_name())));
@@ -73,7 +133,7 @@ int64_t require_integer(const nlohmann::json& object, const std::string& field, 
 }
 
 uint64_t require_unsigned(const nlohmann::json& object, const std::string& field, const std::string& where) {
-  const nlohmann::json& value = config::require(object, field, where);
+  const nlohmann::json& value = require(object, field, where);
   if (value.is_number_unsigned()) return value.get<uint64_t>();
   if (value.is_number_integer()) throw JsonError(where + ": field '" + field + "' must not be negative");
   throw JsonError(where + ": field '" + field + "' must be a non-negative integer, not " +
@@ -81,7 +141,7 @@ uint64_t require_unsigned(const nlohmann::json& object, const std::string& field
 }
 
 const nlohmann::json& require_object(const nlohmann::json& object, const std::string& field, const std::string& where) {
-  const nlohmann::json& value = config::require(object, field, where);
+  const nlohmann::json& value = require(object, field, where);
   if (!value.is_object()) throw JsonError(where + ": field '" + field + "' must be an object, not " + value.type_name());
   return value;
 }
@@ -103,4 +163,4 @@ nlohmann::json to_json(const Eigen::Vector2d& v) { return {v.x(), v.y()}; }
 nlohmann::json to_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 nlohmann::json to_json(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
 
-}  // namespace rt::sim
+}  // namespace rt::config

@@ -1,0 +1,65 @@
+// `remotetouch demo`: the main job, both sites of a scene as two processes over loopback
+// (two_site_demo.cpp runs it). The image-based-model and hand options go to both sites.
+#include "app/command.h"
+#include "app/option_groups.h"
+#include "app/two_site_demo.h"
+
+namespace rt::app {
+namespace {
+
+class DemoCommand : public Command {
+ public:
+  CLI::App* add_to(CLI::App& parent) override {
+    command_ = parent.add_subcommand("demo", "Run the main job: both sites of a scene as two processes over loopback");
+    add_run_options(*command_, options_.run, "out/demo");
+    command_->add_option("--scene", options_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
+    frames_ = add_frames_option(*command_, options_.run, 1, "the scene's own count");
+    frames_->description("Scene frames to play");
+    options_.run.width = 640;
+    options_.run.height = 360;
+    add_size_options(*command_, options_.run, "Portrait and display", 16, 4096);
+    command_->add_option("--time-scale", options_.time_scale,
+                         "Scene seconds per wall-clock second (below 1 plays the scene slower, for slow devices)")
+        ->check(CLI::Range(0.01, 10.0))
+        ->capture_default_str();
+    command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale")
+        ->check(CLI::Range(0.01, 1.0))
+        ->default_str("the scene's");
+    command_->add_option("--disconnect-after-ms", disconnect_after_ms_,
+                         "Fault injection: cut the link once, this long after the sites connect");
+    command_->add_option("--outage-ms", options_.outage_ms,
+                         "Fault injection: with --disconnect-after-ms, the link stays silent this long after the cut")
+        ->check(CLI::Range(0, 60000));
+    command_->add_option("--delay-ms", options_.delay_ms, "Fault injection: delay every record")->check(CLI::Range(0, 10000));
+    command_->add_option("--jitter-ms", options_.jitter_ms, "Fault injection: extra random delay per record")
+        ->check(CLI::Range(0, 10000));
+    command_->add_option("--loss", options_.loss, "Fault injection: probability of dropping a record")->check(CLI::Range(0.0, 0.9));
+    command_->add_option("--replay-a", options_.replay_a, "Site A plays this recording instead of the scene (site --replay)");
+    command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
+    ibr_ = add_ibr_options(*command_);
+    hand_ = add_hand_options(*command_);
+    return command_;
+  }
+
+  void check() override {
+    options_.frames_given = frames_->count() > 0;
+    if (disconnect_after_ms_ >= 0) options_.disconnect_after_ms = disconnect_after_ms_;
+    ibr_.apply(options_.ibr);
+    hand_.apply(options_.hand);
+  }
+  int run() override { return run_two_site_demo(options_); }
+
+ private:
+  CLI::App* command_ = nullptr;
+  CLI::Option* frames_ = nullptr;
+  DemoOptions options_;
+  int disconnect_after_ms_ = -1;
+  IbrOptions ibr_;
+  HandOptions hand_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_demo_command() { return std::make_unique<DemoCommand>(); }
+
+}  // namespace rt::app

@@ -1,0 +1,89 @@
+// `remotetouch site`: one site of a two-site session (sender and receiver), for a real
+// two-machine set-up or as the demo's child. Its options come from --config (site_config.cpp),
+// then the flags given on the command line over it.
+#include "app/command.h"
+#include "app/option_groups.h"
+#include "site/site_run.h"
+
+namespace rt::app {
+namespace {
+
+using site::SiteRunOptions;
+
+class SiteCommand : public Command {
+ public:
+  CLI::App* add_to(CLI::App& parent) override {
+    command_ = parent.add_subcommand("site", "Run one site of a two-site session (sender and receiver) against a peer");
+    command_->add_option("--config", config_,
+                         "Site config JSON (scene, site, listen, peer, key_file, ..., \"ibr\" and \"hand\" objects); "
+                         "flags override it");
+    command_->add_option("--peer", options_.peer, "Connect to the other site at HOST:PORT (else listen)");
+    command_->add_option("--listen", options_.listen, "Listen on HOST:PORT (port 0: any, printed)")->capture_default_str();
+    command_->add_option("--key-file", options_.key_file, "Session key: 64 hex digits, the same at both sites");
+    command_->add_option("--site", site_, "Which site this is")->check(CLI::IsMember({"A", "B"}))->capture_default_str();
+    command_->add_option("--scene", options_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
+    add_run_options(*command_, options_.run, "out/site");
+    add_frames_option(*command_, options_.run, 1, "the scene's own count")->description("Scene frames to play");
+    options_.run.width = 640;
+    options_.run.height = 360;
+    add_size_options(*command_, options_.run, "Portrait and display", 16, 4096);
+    command_->add_option("--time-scale", options_.time_scale, "Scene seconds per wall-clock second")
+        ->check(CLI::Range(0.01, 10.0))
+        ->capture_default_str();
+    command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale")
+        ->check(CLI::Range(0.01, 1.0))
+        ->default_str("the scene's");
+    command_->add_option("--connect-timeout", options_.connect_timeout_s, "Seconds to wait for the other site")
+        ->check(CLI::Range(0.1, 3600.0))
+        ->capture_default_str();
+    command_->add_option("--replay", options_.replay,
+                         "Replay a recording (remotetouch simulate's format) as this site's cameras and tracker");
+    command_->add_option("--motor", options_.motor, "simulated, usb (the Arduino; an error without it) or auto")
+        ->check(CLI::IsMember({"simulated", "usb", "auto"}))
+        ->capture_default_str();
+    ibr_ = add_ibr_options(*command_);
+    hand_ = add_hand_options(*command_);
+    return command_;
+  }
+
+  int run() override {
+    // The config first, then the flags given on the command line over it.
+    SiteRunOptions flags = options_;
+    auto given = [&](const char* name) { return command_->count(name) > 0; };
+    if (!config_.empty()) {
+      site::apply_site_config(config_, options_);
+      if (given("--peer")) options_.peer = flags.peer;
+      if (given("--listen")) options_.listen = flags.listen;
+      if (given("--key-file")) options_.key_file = flags.key_file;
+      if (given("--scene")) options_.scene = flags.scene;
+      if (given("--time-scale")) options_.time_scale = flags.time_scale;
+      if (given("--resolution-scale")) options_.resolution_scale = flags.resolution_scale;
+      if (given("--width")) options_.run.width = flags.run.width;
+      if (given("--height")) options_.run.height = flags.run.height;
+      if (given("--frames")) options_.run.frames = flags.run.frames;
+      if (given("--site")) options_.site = site_ == "B" ? Site::B : Site::A;
+      if (given("--replay")) options_.replay = flags.replay;
+      if (given("--motor")) options_.motor = flags.motor;
+    } else {
+      options_.site = site_ == "B" ? Site::B : Site::A;
+    }
+    if (given("--frames")) options_.frames_given = true;
+    ibr_.apply(options_.ibr);
+    hand_.apply(options_.hand);
+    return site::run_site(options_);
+  }
+
+ private:
+  CLI::App* command_ = nullptr;
+  SiteRunOptions options_;
+  std::string site_ = "A";
+  std::filesystem::path config_;
+  IbrOptions ibr_;
+  HandOptions hand_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_site_command() { return std::make_unique<SiteCommand>(); }
+
+}  // namespace rt::app

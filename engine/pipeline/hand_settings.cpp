@@ -1,0 +1,30 @@
+#include "pipeline/hand_settings.h"
+
+namespace rt::pipeline {
+
+using config::KnobKind;
+
+const config::KnobTable<HandRendererOptions>& hand_knobs() {
+  using O = HandRendererOptions;
+  static const config::KnobTable<O> table = {
+      {"min-confidence", "Hand tracked below this tracker confidence counts as not tracked (no appearance adaption)",
+       KnobKind::Real, 0, 1, {}, [](const O& o) { return double(o.min_confidence); },
+       [](O& o, double v) { o.min_confidence = float(v); }},
+      {"shape-adaption", "Shape adaption: the mesh fitted to the user's hand at the first well-tracked frame",
+       KnobKind::Choice, 0, 0, {"on", "off"}, [](const O& o) { return o.shape_adaption ? 0.0 : 1.0; },
+       [](O& o, double v) { o.shape_adaption = v == 0; }},
+      {"shape-adaption-confidence", "The first frame with at least this tracker confidence fixes the hand's shape",
+       KnobKind::Real, 0, 1, {}, [](const O& o) { return double(o.shape_adaption_confidence); },
+       [](O& o, double v) { o.shape_adaption_confidence = float(v); }},
+      {"appearance-smoothing", "Appearance adaption: weight of a new frame's color statistics", KnobKind::Real, 0, 1, {},
+       [](const O& o) { return double(o.appearance_smoothing); }, [](O& o, double v) { o.appearance_smoothing = float(v); }},
+      {"min-region-fraction",
+       "Appearance adaption: least share of the image the hand must cover (and at least 16 pixels)", KnobKind::Real, 0,
+       0.1, {}, [](const O& o) { return o.min_region_fraction; }, [](O& o, double v) { o.min_region_fraction = v; }},
+  };
+  return table;
+}
+
+nlohmann::json hand_settings_json(const HandRendererOptions& options) { return config::knobs_to_json(hand_knobs(), options); }
+
+}  // namespace rt::pipeline

@@ -1,0 +1,22 @@
+#pragma once
+// The geometry hand's user-settable knobs (pipeline::HandRendererOptions, hand_renderer.h) as
+// one table (config/knobs.h): the command-line options --hand-NAME, a site config's "hand"
+// object (keys without the prefix) and what a parent forwards to a child. A new knob is one field
+// of HandRendererOptions plus one row in hand_knobs() (hand_settings.cpp).
+#include <nlohmann/json.hpp>
+
+#include "config/knobs.h"
+#include "pipeline/hand_renderer.h"
+
+namespace rt::pipeline {
+
+// min-confidence, shape-adaption-confidence, shape-adaption (on|off), appearance-smoothing,
+// min-region-fraction.
+const config::KnobTable<HandRendererOptions>& hand_knobs();
+// The prefix of the hand's command-line options: --hand-min-confidence.
+inline constexpr const char* kHandOptionPrefix = "hand-";
+
+// Every knob of `options` as JSON (keys as in a site config's "hand" object), for metrics files.
+nlohmann::json hand_settings_json(const HandRendererOptions& options);
+
+}  // namespace rt::pipeline

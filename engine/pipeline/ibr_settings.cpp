@@ -1,0 +1,50 @@
+#include "pipeline/ibr_settings.h"
+
+#include "shared/config.h"
+
+namespace rt::pipeline {
+
+using config::KnobKind;
+
+const config::KnobTable<IbrSettings>& ibr_knobs() {
+  static const config::KnobTable<IbrSettings> table = {
+      {"views", "Cameras used per frame", KnobKind::Integer, 1, 6, {},
+       [](const IbrSettings& s) { return double(s.views); }, [](IbrSettings& s, double v) { s.views = uint32_t(v); }},
+      {"fusion", "Depth fusion: min (the paper), avg (baseline)", KnobKind::Choice, 0, 0, {"min", "avg"},
+       [](const IbrSettings& s) { return s.fusion == passes::DepthFusion::Min ? 0.0 : 1.0; },
+       [](IbrSettings& s, double v) { s.fusion = v == 0 ? passes::DepthFusion::Min : passes::DepthFusion::Average; }},
+      {"carve",
+       "See-through carving: a fused point that a camera looks straight through takes the surface behind "
+       "(reopens finger gaps narrower than a depth pixel)",
+       KnobKind::Flag, 0, 1, {}, [](const IbrSettings& s) { return s.carve ? 1.0 : 0.0; },
+       [](IbrSettings& s, double v) { s.carve = v != 0; }},
+      {"refine", "Plane-sweep refinement with this many depth hypotheses (0 = off)", KnobKind::Integer, 0, 64, {},
+       [](const IbrSettings& s) { return s.refine ? double(s.refinement.hypotheses) : 0.0; },
+       [](IbrSettings& s, double v) {
+         s.refine = v > 0;
+         if (s.refine) s.refinement.hypotheses = int(v);
+       }},
+      {"best-views",
+       "Blending's k: the k-1 best views blend, the k-th has weight 0 (2 = the best view alone; views + 1 = all of them)",
+       KnobKind::Integer, 2, RT_IBR_MAX_VIEWS + 1, {}, [](const IbrSettings& s) { return double(s.blend.best_views); },
+       [](IbrSettings& s, double v) { s.blend.best_views = int(v); }},
+      {"average-tolerance",
+       "avg fusion: depths up to this many metres behind the nearest agree with it and join the mean (large, e.g. 0.1 = "
+       "a plain mean that blurs edges)",
+       KnobKind::Real, 0, 10, {}, [](const IbrSettings& s) { return double(s.splat.average_tolerance_m); },
+       [](IbrSettings& s, double v) { s.splat.average_tolerance_m = float(v); }},
+      {"edge-inset",
+       "Splat sides on outlines and depth edges pulled in by this much of a depth pixel (0.3 gains with --views 6 and "
+       "--portrait-supersample 3; loses with four views)",
+       KnobKind::Real, 0, 0.49, {}, [](const IbrSettings& s) { return double(s.splat.edge_inset); },
+       [](IbrSettings& s, double v) { s.splat.edge_inset = float(v); }},
+      {"portrait-supersample", "Portrait rendered at N x N samples per pixel and resolved (partial alpha on edges)",
+       KnobKind::Integer, 1, 4, {}, [](const IbrSettings& s) { return double(s.supersample); },
+       [](IbrSettings& s, double v) { s.supersample = uint32_t(v); }},
+  };
+  return table;
+}
+
+nlohmann::json ibr_settings_json(const IbrSettings& settings) { return config::knobs_to_json(ibr_knobs(), settings); }
+
+}  // namespace rt::pipeline

@@ -1,0 +1,45 @@
+#pragma once
+// What the image-based model (pipeline/ibr_renderer.h) is set to, and its user-settable knobs:
+// one table (config/knobs.h) that binds the command-line options of every command that renders
+// with it, reads a site config's "ibr" object and forwards the options to a child process. A new
+// knob is one field here plus one row in ibr_knobs() (ibr_settings.cpp).
+#include <cstdint>
+#include <nlohmann/json.hpp>
+
+#include "config/knobs.h"
+#include "passes/ibr_blend.h"
+#include "passes/ibr_carve.h"
+#include "passes/ibr_foreground.h"
+#include "passes/ibr_fuse.h"
+#include "passes/ibr_refine.h"
+#include "passes/ibr_splat.h"
+#include "passes/ibr_warp.h"
+
+namespace rt::pipeline {
+
+struct IbrSettings {
+  uint32_t width = 640, height = 360;  // the target view
+  uint32_t views = 4;                  // cameras used per frame (the paper: 4 of 6)
+  // The portrait rendered at this many times the target's resolution per axis and resolved
+  // (ibr_resolve): partial alpha on silhouettes, texture filtered over each pixel; 1 = off.
+  // The splats' largest footprint scales with it.
+  uint32_t supersample = 1;
+  passes::DepthFusion fusion = passes::DepthFusion::Min;
+  bool carve = false;   // see-through carving of the fused depth, off by default
+  bool refine = false;  // plane sweep, off by default
+  passes::ForegroundSettings foreground;
+  passes::SplatSettings splat;  // its `fusion` is set from `fusion`
+  passes::FuseSettings fuse;    // likewise
+  passes::CarveSettings carving;
+  passes::RefineSettings refinement;
+  passes::WarpSettings warp;
+  passes::BlendSettings blend;
+};
+
+// views, fusion, carve, refine, best-views, average-tolerance, edge-inset, portrait-supersample.
+const config::KnobTable<IbrSettings>& ibr_knobs();
+
+// Every knob of `settings` as JSON (keys as in a site config's "ibr" object), for metrics files.
+nlohmann::json ibr_settings_json(const IbrSettings& settings);
+
+}  // namespace rt::pipeline
