@@ -54,10 +54,12 @@ struct InView {
 };
 InView in_view(const test::IbrRig& rig, uint32_t view, uint32_t x, uint32_t y, double z) {
   const CameraIntrinsics& t = rig.target.intrinsics;
-  const Eigen::Vector3d site = rig.target.camera_from_site.inverse() * Eigen::Vector3d((x - t.cx) / t.fx * z, (y - t.cy) / t.fy * z, z);
+  const Eigen::Vector3d in_target((x - t.cx) / t.fx * z, (y - t.cy) / t.fy * z, z);
+  const Eigen::Vector3d site = rig.target.camera_from_site.inverse() * in_target;
   const Eigen::Vector3d q = rig.cameras[view].depth.camera_from_site * site;
   const passes::Float3 qf{float(q.x()), float(q.y()), float(q.z())};
-  return {q, passes::lens_project(rig.table.cameras[view].depth, qf), passes::lens_project(rig.table.cameras[view].color, qf)};
+  const shader_abi::IbrCamera& camera = rig.table.cameras[view];
+  return {q, passes::lens_project(camera.depth, qf), passes::lens_project(camera.color, qf)};
 }
 
 // Every view's own depth of the plane at target depth `plane_z` (where each depth texel's ray
