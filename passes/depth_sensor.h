@@ -13,7 +13,7 @@ namespace rt::passes {
 
 struct DepthSensorModel {
   float range_min_m = 0.25f;  // raise it for the near_cutoff effect
-  float range_max_m = 2.88f;
+  float range_max_m = 2.88f;  // the range of the Azure Kinect, WFOV 2x2 binned
   float noise_sigma_at_1m_m = 0.0f;
   float skin_bias_m = 0.0f;
   float flying_edge_m = 0.0f;  // a neighbour this much farther or nearer makes an edge; 0 = off

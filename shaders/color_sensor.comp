@@ -7,10 +7,13 @@
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
 
-layout(constant_id = 0) const float gain = 1.0;
-layout(constant_id = 1) const float balance_r = 1.0;
-layout(constant_id = 2) const float balance_g = 1.0;
-layout(constant_id = 3) const float balance_b = 1.0;
+// Knobs, all set by ColorSensorPass, from ColorSensorModel (passes/color_sensor.h), where their
+// defaults live: a kernel refuses to build while one is unset, so the initial values below are
+// placeholders that GLSL requires, never used.
+layout(constant_id = 0) const float gain = 0.0;
+layout(constant_id = 1) const float balance_r = 0.0;
+layout(constant_id = 2) const float balance_g = 0.0;
+layout(constant_id = 3) const float balance_b = 0.0;
 
 layout(binding = 0, rgba8) uniform readonly image2D rendered;
 layout(binding = 1, rgba8) uniform writeonly image2D sensed;

@@ -9,8 +9,11 @@
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
 
-layout(constant_id = 0) const float range_min_m = 0.25;  // Azure Kinect WFOV 2x2 binned
-layout(constant_id = 1) const float range_max_m = 2.88;
+// Knobs, all set by DepthSensorPass, from DepthSensorModel (passes/depth_sensor.h), where their
+// defaults live: a kernel refuses to build while one is unset, so the initial values below are
+// placeholders that GLSL requires, never used.
+layout(constant_id = 0) const float range_min_m = 0.0;
+layout(constant_id = 1) const float range_max_m = 0.0;
 layout(constant_id = 2) const float noise_sigma_at_1m_m = 0.0;  // depth_noise: sigma grows with z^2
 layout(constant_id = 3) const float skin_bias_m = 0.0;          // skin_depth_bias: hand reads farther
 layout(constant_id = 4) const float flying_edge_m = 0.0;        // flying_pixels: 0 = off

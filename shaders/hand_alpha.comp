@@ -8,8 +8,11 @@
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
 
-layout(constant_id = 0) const float d_min_m = RT_FUSION_D_MIN_M;
-layout(constant_id = 1) const float d_max_m = RT_FUSION_D_MAX_M;
+// Knobs, all set by HandAlphaPass, from FusionRamp (passes/hand_alpha.h), where their defaults
+// live: a kernel refuses to build while one is unset, so the initial values below are placeholders
+// that GLSL requires, never used.
+layout(constant_id = 0) const float d_min_m = 0.0;
+layout(constant_id = 1) const float d_max_m = 0.0;
 
 layout(push_constant) uniform Push { HandAlphaParams params; };
 

@@ -10,8 +10,11 @@
 #include "common/numeric.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
-layout(constant_id = 0) const int best_views = 3;  // k
-layout(constant_id = 1) const float resolution_weight = 1.0;  // radians of penalty per metre
+// Knobs, all set by IbrBlendPass, from BlendSettings (passes/ibr_blend.h), where their defaults
+// live: a kernel refuses to build while one is unset, so the initial values below are placeholders
+// that GLSL requires, never used.
+layout(constant_id = 0) const int best_views = 0;  // k
+layout(constant_id = 1) const float resolution_weight = 0.0;  // radians of penalty per metre
 
 layout(binding = 0, r32f) uniform readonly image2D fused_depth;
 layout(binding = 1, rgba32f) uniform readonly image2D warped;

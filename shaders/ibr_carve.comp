@@ -8,18 +8,21 @@
 // Such a pixel takes the nearest surface behind it that a see-through view observes: the target
 // ray marched onto that view's depth (its camera z is linear in the ray's z), kept only when some
 // view sees that point, so that carving never uncovers a pixel.
-// The see-through test probes the view's depth 0.35 of a texel around the projection, all four
-// agreeing, so that a point that close to a depth edge (where the nearest texel may lie on the
-// far side by rounding alone) is not carved.
+// The see-through test probes the view's depth probe_texels of a texel around the projection, all
+// four agreeing, so that a point that close to a depth edge (where the nearest texel may lie on
+// the far side by rounding alone) is not carved.
 #include "shared/config.h"
 #include "common/numeric.glsl"
 #include "common/ibr_camera.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
-layout(constant_id = 0) const float visibility_tolerance_m = 0.03;
-layout(constant_id = 1) const float visibility_tolerance_rel = 0.01;  // of the camera's depth
-layout(constant_id = 2) const float probe_texels = 0.35;               // probe offset around the projection
-layout(constant_id = 3) const int march_steps = 3;
+// Knobs, all set by IbrCarvePass, from CarveSettings (passes/ibr_carve.h) and VisibilityTolerance
+// (passes/common/ibr_scene.h), where their defaults live: a kernel refuses to build while one is
+// unset, so the initial values below are placeholders that GLSL requires, never used.
+layout(constant_id = 0) const float visibility_tolerance_m = 0.0;
+layout(constant_id = 1) const float visibility_tolerance_rel = 0.0;   // of the camera's depth
+layout(constant_id = 2) const float probe_texels = 0.0;                // probe offset around the projection
+layout(constant_id = 3) const int march_steps = 0;
 
 layout(binding = 0, r32f) uniform readonly image2D fused_depth;    // target view, 0 = nothing
 layout(binding = 1, rgba32f) uniform readonly image2D points;      // w: each view's own depth, 0 = none

@@ -10,8 +10,11 @@
 #include "common/ibr_camera.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
-layout(constant_id = 0) const int min_support = 4;             // of 8 neighbours
-layout(constant_id = 1) const float edge_tolerance_m = 0.04;  // neighbours closer than this agree
+// Knobs, all set by IbrForegroundPass, from ForegroundSettings (passes/ibr_foreground.h), where
+// their defaults live: a kernel refuses to build while one is unset, so the initial values below
+// are placeholders that GLSL requires, never used.
+layout(constant_id = 0) const int min_support = 0;             // of 8 neighbours
+layout(constant_id = 1) const float edge_tolerance_m = 0.0;   // neighbours closer than this agree
 
 layout(binding = 0, r16ui) uniform readonly uimage2D depth_mm;   // views stacked in bands, 0 = invalid
 layout(binding = 1, rgba32f) uniform readonly image2D depth_rays;  // x/z, y/z, valid

@@ -7,9 +7,12 @@
 #include "shared/config.h"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
+// Knobs, all set by IbrFusePass, from FuseSettings (passes/ibr_fuse.h), where their defaults live:
+// a kernel refuses to build while one is unset, so the initial values below are placeholders that
+// GLSL requires, never used.
 layout(constant_id = 0) const bool average_fusion = false;
-layout(constant_id = 1) const int fill_min_neighbours = 5;  // of 8
-layout(constant_id = 2) const float fill_tolerance_m = 0.03;
+layout(constant_id = 1) const int fill_min_neighbours = 0;  // of 8
+layout(constant_id = 2) const float fill_tolerance_m = 0.0;
 
 layout(std430, binding = 0) readonly buffer Fusion { uint fusion[]; };
 layout(binding = 1, r32f) uniform writeonly image2D fused_depth;

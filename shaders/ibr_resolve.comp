@@ -10,7 +10,10 @@
 #include "common/numeric.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
-layout(constant_id = 0) const int factor = 2;
+// Knobs, all set by IbrResolvePass, from the factor it is given (passes/ibr_resolve.h), where their
+// defaults live: a kernel refuses to build while one is unset, so the initial values below are
+// placeholders that GLSL requires, never used.
+layout(constant_id = 0) const int factor = 0;
 
 layout(binding = 0, rgba32f) uniform readonly image2D fine_portrait;     // straight color, alpha
 layout(binding = 1, r32f) uniform readonly image2D fine_depth;           // metres, 0 = nothing

@@ -11,11 +11,14 @@
 #include "common/numeric.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
+// Knobs, all set by IbrSplatPass, from SplatSettings (passes/ibr_splat.h), where their defaults
+// live: a kernel refuses to build while one is unset, so the initial values below are placeholders
+// that GLSL requires, never used.
 layout(constant_id = 0) const bool accumulate_average = false;
-layout(constant_id = 1) const float footprint_scale = 1.0;   // splat side over the projected pixel size
-layout(constant_id = 2) const float max_footprint_px = 6.0;
-layout(constant_id = 3) const float average_tolerance_m = 0.1;  // depths this far behind the nearest join its average
-layout(constant_id = 4) const float plane_tolerance_m = 0.03;   // neighbours this close span the splat's plane
+layout(constant_id = 1) const float footprint_scale = 0.0;   // splat side over the projected pixel size
+layout(constant_id = 2) const float max_footprint_px = 0.0;
+layout(constant_id = 3) const float average_tolerance_m = 0.0;  // depths this far behind the nearest join its average
+layout(constant_id = 4) const float plane_tolerance_m = 0.0;    // neighbours this close span the splat's plane
 layout(constant_id = 5) const float edge_inset = 0.0;           // of a depth pixel, on sides without a neighbour
 
 layout(binding = 0, rgba32f) uniform readonly image2D points;  // site xyz, camera z; 0 = none

@@ -10,9 +10,12 @@
 #include "common/ibr_camera.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
-layout(constant_id = 0) const float visibility_tolerance_m = 0.03;
-layout(constant_id = 1) const float visibility_tolerance_rel = 0.01;  // of the camera's depth
-layout(constant_id = 2) const float feather_px = 16.0;                 // border band of the color image
+// Knobs, all set by IbrWarpPass, from WarpSettings (passes/ibr_warp.h) and VisibilityTolerance
+// (passes/common/ibr_scene.h), where their defaults live: a kernel refuses to build while one is
+// unset, so the initial values below are placeholders that GLSL requires, never used.
+layout(constant_id = 0) const float visibility_tolerance_m = 0.0;
+layout(constant_id = 1) const float visibility_tolerance_rel = 0.0;   // of the camera's depth
+layout(constant_id = 2) const float feather_px = 0.0;                  // border band of the color image
 
 layout(binding = 0, r32f) uniform readonly image2D fused_depth;   // target view, 0 = nothing
 layout(binding = 1, rgba8) uniform readonly image2D color;       // views stacked in bands

@@ -7,7 +7,10 @@
 #include "shared/config.h"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
-layout(constant_id = 0) const int factor = 3;
+// Knobs, all set by SupersampleResolvePass, from the factor it is given
+// (passes/supersample_resolve.h), where their defaults live: a kernel refuses to build while one is
+// unset, so the initial values below are placeholders that GLSL requires, never used.
+layout(constant_id = 0) const int factor = 0;
 
 layout(binding = 0, rgba8) uniform readonly image2D fine_color;
 layout(binding = 1, r32f) uniform readonly image2D fine_depth_m;

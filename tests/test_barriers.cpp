@@ -39,12 +39,30 @@ TEST_CASE("a second read of the same kind needs no new barrier", "[barriers]") {
 }
 
 TEST_CASE("write after read waits for the reads only (execution dependency)", "[barriers]") {
-  ResourceState state;
-  plan_access(state, access::compute_write, true);
-  plan_access(state, access::compute_read, true);
-  const auto plan = plan_access(state, access::compute_write, true);
+  // A buffer read in the vertex and fragment stages, then written by a compute shader: the write
+  // waits for the reading stages, and there is nothing to make available (reads write nothing).
+  ResourceState buffer;
+  CHECK_FALSE(plan_access(buffer, access::graphics_read, false));  // nothing written before it
+  const auto plan = plan_access(buffer, access::compute_write, false);
   REQUIRE(plan);
-  CHECK((plan->src_stages & VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT) != 0);
+  CHECK(plan->src_stages == (VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT));
+  CHECK(plan->src_access == VK_ACCESS_2_NONE);
+  CHECK(plan->dst_stages == VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+  CHECK(plan->dst_access == VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+
+  // Write, read, write on an image: the second write waits for the read's stage; its source access
+  // holds no read (at most the first write, which the read's barrier already made visible).
+  ResourceState image;
+  plan_access(image, access::compute_write, true);
+  REQUIRE(plan_access(image, access::compute_read, true));
+  const auto again = plan_access(image, access::compute_write, true);
+  REQUIRE(again);
+  CHECK(again->src_stages == VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+  CHECK((again->src_access & ~VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT) == 0);
+  CHECK(again->dst_stages == VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+  CHECK(again->dst_access == VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  CHECK(again->old_layout == VK_IMAGE_LAYOUT_GENERAL);
+  CHECK(again->new_layout == VK_IMAGE_LAYOUT_GENERAL);
 }
 
 TEST_CASE("write after write waits for the earlier write", "[barriers]") {

@@ -19,7 +19,8 @@ HostImage quantised(HostImage image) {
 HostImage run_gpu(const HostImage& input, const passes::ColorSensorModel& model) {
   const passes::ColorSensorPass pass(test::gpu(), model);
   test::PassHarness gpu("color_sensor");
-  pass.add_to(gpu.graph(), gpu.input("rendered", input), gpu.output("sensed", input.width, input.height, PixelFormat::RGBA8));
+  pass.add_to(gpu.graph(), gpu.input("rendered", input),
+              gpu.output("sensed", input.width, input.height, PixelFormat::RGBA8));
   return gpu.run().image("sensed");
 }
 

@@ -64,7 +64,8 @@ TEST_CASE("bindings are checked against the shader's reflection", "[frame_graph]
   test::NoValidationErrors no_errors;
   vk::Context& context = test::gpu();
   const vk::ComputeKernel copy(context, "copy", copy_comp_spirv);
-  const vk::ComputeKernel hand_alpha(context, "hand_alpha", hand_alpha_comp_spirv);
+  const vk::ComputeKernel hand_alpha(context, "hand_alpha", hand_alpha_comp_spirv,
+                                    {{"d_min_m", 0.1f}, {"d_max_m", 0.5f}});
   Images images(context);
   vk::Image mask(context, {"mask", 13, 11, PixelFormat::R32F});
   vk::Buffer buffer(context, {"a buffer", 64});
@@ -92,7 +93,8 @@ TEST_CASE("bindings are checked against the shader's reflection", "[frame_graph]
 TEST_CASE("a push-constant block of the wrong size fails loudly", "[frame_graph][gpu]") {
   test::NoValidationErrors no_errors;
   vk::Context& context = test::gpu();
-  const vk::ComputeKernel hand_alpha(context, "hand_alpha", hand_alpha_comp_spirv);
+  const vk::ComputeKernel hand_alpha(context, "hand_alpha", hand_alpha_comp_spirv,
+                                    {{"d_min_m", 0.1f}, {"d_max_m", 0.5f}});
   vk::Image mask(context, {"mask", 3, 3, PixelFormat::R32F});
   vk::Image alpha(context, {"alpha", 3, 3, PixelFormat::R32F});
   vk::FrameGraph graph(context, "test push size");

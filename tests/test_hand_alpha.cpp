@@ -15,8 +15,8 @@ constexpr double kAbs = 1e-6, kRel = 1e-6;
 HostImage run_gpu(const HostImage& mask, float distance, passes::FusionRamp ramp = {}) {
   const passes::HandAlphaPass pass(test::gpu(), ramp);
   test::PassHarness gpu("hand_alpha");
-  pass.add_to(gpu.graph(), gpu.input("hand mask", mask), gpu.output("hand alpha", mask.width, mask.height, PixelFormat::R32F),
-              [distance] { return distance; });
+  pass.add_to(gpu.graph(), gpu.input("hand mask", mask),
+              gpu.output("hand alpha", mask.width, mask.height, PixelFormat::R32F), [distance] { return distance; });
   return gpu.run().image("hand alpha");
 }
 

@@ -52,8 +52,8 @@ AppearanceState run_gpu(const std::vector<ColorStatsPartial>& partials, const Ap
 
 void require_state_matches(const AppearanceState& gpu, const AppearanceState& reference) {
   CHECK(gpu.header == reference.header);
-  for (std::array<float, 4> AppearanceState::*field :
-       {&AppearanceState::image_mean, &AppearanceState::image_sigma, &AppearanceState::mesh_mean, &AppearanceState::mesh_sigma})
+  for (std::array<float, 4> AppearanceState::*field : {&AppearanceState::image_mean, &AppearanceState::image_sigma,
+                                                        &AppearanceState::mesh_mean, &AppearanceState::mesh_sigma})
     for (int c = 0; c < 4; ++c) {
       INFO("channel " << c << ": gpu " << (gpu.*field)[c] << ", reference " << (reference.*field)[c]);
       REQUIRE(std::isfinite((gpu.*field)[c]));

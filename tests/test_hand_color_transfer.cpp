@@ -17,7 +17,8 @@ namespace {
 HostImage run_gpu(const HostImage& texture, const AppearanceState& state) {
   const passes::HandColorTransferPass pass(test::gpu());
   test::PassHarness gpu("hand_color_transfer");
-  pass.add_to(gpu.graph(), gpu.input("template texture", texture), gpu.input_buffer("appearance state", std::span(&state, 1)),
+  pass.add_to(gpu.graph(), gpu.input("template texture", texture),
+              gpu.input_buffer("appearance state", std::span(&state, 1)),
               gpu.output("adapted texture", texture.width, texture.height, PixelFormat::RGBA32F));
   return gpu.run().image("adapted texture");
 }

@@ -2,7 +2,8 @@
 // gap: a view that sees a plane behind the fused surface carves it to that plane; a point within
 // the probes' reach of that view's depth edge is left alone. The decision compares depths against a
 // tolerance, so on random inputs a depth within float rounding of it may go either way: at most
-// 1% of pixels (and at least one) may differ (stated tolerance); the rest match to 1e-5.
+// 1% of pixels, rounded down, may differ (stated tolerance; none in an image of fewer than 100
+// pixels, so that no small image can be wrong); the rest match to 1e-5.
 #include "passes/ibr_carve.h"
 #include "support/gpu_test.h"
 #include "support/ibr_rig.h"
@@ -72,7 +73,8 @@ TEST_CASE("ibr_carve on random inputs, odd sizes", "[ibr_carve][gpu]") {
     const HostImage reference = passes::ibr_carve_reference(rig.table, fused, points);
     const auto comparison = test::compare_pixels(gpu, reference, 1e-5, 1e-5);
     REQUIRE(comparison.non_finite == 0);
-    REQUIRE(comparison.mismatched_pixels <= 1 + size_t(width) * height / 100);
+    INFO(comparison.mismatched_pixels << " pixels differ, max " << comparison.max_abs_error);
+    REQUIRE(comparison.mismatched_pixels <= size_t(width) * height / 100);
     for (size_t i = 0; i < fused.texels.size(); ++i) {
       if (fused.texels[i] == 0.0f) REQUIRE(gpu.texels[i] == 0.0f);  // nothing stays nothing
       REQUIRE(gpu.texels[i] >= fused.texels[i]);                      // carving only moves surfaces back

@@ -1,6 +1,7 @@
 // ibr_refine (plane sweep): GPU against the C++ reference. The winner among hypotheses is an
-// argmin of color variances; two hypotheses within float rounding of each other may swap, so
-// at most 1% of pixels (and at least one) may pick another hypothesis (stated tolerance); the rest match to 1e-5.
+// argmin of color variances; two hypotheses within float rounding of each other may swap, so at
+// most 1% of pixels, rounded down, may pick another hypothesis (stated tolerance; none in an
+// image of fewer than 100 pixels, so that no small image can be wrong); the rest match to 1e-5.
 // Only views that see a point score it (warping's visibility test on each view's own depth).
 #include "passes/ibr_refine.h"
 #include "support/gpu_test.h"
@@ -54,7 +55,8 @@ TEST_CASE("ibr_refine on random inputs, odd sizes", "[ibr_refine][gpu]") {
         passes::ibr_refine_reference(rig.table, fused, color, points, settings, kSeesEveryValidDepth);
     const auto comparison = test::compare_pixels(gpu, reference, 1e-5, 1e-5);
     REQUIRE(comparison.non_finite == 0);
-    REQUIRE(comparison.mismatched_pixels <= 1 + size_t(width) * height / 100);
+    INFO(comparison.mismatched_pixels << " pixels differ, max " << comparison.max_abs_error);
+    REQUIRE(comparison.mismatched_pixels <= size_t(width) * height / 100);
     for (size_t i = 0; i < fused.texels.size(); ++i) {
       REQUIRE(std::abs(gpu.texels[i] - fused.texels[i]) <= 4 * settings.step_m + 1e-5f);  // within the sweep
       moved += gpu.texels[i] != fused.texels[i];

@@ -7,6 +7,7 @@
 
 #include "passes/ibr_foreground.h"
 #include "passes/ibr_warp.h"
+#include "sim/default_site.h"
 #include "support/gpu_test.h"
 #include "support/ibr_rig.h"
 #include "support/pass_harness.h"
@@ -18,8 +19,8 @@ namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 passes::WarpedViews run_warp(const test::IbrRig& rig, const HostImage& fused, const HostImage& color,
-                             const HostImage& points) {
-  const passes::IbrWarpPass pass(test::gpu());
+                             const HostImage& points, const passes::WarpSettings& settings = {}) {
+  const passes::IbrWarpPass pass(test::gpu(), settings);
   passes::IbrSceneBuffer scene(test::gpu());
   scene.write(rig.table);
   test::PassHarness gpu("ibr_warp");
@@ -43,6 +44,45 @@ void require_close(const HostImage& gpu, const HostImage& reference, double abs_
                                     << comparison.max_abs_error);
   REQUIRE(comparison.non_finite == 0);
   REQUIRE(comparison.mismatched_pixels <= allowed);
+}
+
+// The camera-frame depth of target pixel (x, y)'s surface point at target depth `z` in view
+// `view`, and where it projects in the view's depth and color images.
+struct InView {
+  Eigen::Vector3d q;
+  passes::Float2 depth_pixel, color_pixel;
+};
+InView in_view(const test::IbrRig& rig, uint32_t view, uint32_t x, uint32_t y, double z) {
+  const CameraIntrinsics& t = rig.target.intrinsics;
+  const Eigen::Vector3d in_target((x - t.cx) / t.fx * z, (y - t.cy) / t.fy * z, z);
+  const Eigen::Vector3d site = rig.target.camera_from_site.inverse() * in_target;
+  const Eigen::Vector3d q = rig.cameras[view].depth.camera_from_site * site;
+  const passes::Float3 qf{float(q.x()), float(q.y()), float(q.z())};
+  const shader_abi::IbrCamera& camera = rig.table.cameras[view];
+  return {q, passes::lens_project(camera.depth, qf), passes::lens_project(camera.color, qf)};
+}
+
+// Every view's own depth of the plane at target depth `plane_z` (where each depth texel's ray
+// meets it; 0 where it meets it behind the camera or beyond 5 m), as a depth camera sees it.
+HostImage points_seeing_plane(const test::IbrRig& rig, double plane_z) {
+  const HostImage rays = passes::depth_ray_atlas(rig.cameras);
+  HostImage points(rays.width, rays.height, PixelFormat::RGBA32F, 0.0f);
+  const uint32_t band = rig.cameras[0].depth.intrinsics.height;
+  for (uint32_t row = 0; row < rays.height; ++row)
+    for (uint32_t x = 0; x < rays.width; ++x) {
+      if (rays.at(x, row, 2) == 0.0f) continue;  // undistortion failed
+      const Eigen::Isometry3d target_from_camera =
+          rig.target.camera_from_site * rig.cameras[row / band].depth.camera_from_site.inverse();
+      const Eigen::Vector3d ray(rays.at(x, row, 0), rays.at(x, row, 1), 1.0);
+      // The ray's point at camera depth d has target depth origin.z + direction.z * d.
+      const double origin = target_from_camera.translation().z(), direction = (target_from_camera.linear() * ray).z();
+      const double d = (plane_z - origin) / direction;
+      if (!(d > 0.0 && d < 5.0)) continue;
+      const Eigen::Vector3d site = rig.cameras[row / band].depth.camera_from_site.inverse() * (ray * d);
+      float* texel = &points.texels[points.index(x, row)];
+      texel[0] = float(site.x()), texel[1] = float(site.y()), texel[2] = float(site.z()), texel[3] = float(d);
+    }
+  return points;
 }
 
 size_t visible(const HostImage& features) {
@@ -92,10 +132,36 @@ TEST_CASE("ibr_warp hard cases", "[ibr_warp][gpu]") {
     require_close(gpu.warped, HostImage(29, 38, PixelFormat::RGBA32F, 0.0f), 0.0, 0);
   }
   SECTION("surface points behind every camera are seen by none") {
-    const HostImage fused(29, 19, PixelFormat::R32F, 0.3f);  // 0.3 m from the eye: z = -0.4, behind the glass
-    const passes::WarpedViews gpu = run_warp(rig, fused, color, points);
+    // The cameras turned to look straight ahead (+z, away from the eye): the surface 0.3 m from
+    // the eye (z = -0.4, behind the glass) lies behind both. Through the sign of its depth a point
+    // behind a camera projects where a point in front of it would; where that lands inside the
+    // view's images and the depth test accepts anything (every own depth valid, 10 m tolerance),
+    // only the test on the camera-frame depth rejects it.
+    test::IbrRig ahead = rig;
+    for (auto& camera : ahead.cameras) {
+      const Eigen::Vector3d position = camera.depth.position_in_site();
+      camera.depth.camera_from_site = sim::camera_from_site_looking_at(position, position + Eigen::Vector3d::UnitZ());
+      camera.color.camera_from_site = camera.depth.camera_from_site;
+    }
+    ahead.table = passes::make_scene_table(ahead.target, ahead.cameras);
+    const HostImage fused(29, 19, PixelFormat::R32F, 0.3f);
+    const HostImage valid_everywhere(41, 37 * 2, PixelFormat::RGBA32F, 0.7f);
+    passes::WarpSettings accept_any;
+    accept_any.visibility = {10.0f, 0.0f};
+    size_t mirrored_inside = 0;
+    for (uint32_t view = 0; view < 2; ++view)
+      for (uint32_t y = 0; y < 19; ++y)
+        for (uint32_t x = 0; x < 29; ++x) {
+          const InView seen = in_view(ahead, view, x, y, 0.3);
+          REQUIRE(seen.q.z() < 0.0);
+          mirrored_inside += passes::inside_image(seen.depth_pixel, {41.0f, 37.0f}, 0.0f) &&
+                             passes::inside_image(seen.color_pixel, {37.0f, 21.0f}, 0.0f);
+        }
+    REQUIRE(mirrored_inside > 100);
+    const passes::WarpedViews gpu = run_warp(ahead, fused, color, valid_everywhere, accept_any);
     REQUIRE(visible(gpu.features) == 0);
-    require_close(gpu.features, passes::ibr_warp_reference(rig.table, fused, color, points).features, 0.0, 0);
+    require_close(gpu.features,
+                  passes::ibr_warp_reference(ahead.table, fused, color, valid_everywhere, accept_any).features, 0.0, 0);
   }
   SECTION("a view with no depth sees nothing (occlusion cannot be decided)") {
     HostImage no_depth = points;
@@ -103,16 +169,31 @@ TEST_CASE("ibr_warp hard cases", "[ibr_warp][gpu]") {
     REQUIRE(visible(run_warp(rig, test::random_fused_depth(rng, 29, 19), color, no_depth).features) == 0);
   }
   SECTION("grazing angles stay finite") {
+    // View 0 beside the surface (the plane 1.4 m from the eye, at z = 0.7), 0.25 m in front of
+    // it, looking across it: its rays meet the eye's at 50 to 95 degrees. Both views' depths are
+    // the plane as they see it, so that visibility passes where a sample lands near its texel.
     test::IbrRig grazing = rig;
-    // A camera beside the surface, looking across it: angles near 90 degrees.
-    grazing.cameras[0].color.camera_from_site =
-        Eigen::Isometry3d(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY())) *
-        Eigen::Translation3d(Eigen::Vector3d(1.5, -0.1, -0.6));
-    grazing.cameras[0].depth.camera_from_site = grazing.cameras[0].color.camera_from_site;
+    grazing.cameras[0].depth.camera_from_site = sim::camera_from_site_looking_at({-1.3, 0.1, 0.45}, {0.0, 0.1, 0.7});
+    grazing.cameras[0].color.camera_from_site = grazing.cameras[0].depth.camera_from_site;
     grazing.table = passes::make_scene_table(grazing.target, grazing.cameras);
-    const HostImage fused = test::random_fused_depth(rng, 29, 19);
-    const passes::WarpedViews gpu = run_warp(grazing, fused, color, points);
-    const passes::WarpedViews reference = passes::ibr_warp_reference(grazing.table, fused, color, points);
+    const HostImage fused(29, 19, PixelFormat::R32F, 1.4f);
+    const HostImage plane = points_seeing_plane(grazing, 1.4);
+    const passes::WarpedViews gpu = run_warp(grazing, fused, color, plane);
+    const passes::WarpedViews reference = passes::ibr_warp_reference(grazing.table, fused, color, plane);
     require_close(gpu.features, reference.features, 2e-3, 29 * 38 / 200);
+    require_close(gpu.warped, reference.warped, 2e-3, 29 * 38 / 200);
+    // The grazing view does sample the surface, mostly within 10 degrees of a right angle.
+    size_t samples = 0, near_right_angle = 0;
+    for (uint32_t y = 0; y < 19; ++y)
+      for (uint32_t x = 0; x < 29; ++x)
+        if (reference.features.at(x, y, 3) > 0.0f) {
+          const double degrees = reference.features.at(x, y, 0) * 180.0 / M_PI;
+          INFO(x << "," << y << ": " << degrees << " degrees");
+          REQUIRE(degrees > 50.0);
+          ++samples;
+          near_right_angle += std::abs(degrees - 90.0) < 10.0;
+        }
+    INFO(samples << " samples of the grazing view, " << near_right_angle << " within 10 degrees of 90");
+    REQUIRE(near_right_angle > 30);
   }
 }

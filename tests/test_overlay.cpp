@@ -20,7 +20,8 @@ HostImage run_gpu(const Layers& in) {
   const passes::OverlayPass pass(test::gpu());
   test::PassHarness gpu("overlay");
   pass.add_to(gpu.graph(), gpu.input("hand color", in.hand_color), gpu.input("hand alpha", in.hand_alpha),
-              gpu.input("portrait", in.portrait), gpu.output("fused", in.portrait.width, in.portrait.height, PixelFormat::RGBA32F));
+              gpu.input("portrait", in.portrait),
+              gpu.output("fused", in.portrait.width, in.portrait.height, PixelFormat::RGBA32F));
   return gpu.run().image("fused");
 }
 

@@ -49,12 +49,33 @@ TEST_CASE("garbage instead of SPIR-V is refused with the shader's name", "[refle
 TEST_CASE("knobs are set by name and type-checked", "[reflection][gpu]") {
   test::NoValidationErrors no_errors;
   vk::Context& context = test::gpu();
-  CHECK_NOTHROW(vk::ComputeKernel(context, "hand_alpha", hand_alpha_comp_spirv, {{"d_max_m", 0.5f}}));
-  CHECK_THROWS_WITH(vk::ComputeKernel(context, "hand_alpha", hand_alpha_comp_spirv, {{"d_maximum", 0.5f}}),
+  const std::vector<vk::Knob> ramp = {{"d_min_m", 0.1f}, {"d_max_m", 0.5f}};
+  CHECK_NOTHROW(vk::ComputeKernel(context, "hand_alpha", hand_alpha_comp_spirv, ramp));
+  CHECK_THROWS_WITH(vk::ComputeKernel(context, "hand_alpha", hand_alpha_comp_spirv, {ramp[0], {"d_maximum", 0.5f}}),
                     Catch::Contains("no knob 'd_maximum'") && Catch::Contains("d_max_m"));
-  CHECK_THROWS_WITH(vk::ComputeKernel(context, "hand_alpha", hand_alpha_comp_spirv, {{"d_max_m", 5}}),
+  CHECK_THROWS_WITH(vk::ComputeKernel(context, "hand_alpha", hand_alpha_comp_spirv, {ramp[0], {"d_max_m", 5}}),
                     Catch::Contains("is a float, given a int"));
-  const vk::ComputeKernel kernel(context, "hand_alpha", hand_alpha_comp_spirv);
+  const vk::ComputeKernel kernel(context, "hand_alpha", hand_alpha_comp_spirv, ramp);
   CHECK(kernel.group_count({641, 359, 1}) == std::array<uint32_t, 3>{81, 45, 1});
   CHECK(kernel.group_count({1, 1, 1}) == std::array<uint32_t, 3>{1, 1, 1});
+}
+
+TEST_CASE("a kernel refuses to build while a specialization constant of its shader is not set", "[reflection][gpu]") {
+  // Otherwise the constant would take the shader's initial value: a second default, which can
+  // disagree with the pass's C++ settings.
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  CHECK_THROWS_WITH(vk::ComputeKernel(context, "hand_alpha", hand_alpha_comp_spirv, {{"d_max_m", 0.5f}}),
+                    Catch::Contains("shader 'hand_alpha'") && Catch::Contains("'d_min_m' (constant_id 0) is not set") &&
+                        !Catch::Contains("d_max_m"));
+  CHECK_THROWS_WITH(vk::ComputeKernel(context, "hand_alpha", hand_alpha_comp_spirv),
+                    Catch::Contains("'d_min_m' (constant_id 0), 'd_max_m' (constant_id 1) are not set"));
+  CHECK_NOTHROW(vk::ComputeKernel(context, "composite", composite_comp_spirv));  // it declares none
+  // The rule holds for the graphics kernel's stages too.
+  vk::require_spec_constants_set("person_raster (fragment)", vk::reflect_shader("hand_alpha", hand_alpha_comp_spirv),
+                                 std::vector<std::string>{"d_min_m", "d_max_m"});
+  CHECK_THROWS_WITH(vk::require_spec_constants_set("person_raster (fragment)",
+                                                   vk::reflect_shader("hand_alpha", hand_alpha_comp_spirv),
+                                                   std::vector<std::string>{"d_max_m"}),
+                    Catch::Contains("shader 'person_raster (fragment)'") && Catch::Contains("d_min_m"));
 }

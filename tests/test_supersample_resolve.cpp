@@ -16,7 +16,8 @@ Resolved run_gpu(const HostImage& color, const HostImage& depth, const HostImage
   const passes::SupersampleResolvePass pass(test::gpu(), factor);
   test::PassHarness gpu("supersample_resolve");
   const uint32_t w = color.width / factor, h = color.height / factor;
-  pass.add_to(gpu.graph(), {&gpu.input("fine color", color), &gpu.input("fine depth", depth), &gpu.input("fine part", part)},
+  pass.add_to(gpu.graph(),
+              {&gpu.input("fine color", color), &gpu.input("fine depth", depth), &gpu.input("fine part", part)},
               {&gpu.output("color", w, h, PixelFormat::RGBA8), &gpu.output("depth", w, h, PixelFormat::R32F),
                &gpu.output("part", w, h, PixelFormat::R32F)});
   const test::PassOutputs out = gpu.run();

@@ -6,6 +6,15 @@
 #include "vulkan/vk_struct.h"
 
 namespace rt::vk {
+namespace {
+
+std::vector<std::string> knob_names(const std::vector<Knob>& knobs) {
+  std::vector<std::string> names;
+  for (const Knob& knob : knobs) names.push_back(knob.name);
+  return names;
+}
+
+}  // namespace
 
 ComputeKernel::ComputeKernel(Context& context, std::string name, std::span<const uint32_t> spirv,
                              const std::vector<Knob>& knobs)
@@ -17,6 +26,7 @@ ComputeKernel::ComputeKernel(Context& context, std::string name, std::span<const
   interface_.bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
   layout_ = make_pipeline_layout(context, interface_);
   Specialization specialization = make_specialization(name, stages, knobs);
+  require_spec_constants_set(name, reflection_, knob_names(knobs));
   const Handle<VkShaderModule> module = make_shader_module(context, name, spirv);
 
   auto info = vk_struct<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);

@@ -1,7 +1,8 @@
 #pragma once
 // A compute pipeline built from SPIR-V alone: its descriptor layout (one push-descriptor set),
 // push-constant range and workgroup size come from the shader's reflection; its knobs are
-// specialization constants set by name at the call site.
+// specialization constants set by name at the call site, every one the shader declares (the
+// kernel refuses to build otherwise, so that a knob's default lives only in C++).
 #include <vulkan/vulkan.h>
 
 #include <array>

@@ -23,6 +23,10 @@ GraphicsKernel::GraphicsKernel(Context& context, std::string name, std::span<con
   interface_.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
   layout_ = make_pipeline_layout(context, interface_);
   Specialization specialization = make_specialization(name, stages, knobs);
+  std::vector<std::string> knob_names;
+  for (const Knob& knob : knobs) knob_names.push_back(knob.name);
+  require_spec_constants_set(name + " (vertex)", stages[0], knob_names);
+  require_spec_constants_set(name + " (fragment)", stages[1], knob_names);
   const Handle<VkShaderModule> vertex = make_shader_module(context, name + " (vertex)", vertex_spirv);
   const Handle<VkShaderModule> fragment = make_shader_module(context, name + " (fragment)", fragment_spirv);
 

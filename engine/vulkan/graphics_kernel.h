@@ -1,8 +1,9 @@
 #pragma once
 // A graphics pipeline (vertex + fragment) for dynamic rendering, built from SPIR-V alone like
-// ComputeKernel. Vertices are pulled from storage buffers by gl_VertexIndex, so there is no
-// vertex-input state to keep in step with the shader. Triangle lists, no culling (meshes are
-// drawn from both sides of the glass), depth test LESS with writes when a depth format is set.
+// ComputeKernel, every specialization constant of either stage set by name. Vertices are pulled
+// from storage buffers by gl_VertexIndex, so there is no vertex-input state to keep in step with
+// the shader. Triangle lists, no culling (meshes are drawn from both sides of the glass), depth
+// test LESS with writes when a depth format is set.
 #include <vulkan/vulkan.h>
 
 #include <span>

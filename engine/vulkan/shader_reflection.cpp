@@ -2,6 +2,7 @@
 
 #include <spirv_cross/spirv_cross_c.h>
 
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 
@@ -49,6 +50,24 @@ const ShaderSpecConstant* ShaderReflection::find_spec_constant(const std::string
   for (const auto& constant : spec_constants)
     if (constant.name == name) return &constant;
   return nullptr;
+}
+
+void require_spec_constants_set(const std::string& shader_name, const ShaderReflection& shader,
+                                std::span<const std::string> set_names) {
+  std::vector<const ShaderSpecConstant*> missing;
+  for (const ShaderSpecConstant& constant : shader.spec_constants)
+    if (std::find(set_names.begin(), set_names.end(), constant.name) == set_names.end()) missing.push_back(&constant);
+  std::sort(missing.begin(), missing.end(), [](auto* a, auto* b) { return a->constant_id < b->constant_id; });
+  std::string unset;
+  const size_t count = missing.size();
+  for (const ShaderSpecConstant* constant : missing)
+    unset += std::string(unset.empty() ? "" : ", ") + "'" + constant->name + "' (constant_id " +
+             std::to_string(constant->constant_id) + ")";
+  if (count == 0) return;
+  throw std::invalid_argument("shader '" + shader_name + "': specialization constant" + (count == 1 ? " " : "s ") + unset +
+                              (count == 1 ? " is" : " are") +
+                              " not set from C++; set every knob from the pass's settings, where its default lives "
+                              "(the shader's initial value is only a placeholder)");
 }
 
 ShaderReflection reflect_shader(const std::string& shader_name, std::span<const uint32_t> spirv) {

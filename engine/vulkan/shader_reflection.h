@@ -46,4 +46,11 @@ struct ShaderReflection {
 // `shader_name` only labels error messages.
 ShaderReflection reflect_shader(const std::string& shader_name, std::span<const uint32_t> spirv);
 
+// Throws, naming the shader and each constant, unless every specialization constant `shader`
+// declares is among `set_names`. Kernels call it so that a knob's default lives in one place,
+// the pass's C++ settings: a constant the C++ side forgot would silently take the shader's
+// initial value, a second default that can disagree with the first.
+void require_spec_constants_set(const std::string& shader_name, const ShaderReflection& shader,
+                                std::span<const std::string> set_names);
+
 }  // namespace rt::vk

@@ -32,8 +32,8 @@ const std::vector<std::byte>& PassOutputs::bytes(const std::string& name) const 
 
 void PassOutputs::check_whole(const std::string& name, size_t bytes, size_t value_size) {
   if (bytes % value_size != 0)
-    throw std::invalid_argument("buffer output '" + name + "' holds " + std::to_string(bytes) + " bytes, not a whole number of " +
-                                std::to_string(value_size) + "-byte values");
+    throw std::invalid_argument("buffer output '" + name + "' holds " + std::to_string(bytes) +
+                                " bytes, not a whole number of " + std::to_string(value_size) + "-byte values");
 }
 
 void PassOutputs::check_single(const std::string& name, size_t count) {
