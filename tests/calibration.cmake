@@ -68,7 +68,7 @@ foreach(step extrinsics tracker)
   add_cli_test(calibrate_${step}_help 0 "--site TEXT REQUIRED *Site file to update in place.*--device TEXT *Not used"
                ${rt} calibrate ${step} --help)
 endforeach()
-add_cli_test(calibrate_without_step 106 "A subcommand is required" ${rt} calibrate)
+add_cli_test(calibrate_without_step 106 "remotetouch calibrate: a subcommand .see remotetouch calibrate --help. is required" ${rt} calibrate)
 
 # The real photographs: the board is found in the 13 leftNN.jpg, not in left.jpg (a scene).
 add_cli_test(calibrate_intrinsics_opencv_doc 0

@@ -1,103 +1,12 @@
-// `remotetouch bench hand`: GPU ms of the geometry hand's passes (skinning, rasterization, and
-// the appearance adaption graph) at 720p and 1440p, next to a copy of the hand color image as
-// the bandwidth roofline, from the frame graphs' timestamps.
-#include <cstdio>
-#include <fstream>
-#include <iostream>
+// The command line of bench hand; the work itself is pipeline/jobs/bench_hand.cpp.
 #include <nlohmann/json.hpp>
 
 #include "app/bench_command.h"
-#include "app/eval_hand.h"
-#include "config/assets.h"
-#include "pipeline/gpu_session.h"
-#include "pipeline/hand_renderer.h"
-#include "geometry/target_view.h"
-#include "passes/copy.h"
-#include "sim/hand_model.h"
+#include "pipeline/jobs.h"
 
 namespace rt::app {
 
 using namespace rt::pipeline;
-namespace {
-
-constexpr uint32_t kWarmUpFrames = 2;
-
-double gigabytes_per_second(const vk::PassTiming& timing) {
-  return timing.median_ms > 0 ? double(timing.bytes_moved) / (timing.median_ms * 1e-3) / 1e9 : 0.0;
-}
-
-nlohmann::json print_timings(const std::string& title, const std::vector<vk::PassTiming>& timings, double copy_rate) {
-  std::printf("%s\n%-22s %10s %10s %10s %12s\n", title.c_str(), "pass", "GPU ms", "MB moved", "GB/s", "of copy GB/s");
-  nlohmann::json result;
-  for (const auto& timing : timings) {
-    const double rate = gigabytes_per_second(timing);
-    const double fraction = copy_rate > 0 ? rate / copy_rate : 0.0;
-    std::printf("%-22s %10.3f %10.2f %10.2f %11.0f%%\n", timing.name.c_str(), timing.median_ms, double(timing.bytes_moved) / 1e6,
-                rate, 100.0 * fraction);
-    result[timing.name] = {{"gpu_ms_median", timing.median_ms}, {"bytes_moved", timing.bytes_moved}, {"gb_per_s", rate},
-                           {"fraction_of_copy", fraction}};
-  }
-  return result;
-}
-
-nlohmann::json bench_hand_at(GpuSession& session, uint32_t width, uint32_t height, uint32_t frames) {
-  vk::Context& context = session.context();
-  const Camera camera = target_view_camera(Eigen::Vector3d(0.0, 0.05, -0.7), Screen{}, width, height);
-  HandRenderer renderer(context, config::assets_dir() / "hand", width, height);
-  vk::Image copied(context, {"copied hand color", width, height, PixelFormat::RGBA32F});
-  const passes::CopyPass copy_pass(context);
-  vk::FrameGraph graph(context, "bench hand " + std::to_string(width) + "x" + std::to_string(height));
-  renderer.add_to(graph);
-  copy_pass.add_to(graph, renderer.color(), copied);
-
-  // A right hand 45 cm from the screen, slightly curled, facing the viewer; the portrait for the
-  // appearance graph is the hand render itself (its cost does not depend on the colors).
-  sim::HandPlacement placement;
-  placement.palm = Eigen::Vector3d(0.04, 0.0, 0.45);
-  Eigen::Matrix3d facing;
-  facing << -Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), -Eigen::Vector3d::UnitZ();
-  placement.orientation = Eigen::Quaterniond(facing);
-  placement.curl = 0.3;
-  HandSkeleton hand = sim::build_hand(placement, false, 1.0);
-  hand.elbow = hand.wrist - 0.25 * hand.direction;
-  renderer.set_pose(hand, camera);
-  vk::Image portrait_color(context, {"bench portrait color", width, height, PixelFormat::RGBA32F});
-  vk::Image portrait_depth(context, {"bench portrait depth", width, height, PixelFormat::R32F});
-
-  for (uint32_t frame = 0; frame < kWarmUpFrames; ++frame) graph.run();
-  graph.reset_timings();
-  for (uint32_t frame = 0; frame < frames; ++frame) {
-    session.run_frame(graph, frame);
-    renderer.adapt_appearance_from(portrait_color, portrait_depth);
-  }
-  double copy_rate = 0.0;
-  for (const auto& timing : graph.timings())
-    if (timing.name == "copy") copy_rate = gigabytes_per_second(timing);
-  nlohmann::json result{{"width", width}, {"height", height}, {"frames", frames}};
-  std::printf("\nhand at %ux%u on %s, median of %u frames\n", width, height, context.device_name().c_str(), frames);
-  result["passes"] = print_timings("per frame:", graph.timings(), copy_rate);
-  if (renderer.appearance_graph())
-    result["appearance_passes"] = print_timings("appearance adaption (while the hand is beyond d_max):",
-                                                renderer.appearance_graph()->timings(), copy_rate);
-  return result;
-}
-
-}  // namespace
-
-int run_bench_hand(const RunOptions& options) {
-  GpuSession session(options);
-  std::vector<std::pair<uint32_t, uint32_t>> sizes = {{1280, 720}, {2560, 1440}};
-  if (options.width > 0) sizes = {{options.width, options.height}};
-  nlohmann::json report;
-  report["device"] = session.context().device_name();
-  report["timing"] = "GPU timestamps around each pass; bytes moved = sizes of the resources read plus written";
-  for (const auto& [width, height] : sizes) report["runs"].push_back(bench_hand_at(session, width, height, options.frames));
-  std::filesystem::create_directories(options.out);
-  std::ofstream(options.out / "bench_hand.json") << report.dump(2) << "\n";
-  std::cout << "\nwritten to " << (options.out / "bench_hand.json").string() << "\n";
-  session.report_capture();
-  return 0;
-}
 
 std::unique_ptr<Command> make_bench_hand_command() {
   class BenchHand : public BenchCommand {

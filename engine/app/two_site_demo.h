@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "app/options.h"
-#include "pipeline/hand_renderer.h"
+#include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
 
 namespace rt::app {

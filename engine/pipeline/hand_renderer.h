@@ -17,6 +17,7 @@
 
 #include "geometry/camera.h"
 #include "hand/hand_template.h"
+#include "pipeline/hand_settings.h"
 #include "passes/hand_color_reduce.h"
 #include "passes/hand_color_stats.h"
 #include "passes/hand_color_transfer.h"
@@ -25,14 +26,6 @@
 #include "vulkan/frame_graph.h"
 
 namespace rt::pipeline {
-
-struct HandRendererOptions {
-  float min_confidence = 0.5f;              // below: not tracked (no appearance adaption)
-  float shape_adaption_confidence = 0.8f;   // the first frame at least this good fixes the shape
-  bool shape_adaption = true;
-  float appearance_smoothing = 0.25f;       // weight of a new frame's statistics
-  double min_region_fraction = 2e-4;        // of the image, and at least 16 pixels
-};
 
 class HandRenderer {
  public:

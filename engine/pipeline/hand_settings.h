@@ -1,14 +1,21 @@
 #pragma once
-// The geometry hand's user-settable knobs (pipeline::HandRendererOptions, hand_renderer.h) as
+// The geometry hand's user-settable knobs (HandRendererOptions, used by hand_renderer.h) as
 // one table (config/knobs.h): the command-line options --hand-NAME, a site config's "hand"
 // object (keys without the prefix) and what a parent forwards to a child. A new knob is one field
 // of HandRendererOptions plus one row in hand_knobs() (hand_settings.cpp).
 #include <nlohmann/json.hpp>
 
 #include "config/knobs.h"
-#include "pipeline/hand_renderer.h"
 
 namespace rt::pipeline {
+
+struct HandRendererOptions {
+  float min_confidence = 0.5f;              // below: not tracked (no appearance adaption)
+  float shape_adaption_confidence = 0.8f;   // the first frame at least this good fixes the shape
+  bool shape_adaption = true;
+  float appearance_smoothing = 0.25f;       // weight of a new frame's statistics
+  double min_region_fraction = 2e-4;        // of the image, and at least 16 pixels
+};
 
 // min-confidence, shape-adaption-confidence, shape-adaption (on|off), appearance-smoothing,
 // min-region-fraction.

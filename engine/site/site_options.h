@@ -4,7 +4,7 @@
 #include <string>
 
 #include "geometry/site_frames.h"
-#include "pipeline/hand_renderer.h"
+#include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
 #include "pipeline/run_options.h"
 

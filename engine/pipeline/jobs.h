@@ -1,0 +1,47 @@
+#pragma once
+// What the commands that render run on the device, one file each under pipeline/jobs/: the
+// receiver's compositing on generated layers, the benchmarks, the simulator's recording and the
+// evaluations against its ground truth. The command line (engine/app/) only parses their options.
+#include <string>
+#include <vector>
+
+#include "geometry/site_frames.h"
+#include "pipeline/ibr_settings.h"
+#include "pipeline/run_options.h"
+
+namespace rt::pipeline {
+
+struct EvalIbrOptions {
+  std::string scene = "wave";
+  std::string fusion = "min";  // min, avg, or both (each frame rendered with both, compared)
+  std::string site = "A";      // whose user is rendered, for the other site's eye
+  std::vector<std::string> cameras;  // a fixed selection by name; empty = opposite the touching hand
+  // The image-based model (--views, --carve, --refine, ...); its fusion is set from `fusion`.
+  IbrSettings ibr;
+  uint32_t supersample = 3;    // the simulator's color supersampling (scene's own is overridden)
+  double resolution_scale = 0; // of the cameras' resolutions; 0 = the scene's own
+  bool frames_given = false;   // else the scene's own frame count
+  uint32_t first_frame = 0;    // of the scene: where the run starts
+  uint32_t frame_step = 1;     // every Nth frame from there: a whole scene's motion at 1/N of the time
+};
+
+struct SimulateOptions {
+  std::string scene = "clap";  // a name under assets/scenes/, or a path to a scene file
+  Site site = Site::A;
+  bool frames_given = false;   // --frames overrides the scene's frame count
+  uint32_t gt_width = 640, gt_height = 360;  // the ground-truth target view
+  double resolution_scale = 0.0;             // of the cameras; 0 = the scene's own
+};
+
+// Each returns the process exit code; errors are thrown.
+int run_compose(const RunOptions& options);
+int run_bench_compositing(const RunOptions& options);
+int run_bench_hand(const RunOptions& options);
+// `views_given`: run `base.views` alone, else 2, 4 and 6 views.
+int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views_given);
+int run_bench_simulate(const RunOptions& options);
+int run_simulate(const RunOptions& options, const SimulateOptions& simulate);
+int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval);
+int run_eval_hand(const RunOptions& options);
+
+}  // namespace rt::pipeline

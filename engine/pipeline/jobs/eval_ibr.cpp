@@ -1,0 +1,224 @@
+// `remotetouch eval ibr`: renders a scene's frames with the image-based model from the
+// simulated RGBD cameras, for the remote viewer's eye, and measures the portraits against the
+// simulator's ground truth of the same target view (engine/ibr/portrait_metrics.h).
+#include "pipeline/jobs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include "pipeline/gpu_session.h"
+#include "pipeline/ibr_renderer.h"
+#include "pipeline/site_simulator.h"
+#include "ibr/camera_selection.h"
+#include "ibr/portrait_metrics.h"
+#include "image/image_io.h"
+
+namespace rt::pipeline {
+
+namespace {
+
+struct FusionRun {
+  std::string name;
+  std::unique_ptr<IbrRenderer> renderer;
+  ibr::PortraitMetrics metrics;
+  std::vector<double> frame_psnr_fg_db;  // each frame's own, to find the frames that fail
+};
+
+std::vector<passes::IbrCameraModel> camera_models(RgbdRenderer& renderer) {
+  std::vector<passes::IbrCameraModel> models;
+  for (size_t k = 0; k < renderer.camera_count(); ++k)
+    models.push_back({renderer.camera(k).color, renderer.camera(k).depth});
+  return models;
+}
+
+HostImage scaled(const HostImage& image, float scale) {
+  HostImage out = image;
+  for (float& value : out.texels) value *= scale;
+  return out;
+}
+
+// The portrait over black with its alpha, as a viewer would see it and as PNG keeps it.
+HostImage as_png(const HostImage& portrait) {
+  HostImage out(portrait.width, portrait.height, PixelFormat::RGBA8);
+  out.texels = portrait.texels;
+  return out;
+}
+
+}  // namespace
+
+int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
+  sim::Scene scene = sim::load_scene(sim::resolve_scene(eval.scene));
+  if (eval.frame_step == 0) throw std::invalid_argument("eval ibr: --frame-step must be at least 1");
+  if (eval.first_frame >= scene.frame_count)
+    throw std::invalid_argument("eval ibr: --first-frame " + std::to_string(eval.first_frame) + " is past the scene's " +
+                                std::to_string(scene.frame_count) + " frames");
+  // How many frames are rendered: --frames, else the rest of the scene at this step.
+  const uint32_t frames =
+      eval.frames_given ? options.frames : (scene.frame_count - eval.first_frame + eval.frame_step - 1) / eval.frame_step;
+  scene.frame_count = eval.first_frame + (frames - 1) * eval.frame_step + 1;
+  scene.color_supersampling = eval.supersample;
+  if (eval.resolution_scale > 0) scene.resolution_scale = eval.resolution_scale;
+  const Site site = eval.site == "B" ? Site::B : Site::A;
+  GpuSession session(options);
+  vk::Context& context = session.context();
+  SiteSimulator simulator(context, scene, site, options.width, options.height);
+  const Camera target = *simulator.renderer().target_view();
+
+  std::vector<std::string> camera_names;
+  std::vector<Eigen::Vector3d> positions;
+  for (const auto& camera : simulator.site().cameras) {
+    camera_names.push_back(camera.name);
+    positions.push_back(camera.color_camera().position_in_site());
+  }
+  // A fixed selection by name (throws naming an unknown camera), else per frame by the hand.
+  const std::vector<size_t> fixed_selection =
+      eval.cameras.empty() ? std::vector<size_t>{} : ibr::cameras_by_name(camera_names, eval.cameras);
+  const uint32_t views = fixed_selection.empty() ? eval.ibr.views : uint32_t(fixed_selection.size());
+
+  IbrSettings settings = eval.ibr;
+  settings.width = options.width;
+  settings.height = options.height;
+  settings.views = views;
+  std::vector<FusionRun> runs;
+  for (const std::string& name : {std::string("min"), std::string("avg")}) {
+    if (eval.fusion != name && eval.fusion != "both") continue;
+    settings.fusion = name == "min" ? passes::DepthFusion::Min : passes::DepthFusion::Average;
+    runs.push_back({name, std::make_unique<IbrRenderer>(context, camera_models(simulator.renderer()), settings), ibr::PortraitMetrics(), {}});
+  }
+
+  const std::filesystem::path images_dir = options.out / "images";
+  std::filesystem::create_directories(images_dir);
+  const uint32_t save_every = std::max(1u, frames / 4);
+  const CameraIntrinsics& color = simulator.renderer().camera(0).color.intrinsics;
+  const CameraIntrinsics& depth = simulator.renderer().camera(0).depth.intrinsics;
+  std::printf("eval ibr: scene %s, site %s's user for the other site's eye, %ux%u (portrait supersampled %ux%u), "
+              "%u of %zu cameras (color %ux%u, depth %ux%u), %u frames, simulated color supersampled %ux%u, on %s\n",
+              eval.scene.c_str(), eval.site.c_str(), options.width, options.height, settings.supersample,
+              settings.supersample, views, positions.size(), color.width, color.height, depth.width,
+              depth.height, frames, eval.supersample, eval.supersample, context.device_name().c_str());
+  if (frames == 1 && eval.first_frame > 0) std::printf("scene frame %u\n", eval.first_frame);
+  if (frames > 1 && (eval.first_frame > 0 || eval.frame_step > 1))
+    std::printf("scene frames %u, %u, ... (every %u)\n", eval.first_frame, eval.first_frame + eval.frame_step, eval.frame_step);
+  if (!fixed_selection.empty()) {
+    std::string names;
+    for (const std::string& name : eval.cameras) names += (names.empty() ? "" : ", ") + name;
+    std::printf("cameras fixed: %s\n", names.c_str());
+  }
+  std::vector<uint32_t> scene_frames;  // which scene frame each rendered one is
+  for (uint32_t index = 0; index < frames; ++index) {
+    simulator.seek(eval.first_frame + uint64_t(index) * eval.frame_step);
+    const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
+    if (!frame) break;
+    const sim::PersonPose& pose = simulator.last_pose();
+    const auto selection = fixed_selection.empty()
+                               ? ibr::select_cameras(positions, ibr::touching_hand(pose.right_hand, pose.left_hand), views)
+                               : fixed_selection;
+    const HostImage truth_color = simulator.renderer().target_color();
+    const HostImage truth_depth = simulator.renderer().target_depth_m();
+    const HostImage truth_part = simulator.renderer().target_part();
+    const bool save = index % save_every == 0 || index + 1 == frames;
+    char stem[32];
+    scene_frames.push_back(uint32_t(frame->index));
+    std::snprintf(stem, sizeof stem, "%04u", uint32_t(frame->index));
+    if (save) write_image(images_dir / (std::string(stem) + "_truth.png"), truth_color);
+    for (FusionRun& run : runs) {
+      run.renderer->prepare(frame->cameras, selection, target);
+      session.run_frame(run.renderer->graph(), index);
+      const HostImage portrait = vk::download(context, run.renderer->portrait());
+      const HostImage depth = vk::download(context, run.renderer->portrait_depth());
+      const ibr::PortraitError error = run.metrics.add(portrait, depth, truth_color, truth_depth, truth_part);
+      run.frame_psnr_fg_db.push_back(error.psnr_fg_db);
+      if (!save) continue;
+      const std::string prefix = std::string(stem) + "_" + run.name;
+      write_image(images_dir / (prefix + "_portrait.png"), as_png(portrait));
+      write_image(images_dir / (prefix + "_color_error_x4.png"), scaled(error.color_error, 4.0f));
+      write_image(images_dir / (prefix + "_depth_error_per_50mm.png"), scaled(error.depth_error_mm, 1.0f / 50.0f));
+    }
+    std::fprintf(stderr, "\r  frame %u/%u", index + 1, frames);
+  }
+  std::fprintf(stderr, "\n");
+  if (options.dump_passes)
+    for (FusionRun& run : runs) {
+      std::filesystem::create_directories(options.out / "passes" / run.name);
+      dump_pass_outputs(context, run.renderer->graph(), options.out / "passes" / run.name);
+    }
+
+  nlohmann::json report = {{"scene", eval.scene},
+                           {"site", eval.site},
+                           {"width", options.width},
+                           {"height", options.height},
+                           {"views", views},
+                           {"cameras", fixed_selection.empty() ? nlohmann::json("opposite the touching hand, each frame")
+                                                               : nlohmann::json(eval.cameras)},
+                           {"refine_hypotheses", settings.refine ? settings.refinement.hypotheses : 0},
+                           {"best_views", settings.blend.best_views},
+                           {"see_through_carving", settings.carve},
+                           {"edge_inset_depth_px", settings.splat.edge_inset},
+                           {"color_supersampling", eval.supersample},
+                           {"portrait_supersampling", settings.supersample},
+                           {"resolution_scale", scene.resolution_scale},
+                           {"camera_color", {color.width, color.height}},
+                           {"camera_depth", {depth.width, depth.height}},
+                           {"average_tolerance_m", settings.splat.average_tolerance_m},
+                           {"ibr", ibr_settings_json(settings)},
+                           {"frames", frames},
+                           {"first_frame", eval.first_frame},
+                           {"frame_step", eval.frame_step},
+                           {"scene_frames", scene_frames},
+                           {"device", context.device_name()},
+                           {"ground_truth", "the simulator's render of the same target view (no sensor effects), color box-filtered "
+                                            "over color_supersampling^2 samples per pixel like the cameras' images"},
+                           {"color_error", "RGB in [0, 1], portrait premultiplied by its alpha against the truth"}};
+  std::printf("\n%-6s %11s %13s %18s %10s %14s %14s\n", "fusion", "psnr_fg_db", "psnr_hand_db", "depth_mae_edge_mm",
+              "alpha_iou", "depth_bias_mm", "GPU ms/frame");
+  for (FusionRun& run : runs) {
+    nlohmann::json result = run.metrics.to_json();
+    double total_ms = 0;
+    for (const auto& timing : run.renderer->graph().timings()) {
+      result["gpu_ms"][timing.name] = timing.median_ms;
+      total_ms += timing.median_ms;
+    }
+    result["gpu_ms_total"] = total_ms;
+    result["frame_psnr_fg_db"] = run.frame_psnr_fg_db;
+    std::printf("%-6s %11.2f %13.2f %18.2f %10.4f %14.2f %14.2f\n", run.name.c_str(), run.metrics.psnr_fg_db(),
+                run.metrics.psnr_hand_db(), run.metrics.depth_mae_edge_mm(), run.metrics.alpha_iou(),
+                run.metrics.depth_bias_mm(), total_ms);
+    report["by_fusion"][run.name] = result;
+  }
+  std::printf("\nforeground error by region (share of pixels, share of squared error, PSNR dB):\n");
+  for (FusionRun& run : runs) {
+    std::printf("[%s]", run.name.c_str());
+    for (size_t r = 0; r < ibr::kErrorRegionCount; ++r) {
+      const auto region = ibr::ErrorRegion(r);
+      std::printf("  %s %.1f%% %.1f%% %.2f", ibr::kErrorRegionNames[r], 100 * run.metrics.region_pixel_share(region),
+                  100 * run.metrics.region_error_share(region), run.metrics.region_psnr_db(region));
+    }
+    std::printf("\n");
+  }
+  std::printf("\nworst frames (foreground PSNR dB):\n");
+  for (FusionRun& run : runs) {
+    std::vector<size_t> order;
+    for (size_t f = 0; f < run.frame_psnr_fg_db.size(); ++f)
+      if (std::isfinite(run.frame_psnr_fg_db[f])) order.push_back(f);
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return run.frame_psnr_fg_db[a] < run.frame_psnr_fg_db[b]; });
+    std::printf("[%s]", run.name.c_str());
+    for (size_t k = 0; k < std::min<size_t>(order.size(), 5); ++k)
+      std::printf("  %04u %.2f", scene_frames[order[k]], run.frame_psnr_fg_db[order[k]]);
+    std::printf("\n");
+  }
+  // The first mode's figures at the top level, where scripts look first.
+  for (const auto& [key, value] : report["by_fusion"][runs.front().name].items()) report[key] = value;
+  report["fusion"] = runs.front().name;
+  std::printf("\nper-pass GPU ms (median over frames):\n");
+  for (FusionRun& run : runs) std::printf("[%s]\n%s", run.name.c_str(), vk::format_profile(run.renderer->graph().timings()).c_str());
+  std::ofstream(options.out / "metrics.json") << report.dump(2) << "\n";
+  std::cout << "written to " << (options.out / "metrics.json").string() << " and " << images_dir.string() << "/\n";
+  session.report_capture();
+  return 0;
+}
+
+}  // namespace rt::pipeline

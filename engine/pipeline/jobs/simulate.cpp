@@ -1,0 +1,66 @@
+// `remotetouch simulate --scene NAME --out DIR`: records one site of a synthetic scene in the
+// recording format (engine/sim/recording.h): every camera's color and 16-bit depth, the
+// tracker's Leap v6 frames, and the ground truth from the remote viewer's eye.
+#include "pipeline/jobs.h"
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include "pipeline/gpu_session.h"
+#include "pipeline/site_simulator.h"
+#include "sim/leap_json.h"
+#include "sim/recording.h"
+#include "sim/tracker_sim.h"
+
+namespace rt::pipeline {
+
+int run_simulate(const RunOptions& options, const SimulateOptions& simulate) {
+  sim::Scene scene = sim::load_scene(sim::resolve_scene(simulate.scene));
+  if (simulate.frames_given) scene.frame_count = options.frames;
+  if (simulate.resolution_scale > 0) scene.resolution_scale = simulate.resolution_scale;
+  const Site site = simulate.site;
+  GpuSession session(options);
+  SiteSimulator simulator(session.context(), scene, site, simulate.gt_width, simulate.gt_height);
+
+  sim::RecordingWriter writer(options.out, sim::site_to_json(scene.at(site).site));
+  std::printf("simulate: scene '%s', site %s, %u frames, %zu cameras -> %s\n", scene.name.c_str(), site_name(site),
+              scene.frame_count, scene.at(site).site.cameras.size(), options.out.string().c_str());
+  while (true) {
+    // The capture of frame N (if asked) brackets that frame's render.
+    const bool capture = int(simulator.frames_done()) == options.capture_frame;
+    std::optional<sim::RgbdFrame> frame;
+    if (capture) {
+      session.begin_capture();
+      frame = simulator.next_frame();
+      session.end_capture();
+    } else {
+      frame = simulator.next_frame();
+    }
+    if (!frame) break;
+    writer.write_frame(*frame);
+    RgbdRenderer& renderer = simulator.renderer();
+    std::vector<HostImage> foregrounds;
+    for (size_t k = 0; k < renderer.camera_count(); ++k) foregrounds.push_back(renderer.foreground(k));
+    if (renderer.has_target_view())
+      writer.write_ground_truth(frame->index, renderer.target_color(), renderer.target_depth_m(), renderer.target_part(),
+                                foregrounds);
+    std::printf("\r  frame %llu/%u", static_cast<unsigned long long>(frame->index + 1), scene.frame_count);
+    std::fflush(stdout);
+  }
+  std::printf("\n");
+
+  // The tracker runs at 50 Hz over the same duration.
+  sim::SimulatedHandTracker tracker = sim::make_simulated_tracker(scene, site);
+  std::ofstream lines(options.out / "tracker.jsonl");
+  size_t tracker_frames = 0;
+  while (auto frame = tracker.next_frame()) {
+    lines << sim::leap_json_line(*frame) << "\n";
+    ++tracker_frames;
+  }
+  std::printf("  %zu tracker frames in tracker.jsonl\n", tracker_frames);
+  if (options.profile) std::cout << vk::format_profile(simulator.renderer().graph().timings());
+  session.report_capture();
+  return 0;
+}
+
+}  // namespace rt::pipeline
