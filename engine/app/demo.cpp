@@ -25,11 +25,13 @@ class DemoCommand : public Command {
     command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale")
         ->check(CLI::Range(0.01, 1.0))
         ->default_str("the scene's");
-    command_->add_option("--disconnect-after-ms", disconnect_after_ms_,
-                         "Fault injection: cut the link once, this long after the sites connect");
+    CLI::Option* disconnect = command_->add_option("--disconnect-after-ms", disconnect_after_ms_,
+                                                   "Fault injection: cut the link once, this long after the sites connect");
+    // An outage without a cut would do nothing: refuse it rather than run a fault-free demo.
     command_->add_option("--outage-ms", options_.outage_ms,
                          "Fault injection: with --disconnect-after-ms, the link stays silent this long after the cut")
-        ->check(CLI::Range(0, 60000));
+        ->check(CLI::Range(0, 60000))
+        ->needs(disconnect);
     command_->add_option("--delay-ms", options_.delay_ms, "Fault injection: delay every record")->check(CLI::Range(0, 10000));
     command_->add_option("--jitter-ms", options_.jitter_ms, "Fault injection: extra random delay per record")
         ->check(CLI::Range(0, 10000));

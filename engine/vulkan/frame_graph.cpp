@@ -473,7 +473,7 @@ std::string format_profile(const std::vector<PassTiming>& timings) {
   out << line;
   double total = 0.0;
   for (const PassTiming& timing : timings) {
-    const double gb_per_s = timing.median_ms > 0 ? double(timing.bytes_moved) / (timing.median_ms * 1e-3) / 1e9 : 0.0;
+    const double gb_per_s = timing.gigabytes_per_second();
     std::snprintf(line, sizeof line, "%-22s %10.3f %10.3f %8zu %12.2f %10.2f\n", timing.name.c_str(), timing.median_ms,
                   timing.last_ms, timing.frames, double(timing.bytes_moved) / 1e6, gb_per_s);
     out << line;

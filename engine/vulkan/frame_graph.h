@@ -88,6 +88,8 @@ struct PassTiming {
   double last_ms = 0.0;
   size_t frames = 0;
   uint64_t bytes_moved = 0;  // bytes of the resources it reads plus those it writes
+  // The bandwidth the median time achieves; 0 before any frame.
+  double gigabytes_per_second() const { return median_ms > 0 ? double(bytes_moved) / (median_ms * 1e-3) / 1e9 : 0.0; }
 };
 
 class FrameGraph {

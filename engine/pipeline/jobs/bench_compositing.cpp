@@ -19,10 +19,6 @@ namespace {
 
 constexpr uint32_t kWarmUpFrames = 2;
 
-double gigabytes_per_second(const vk::PassTiming& timing) {
-  return timing.median_ms > 0 ? double(timing.bytes_moved) / (timing.median_ms * 1e-3) / 1e9 : 0.0;
-}
-
 nlohmann::json bench_compositing_at(GpuSession& session, uint32_t width, uint32_t height, uint32_t frames) {
   vk::Context& context = session.context();
   ReceiverCompositor chain(context, width, height);
@@ -39,7 +35,7 @@ nlohmann::json bench_compositing_at(GpuSession& session, uint32_t width, uint32_
   const std::vector<vk::PassTiming> timings = graph.timings();
   double copy_rate = 0.0;
   for (const auto& timing : timings)
-    if (timing.name == "copy") copy_rate = gigabytes_per_second(timing);
+    if (timing.name == "copy") copy_rate = timing.gigabytes_per_second();
 
   std::printf("\ncompositing at %ux%u on %s, median of %u frames\n", width, height, context.device_name().c_str(), frames);
   std::printf("%-12s %10s %10s %10s %12s\n", "pass", "GPU ms", "MB moved", "GB/s", "of copy GB/s");
@@ -48,7 +44,7 @@ nlohmann::json bench_compositing_at(GpuSession& session, uint32_t width, uint32_
   result["height"] = height;
   result["frames"] = frames;
   for (const auto& timing : timings) {
-    const double rate = gigabytes_per_second(timing);
+    const double rate = timing.gigabytes_per_second();
     const double fraction = copy_rate > 0 ? rate / copy_rate : 0.0;
     std::printf("%-12s %10.3f %10.2f %10.2f %11.0f%%\n", timing.name.c_str(), timing.median_ms,
                 double(timing.bytes_moved) / 1e6, rate, 100.0 * fraction);

@@ -20,15 +20,11 @@ namespace {
 
 constexpr uint32_t kWarmUpFrames = 2;
 
-double gigabytes_per_second(const vk::PassTiming& timing) {
-  return timing.median_ms > 0 ? double(timing.bytes_moved) / (timing.median_ms * 1e-3) / 1e9 : 0.0;
-}
-
 nlohmann::json print_timings(const std::string& title, const std::vector<vk::PassTiming>& timings, double copy_rate) {
   std::printf("%s\n%-22s %10s %10s %10s %12s\n", title.c_str(), "pass", "GPU ms", "MB moved", "GB/s", "of copy GB/s");
   nlohmann::json result;
   for (const auto& timing : timings) {
-    const double rate = gigabytes_per_second(timing);
+    const double rate = timing.gigabytes_per_second();
     const double fraction = copy_rate > 0 ? rate / copy_rate : 0.0;
     std::printf("%-22s %10.3f %10.2f %10.2f %11.0f%%\n", timing.name.c_str(), timing.median_ms, double(timing.bytes_moved) / 1e6,
                 rate, 100.0 * fraction);
@@ -70,7 +66,7 @@ nlohmann::json bench_hand_at(GpuSession& session, uint32_t width, uint32_t heigh
   }
   double copy_rate = 0.0;
   for (const auto& timing : graph.timings())
-    if (timing.name == "copy") copy_rate = gigabytes_per_second(timing);
+    if (timing.name == "copy") copy_rate = timing.gigabytes_per_second();
   nlohmann::json result{{"width", width}, {"height", height}, {"frames", frames}};
   std::printf("\nhand at %ux%u on %s, median of %u frames\n", width, height, context.device_name().c_str(), frames);
   result["passes"] = print_timings("per frame:", graph.timings(), copy_rate);
