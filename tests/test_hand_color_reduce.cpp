@@ -11,6 +11,7 @@
 
 #include "passes/hand_color_reduce.h"
 #include "passes/hand_color_transfer.h"
+#include "support/appearance_states.h"
 #include "support/gpu_test.h"
 #include "support/pass_harness.h"
 
@@ -65,23 +66,13 @@ shader_abi::ColorStatsReduceParams params_for(size_t groups) {
   return {uint32_t(groups), 10.0f, 0.25f, passes::kSigmaFloor};
 }
 
-AppearanceState some_previous_state() {
-  AppearanceState previous{};
-  previous.header = {1.0f, 4.0f, 0.0f, 0.0f};
-  previous.image_mean = {-0.5f, 0.05f, 0.01f, 0.0f};
-  previous.image_sigma = {0.1f, 0.02f, 0.02f, 0.0f};
-  previous.mesh_mean = {-0.4f, 0.04f, 0.02f, 0.0f};
-  previous.mesh_sigma = {0.05f, 0.01f, 0.01f, 0.0f};
-  return previous;
-}
-
 }  // namespace
 
 TEST_CASE("hand_color_reduce matches the reference on random partials", "[hand_color_reduce][gpu]") {
   test::NoValidationErrors no_errors;
   std::mt19937 rng(23);
   for (size_t groups : {size_t(1), size_t(37), size_t(RT_COLOR_STATS_GROUP), size_t(RT_COLOR_STATS_GROUP + 1), size_t(1000)}) {
-    for (const AppearanceState& previous : {AppearanceState{}, some_previous_state()}) {
+    for (const AppearanceState& previous : {AppearanceState{}, test::previous_appearance_state()}) {
       INFO(groups << " partials, " << (previous.header[0] > 0.5f ? "smoothed into a previous state" : "no previous state"));
       const std::vector<ColorStatsPartial> partials = random_partials(rng, groups);
       auto params = params_for(groups);
@@ -100,7 +91,7 @@ TEST_CASE("hand_color_reduce matches the reference on random partials", "[hand_c
 TEST_CASE("hand_color_reduce hard cases", "[hand_color_reduce][gpu]") {
   test::NoValidationErrors no_errors;
   std::mt19937 rng(24);
-  const AppearanceState previous = some_previous_state();
+  const AppearanceState previous = test::previous_appearance_state();
   const std::vector<ColorStatsPartial> partials = random_partials(rng, 300);
   double pixels = 0;
   for (const auto& p : partials) pixels += p.count[0];

@@ -12,6 +12,7 @@
 #include "passes/hand_color_reduce.h"
 #include "passes/hand_color_stats.h"
 #include "passes/hand_color_transfer.h"
+#include "support/appearance_states.h"
 #include "support/gpu_test.h"
 #include "support/pass_harness.h"
 
@@ -134,12 +135,7 @@ TEST_CASE("Color statistics hard cases: black, saturated, NaN, depth disagreemen
   const auto params = passes::color_stats_params(w, h);
   const auto sums = passes::color_stats_reference(in.portrait_color, in.portrait_depth, in.mesh_color, in.mesh_depth, in.mesh_mask, params);
   // A previous state, to see the smoothing.
-  AppearanceState previous{};
-  previous.header = {1.0f, 4.0f, 0.0f, 0.0f};
-  previous.image_mean = {-0.5f, 0.05f, 0.01f, 0.0f};
-  previous.image_sigma = {0.1f, 0.02f, 0.02f, 0.0f};
-  previous.mesh_mean = {-0.4f, 0.04f, 0.02f, 0.0f};
-  previous.mesh_sigma = {0.05f, 0.01f, 0.01f, 0.0f};
+  const AppearanceState previous = test::previous_appearance_state();
   const GpuResult gpu = run_gpu(in, previous, kReduce);
   require_sums_match(gpu.partials, sums);
   auto reduce = kReduce;

@@ -3,30 +3,29 @@
 namespace rt::pipeline {
 
 ReceiverCompositor::ReceiverCompositor(vk::Context& context, uint32_t width, uint32_t height)
-    : portrait(context, {"portrait", width, height, PixelFormat::RGBA32F}),
-      hand_color(context, {"hand color", width, height, PixelFormat::RGBA32F}),
-      hand_mask(context, {"hand mask", width, height, PixelFormat::R32F}),
-      background(context, {"background", width, height, PixelFormat::RGBA32F}),
-      hand_alpha(context, {"hand alpha", width, height, PixelFormat::R32F}),
-      fused(context, {"fused", width, height, PixelFormat::RGBA32F}),
-      display(context, {"display", width, height, PixelFormat::RGBA8}),
+    : ReceiverCompositor(context, make_demo_layers(width, height)) {}
+
+ReceiverCompositor::ReceiverCompositor(vk::Context& context, const HostImage& background_image)
+    : ReceiverCompositor(context, DemoLayers{HostImage(background_image.width, background_image.height, PixelFormat::RGBA32F),
+                                             HostImage(background_image.width, background_image.height, PixelFormat::RGBA32F),
+                                             HostImage(background_image.width, background_image.height, PixelFormat::R32F),
+                                             background_image}) {}
+
+ReceiverCompositor::ReceiverCompositor(vk::Context& context, const DemoLayers& layers)
+    : portrait(context, {"portrait", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
+      hand_color(context, {"hand color", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
+      hand_mask(context, {"hand mask", layers.portrait.width, layers.portrait.height, PixelFormat::R32F}),
+      background(context, {"background", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
+      hand_alpha(context, {"hand alpha", layers.portrait.width, layers.portrait.height, PixelFormat::R32F}),
+      fused(context, {"fused", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
+      display(context, {"display", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA8}),
       hand_alpha_pass(context),
       overlay_pass(context),
       composite_pass(context) {
-  const DemoLayers layers = make_demo_layers(width, height);
   vk::upload(context, portrait, layers.portrait);
   vk::upload(context, hand_color, layers.hand_color);
   vk::upload(context, hand_mask, layers.hand_mask);
   vk::upload(context, background, layers.background);
-}
-
-ReceiverCompositor::ReceiverCompositor(vk::Context& context, const HostImage& background_image)
-    : ReceiverCompositor(context, background_image.width, background_image.height) {
-  const HostImage none(background_image.width, background_image.height, PixelFormat::RGBA32F);
-  vk::upload(context, portrait, none);
-  vk::upload(context, hand_color, none);
-  vk::upload(context, hand_mask, HostImage(background_image.width, background_image.height, PixelFormat::R32F));
-  vk::upload(context, background, background_image);
 }
 
 void ReceiverCompositor::add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m) {

@@ -24,6 +24,10 @@ struct ReceiverCompositor {
   passes::HandAlphaPass hand_alpha_pass;
   passes::OverlayPass overlay_pass;
   passes::CompositePass composite_pass;
+
+ private:
+  // The images at the layers' size, holding them.
+  ReceiverCompositor(vk::Context& context, const DemoLayers& layers);
 };
 
 }  // namespace rt::pipeline

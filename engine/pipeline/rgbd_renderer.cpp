@@ -138,4 +138,10 @@ HostImage RgbdRenderer::target_part() const {
   return vk::download(context_, target_->view.part);
 }
 
+std::vector<passes::IbrCameraModel> RgbdRenderer::camera_models() const {
+  std::vector<passes::IbrCameraModel> models;
+  for (const auto& spec : cameras_) models.push_back({spec.color, spec.depth});
+  return models;
+}
+
 }  // namespace rt::pipeline

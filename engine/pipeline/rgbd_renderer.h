@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geometry/camera.h"
+#include "passes/common/ibr_scene.h"
 #include "passes/color_sensor.h"
 #include "passes/depth_sensor.h"
 #include "passes/person_raster.h"
@@ -39,6 +40,8 @@ class RgbdRenderer {
 
   size_t camera_count() const { return cameras_.size(); }
   const RgbdCameraSpec& camera(size_t index) const { return cameras_[index]; }
+  // Every camera's color and depth calibration, as the image-based model takes them.
+  std::vector<passes::IbrCameraModel> camera_models() const;
   HostImage color(size_t camera) const;      // rgba8, as sensed
   HostImage depth_mm(size_t camera) const;    // r16ui millimetres, 0 = invalid
   HostImage foreground(size_t camera) const;  // r32f RT_PART_* in the color view (0 = background)

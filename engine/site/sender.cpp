@@ -13,15 +13,6 @@
 #include "time/monotonic_clock.h"
 
 namespace rt::site {
-namespace {
-
-std::vector<passes::IbrCameraModel> camera_models(pipeline::RgbdRenderer& renderer) {
-  std::vector<passes::IbrCameraModel> models;
-  for (size_t k = 0; k < renderer.camera_count(); ++k) models.push_back({renderer.camera(k).color, renderer.camera(k).depth});
-  return models;
-}
-
-}  // namespace
 
 Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(touch) {
   const SiteRunOptions& options = common_.options;
@@ -45,7 +36,7 @@ Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(t
     const uint32_t truth_height = options.write_truth ? common_.height : 0;
     simulator_ = std::make_unique<pipeline::SiteSimulator>(*common_.context, common_.scene, options.site, truth_width,
                                                            truth_height);
-    cameras = camera_models(simulator_->renderer());
+    cameras = simulator_->renderer().camera_models();
   }
   ibr_ = std::make_unique<pipeline::IbrRenderer>(*common_.context, cameras, settings);
   for (const auto& camera : common_.site().cameras) camera_positions_.push_back(camera.color_camera().position_in_site());

@@ -28,13 +28,6 @@ struct FusionRun {
   std::vector<double> frame_psnr_fg_db;  // each frame's own, to find the frames that fail
 };
 
-std::vector<passes::IbrCameraModel> camera_models(RgbdRenderer& renderer) {
-  std::vector<passes::IbrCameraModel> models;
-  for (size_t k = 0; k < renderer.camera_count(); ++k)
-    models.push_back({renderer.camera(k).color, renderer.camera(k).depth});
-  return models;
-}
-
 HostImage scaled(const HostImage& image, float scale) {
   HostImage out = image;
   for (float& value : out.texels) value *= scale;
@@ -87,7 +80,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   for (const std::string& name : {std::string("min"), std::string("avg")}) {
     if (eval.fusion != name && eval.fusion != "both") continue;
     settings.fusion = name == "min" ? passes::DepthFusion::Min : passes::DepthFusion::Average;
-    runs.push_back({name, std::make_unique<IbrRenderer>(context, camera_models(simulator.renderer()), settings), ibr::PortraitMetrics(), {}});
+    runs.push_back({name, std::make_unique<IbrRenderer>(context, simulator.renderer().camera_models(), settings), ibr::PortraitMetrics(), {}});
   }
 
   const std::filesystem::path images_dir = options.out / "images";
