@@ -18,6 +18,7 @@ namespace rt::app {
   X("", simulate)                          \
   X("eval", eval_ibr)                      \
   X("eval", eval_hand)                     \
+  X("eval", eval_dual)                     \
   X("calibrate", calibrate_intrinsics)     \
   X("calibrate", calibrate_extrinsics)     \
   X("calibrate", calibrate_tracker)        \

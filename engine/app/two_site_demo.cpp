@@ -12,9 +12,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,11 +20,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "evaluation/touch_phase.h"
 #include "net/fault_proxy.h"
 #include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
 #include "net/secure_channel.h"
 #include "session/event_log.h"
+#include "site/displayed_truth.h"
 #include "time/monotonic_clock.h"
 
 extern char** environ;
@@ -153,38 +152,6 @@ nlohmann::json read_json(const std::filesystem::path& path) {
   return json;
 }
 
-double psnr_db(const std::filesystem::path& a, const std::filesystem::path& b) {
-  const cv::Mat x = cv::imread(a.string(), cv::IMREAD_COLOR), y = cv::imread(b.string(), cv::IMREAD_COLOR);
-  if (x.empty() || y.empty() || x.size() != y.size()) return NAN;
-  return cv::PSNR(x, y);
-}
-
-// Site `shown`'s displayed frames against site `captured`'s ground truth of the same frames.
-nlohmann::json measure_psnr(const std::filesystem::path& shown, const std::filesystem::path& captured) {
-  std::ifstream frames(shown / "frames.jsonl");
-  std::vector<double> values;
-  double final_db = NAN;
-  nlohmann::json final_frame;
-  for (std::string line; std::getline(frames, line);) {
-    const nlohmann::json entry = nlohmann::json::parse(line, nullptr, false);
-    if (entry.is_discarded() || !entry["portrait_frame"].is_number_unsigned()) continue;  // e.g. a link-lost frame
-    char display[32], truth[32];
-    std::snprintf(display, sizeof display, "frame_%04llu.png", entry["display"].get<unsigned long long>());
-    std::snprintf(truth, sizeof truth, "frame_%04llu.png", entry["portrait_frame"].get<unsigned long long>());
-    const double db = psnr_db(shown / "frames" / display, captured / "truth" / truth);
-    if (std::isfinite(db)) values.push_back(db);
-    final_db = db;
-    final_frame = {{"display", (shown / "frames" / display).string()}, {"truth", (captured / "truth" / truth).string()}};
-  }
-  double mean = NAN;
-  if (!values.empty()) {
-    mean = 0;
-    for (double v : values) mean += v / double(values.size());
-  }
-  auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
-  return {{"final_db", number(final_db)}, {"mean_db", number(mean)}, {"frames", values.size()}, {"final_frame", final_frame}};
-}
-
 std::string cell(const nlohmann::json& value, const char* format = "%.1f") {
   if (!value.is_number()) return "-";
   char text[32];
@@ -238,6 +205,18 @@ void print_summary(const nlohmann::json& metrics) {
   row("PSNR final composite dB (mean)",
       cell(metrics["psnr_db"]["A"]["final_db"]) + " (" + cell(metrics["psnr_db"]["A"]["mean_db"]) + ")",
       cell(metrics["psnr_db"]["B"]["final_db"]) + " (" + cell(metrics["psnr_db"]["B"]["mean_db"]) + ")");
+  // What the remote user sees of the hand and forearm, per touch phase.
+  for (const char* phase : evaluation::kTouchPhaseNames) {
+    const nlohmann::json::json_pointer path("/hand_arm/" + std::string(phase));
+    auto figures = [&](const nlohmann::json& site) {
+      if (!site.contains(path)) return std::string("-");
+      const nlohmann::json& f = site.at(path);
+      return cell(f.value("psnr_hand_arm_db", nlohmann::json())) + " / " + cell(f.value("de_hand", nlohmann::json())) + " (" +
+             cell(f.value("frames", nlohmann::json()), "%.0f") + ")";
+    };
+    row(std::string("hand+arm PSNR dB / CIEDE2000 (frames), ") + phase, figures(metrics["psnr_db"]["A"]),
+        figures(metrics["psnr_db"]["B"]));
+  }
   std::printf("paper (RTX 3090): portrait ~400 ms, hand ~250 ms, touch to motor ~60 ms, 30 fps\n");
 }
 
@@ -388,11 +367,13 @@ int run_two_site_demo(const DemoOptions& options) {
   metrics["sites"]["A"] = read_json(out / "site_A" / "metrics.json");
   metrics["sites"]["B"] = read_json(out / "site_B" / "metrics.json");
   // Site A shows B's user: compare with B's ground truth, and the other way round.
-  metrics["psnr_db"]["A"] = measure_psnr(out / "site_A", out / "site_B");
-  metrics["psnr_db"]["B"] = measure_psnr(out / "site_B", out / "site_A");
+  metrics["psnr_db"]["A"] = site::measure_displayed_frames(out / "site_A", out / "site_B");
+  metrics["psnr_db"]["B"] = site::measure_displayed_frames(out / "site_B", out / "site_A");
   metrics["psnr_note"] =
       "each site's displayed composite against the simulator's ground truth of the other site's user for the same "
-      "captured frame, over the same background (the truth has no sensor effects)";
+      "captured frame, over the same background (the truth has no sensor effects); hand_arm: per touch phase, on the "
+      "region of the remote user's hand and forearm reaching for the glass (PSNR) and its fully covered hand pixels "
+      "(CIEDE2000)";
   if (proxy) metrics["fault_proxy"] = fault_counts;
   if (!teardown_crashes.empty()) metrics["teardown_crash_signal"] = teardown_crashes;
   std::ofstream(out / "metrics.json") << metrics.dump(2) << "\n";

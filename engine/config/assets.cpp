@@ -3,10 +3,16 @@
 #include <cstdlib>
 
 namespace rt::config {
+namespace {
 
-std::filesystem::path assets_dir() {
-  const char* assets = std::getenv("REMOTETOUCH_ASSETS");
-  return assets && *assets ? std::filesystem::path(assets) : std::filesystem::path(REMOTETOUCH_ASSETS_DIR);
+std::filesystem::path from_environment(const char* variable, const char* built_in) {
+  const char* value = std::getenv(variable);
+  return value && *value ? std::filesystem::path(value) : std::filesystem::path(built_in);
 }
+
+}  // namespace
+
+std::filesystem::path assets_dir() { return from_environment("REMOTETOUCH_ASSETS", REMOTETOUCH_ASSETS_DIR); }
+std::filesystem::path scripts_dir() { return from_environment("REMOTETOUCH_SCRIPTS", REMOTETOUCH_SCRIPTS_DIR); }
 
 }  // namespace rt::config

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "image/pixel_mask.h"
 #include "shared/config.h"
 
 namespace rt::ibr {
@@ -15,21 +16,6 @@ double psnr(double squared_error, size_t values) {
   if (values == 0) return std::numeric_limits<double>::quiet_NaN();
   const double mse = squared_error / double(values);
   return mse > 0 ? 10.0 * std::log10(1.0 / mse) : 99.0;  // identical: a capped, finite figure
-}
-
-// Pixels within `radius` (Chebyshev) of a set pixel.
-std::vector<uint8_t> dilate(const std::vector<uint8_t>& mask, uint32_t w, uint32_t h, int radius) {
-  std::vector<uint8_t> out(mask.size(), 0);
-  for (int y = 0; y < int(h); ++y)
-    for (int x = 0; x < int(w); ++x) {
-      if (!mask[size_t(y) * w + size_t(x)]) continue;
-      for (int dy = -radius; dy <= radius; ++dy)
-        for (int dx = -radius; dx <= radius; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx >= 0 && ny >= 0 && nx < int(w) && ny < int(h)) out[size_t(ny) * w + size_t(nx)] = 1;
-        }
-    }
-  return out;
 }
 
 }  // namespace
@@ -56,9 +42,9 @@ PortraitError PortraitMetrics::add(const HostImage& portrait, const HostImage& d
         if ((z > 0) != (other > 0) || (z > 0 && std::abs(z - other) > regions_.depth_edge_m)) edge[i] = edge[j] = 1;
       }
     }
-  hand = dilate(hand, w, h, regions_.hand_dilation_px);
-  edge = dilate(edge, w, h, regions_.edge_band_px);
-  outline = dilate(outline, w, h, regions_.edge_band_px);
+  hand = dilate_mask(hand, w, h, regions_.hand_dilation_px);
+  edge = dilate_mask(edge, w, h, regions_.edge_band_px);
+  outline = dilate_mask(outline, w, h, regions_.edge_band_px);
 
   PortraitError error{HostImage(w, h, PixelFormat::R32F), HostImage(w, h, PixelFormat::R32F)};
   double frame_squared_error = 0;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "geometry/site_frames.h"
+#include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
 #include "pipeline/run_options.h"
 
@@ -33,6 +34,20 @@ struct SimulateOptions {
   double resolution_scale = 0.0;             // of the cameras; 0 = the scene's own
 };
 
+struct EvalDualOptions {
+  std::string scene = "clap";
+  std::vector<std::string> users = {"A", "B"};  // whose hand is measured, as the other site sees it
+  // image, geometry, dual, dual_no_appearance, dual_no_shape, hard_switch; empty = all.
+  std::vector<std::string> variants;
+  IbrSettings ibr;                 // the sender's image-based model (the site's defaults)
+  HandRendererOptions hand;        // the receiver's geometry hand (the site's defaults)
+  bool frames_given = false;       // else the scene's own frame count
+  uint32_t first_frame = 0;
+  uint32_t frame_step = 1;
+  double resolution_scale = 0;     // of the cameras; 0 = the scene's own
+  bool plots = true;               // hand_psnr.png and the contact sheets (python3-matplotlib)
+};
+
 // Each returns the process exit code; errors are thrown.
 int run_compose(const RunOptions& options);
 int run_bench_compositing(const RunOptions& options);
@@ -43,5 +58,6 @@ int run_bench_simulate(const RunOptions& options);
 int run_simulate(const RunOptions& options, const SimulateOptions& simulate);
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval);
 int run_eval_hand(const RunOptions& options);
+int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval);
 
 }  // namespace rt::pipeline

@@ -91,6 +91,12 @@ void append_hand(std::vector<MeshVertex>& mesh, const HandSkeleton& hand, double
                  skin_rgb, skin_rgb, 0.0f, fine);
 }
 
+void append_forearm(std::vector<MeshVertex>& mesh, const ArmPose& arm, const Eigen::Vector3f& skin_rgb,
+                    const MeshDetail& detail) {
+  append_capsule(mesh, arm.elbow, arm.wrist, kForearmRadiusM, kForearmRadiusM, Eigen::Vector3d::UnitX(), float(RT_PART_BODY),
+                 skin_rgb, skin_rgb, 0.0f, detail);
+}
+
 std::vector<MeshVertex> person_mesh(const PersonPose& pose, const UserAppearance& user, const MeshDetail& detail) {
   const float body = float(RT_PART_BODY);
   const Eigen::Vector3f& skin = user.skin_rgb;
@@ -105,7 +111,7 @@ std::vector<MeshVertex> person_mesh(const PersonPose& pose, const UserAppearance
   for (const ArmPose* arm : {&pose.left_arm, &pose.right_arm}) {
     append_capsule(mesh, arm->shoulder, arm->elbow, 0.045, 0.045, Eigen::Vector3d::UnitX(), body, user.shirt_rgb,
                    user.shirt_stripe_rgb, stripes, detail);
-    append_capsule(mesh, arm->elbow, arm->wrist, 0.035, 0.035, Eigen::Vector3d::UnitX(), body, skin, skin, 0.0f, detail);
+    append_forearm(mesh, *arm, skin, detail);
   }
   append_hand(mesh, pose.right_hand, user.hand_scale, skin, detail);
   append_hand(mesh, pose.left_hand, user.hand_scale, skin, detail);

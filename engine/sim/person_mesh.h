@@ -27,6 +27,11 @@ void append_capsule(std::vector<MeshVertex>& mesh, const Eigen::Vector3d& a, con
 void append_hand(std::vector<MeshVertex>& mesh, const HandSkeleton& hand, double hand_scale,
                  const Eigen::Vector3f& skin_rgb, const MeshDetail& detail = {});
 
+// The simulated forearm: a skin-coloured capsule from the elbow to the wrist.
+inline constexpr double kForearmRadiusM = 0.035;
+void append_forearm(std::vector<MeshVertex>& mesh, const ArmPose& arm, const Eigen::Vector3f& skin_rgb,
+                    const MeshDetail& detail = {});
+
 // The whole user; throws if the pose holds a non-finite point.
 std::vector<MeshVertex> person_mesh(const PersonPose& pose, const UserAppearance& user, const MeshDetail& detail = {});
 

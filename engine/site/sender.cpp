@@ -37,6 +37,10 @@ Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(t
     simulator_ = std::make_unique<pipeline::SiteSimulator>(*common_.context, common_.scene, options.site, truth_width,
                                                            truth_height);
     cameras = simulator_->renderer().camera_models();
+    if (options.write_truth) {
+      limb_truth_ = std::make_unique<pipeline::LimbTruthRenderer>(*common_.context, *simulator_->renderer().target_view());
+      truth_regions_ = std::make_unique<TruthRegionWriter>(common_.out / "truth");
+    }
   }
   ibr_ = std::make_unique<pipeline::IbrRenderer>(*common_.context, cameras, settings);
   for (const auto& camera : common_.site().cameras) camera_positions_.push_back(camera.color_camera().position_in_site());
@@ -105,6 +109,7 @@ void Sender::capture_loop() {
     CapturedFrame captured;
     captured.index = index;
     HostImage truth;
+    std::optional<pipeline::LimbTruth> limb;
     if (replay_) {
       captured.frame = replay_->read(index);  // files only: no GPU turn
       captured.capture_us = monotonic_now_us();
@@ -120,7 +125,11 @@ void Sender::capture_loop() {
       captured.capture_us = monotonic_now_us();
       captured.frame = std::move(*frame);
       captured.scene_time_s = double(index) / fps;
-      if (write_truth) truth = simulator_->renderer().target_color();
+      if (write_truth) {
+        truth = simulator_->renderer().target_color();
+        limb = limb_truth_->measure(simulator_->last_pose(), common_.scene.at(common_.options.site).user, truth,
+                                    simulator_->renderer().target_depth_m(), simulator_->renderer().target_part());
+      }
       simulator_wall_.add(double(monotonic_now_us() - start) / 1000.0);
     }
     // The viewer's eyes are looked for in the first frames, on the finder's own thread.
@@ -129,6 +138,7 @@ void Sender::capture_loop() {
     captured_.put(std::move(captured));
     if (!truth.texels.empty()) {
       write_image(common_.out / "truth" / frame_name(index), truth_over_background(truth, common_.background));
+      if (limb) truth_regions_->write(index, limb->region, limb->distance_m, limb->phase);
       ++truth_frames_;
     }
   }

@@ -17,9 +17,11 @@
 #include <vector>
 
 #include "pipeline/ibr_renderer.h"
+#include "pipeline/limb_truth.h"
 #include "pipeline/site_simulator.h"
 #include "session/latency_stats.h"
 #include "session/mailbox.h"
+#include "site/displayed_truth.h"
 #include "site/site_common.h"
 #include "site/site_eye.h"
 #include "site/site_inputs.h"
@@ -57,6 +59,9 @@ class Sender {
   // The site's inputs (site_inputs.h): simulated from the scene, or replayed from a recording.
   std::unique_ptr<pipeline::SiteSimulator> simulator_;
   std::unique_ptr<SiteReplay> replay_;
+  // The simulated truth's hand and forearm region, beside the truth (displayed_truth.h).
+  std::unique_ptr<pipeline::LimbTruthRenderer> limb_truth_;
+  std::unique_ptr<TruthRegionWriter> truth_regions_;
   TrackedHandsHistory tracked_hands_;
   std::unique_ptr<pipeline::IbrRenderer> ibr_;
   std::vector<Eigen::Vector3d> camera_positions_;

@@ -1,5 +1,7 @@
 #include "tracking/hand_skeleton.h"
 
+#include <cmath>
+
 namespace rt {
 
 std::vector<Eigen::Vector3d> HandSkeleton::hand_joints() const {
@@ -10,6 +12,13 @@ std::vector<Eigen::Vector3d> HandSkeleton::hand_joints() const {
   for (const auto& digit : digits)
     for (const auto& point : digit) joints.push_back(point);
   return joints;
+}
+
+const HandSkeleton* hand_nearest_screen(const std::vector<HandSkeleton>& hands) {
+  const HandSkeleton* best = nullptr;
+  for (const auto& hand : hands)
+    if (std::isfinite(hand.palm.z()) && (!best || hand.palm.z() < best->palm.z())) best = &hand;
+  return best;
 }
 
 }  // namespace rt

@@ -34,4 +34,8 @@ struct HandSkeleton {
   std::vector<Eigen::Vector3d> hand_joints() const;
 };
 
+// The hand nearest the screen (smallest palm z): the one reaching for the glass, which the
+// receiver draws; null when no hand has a finite palm.
+const HandSkeleton* hand_nearest_screen(const std::vector<HandSkeleton>& hands);
+
 }  // namespace rt
