@@ -14,10 +14,10 @@
 namespace rt::site {
 namespace {
 
-// Remote skeletons kept to pose the hand from: the portrait arrives several hundred milliseconds
-// after the skeletons of its moment on lavapipe (more when the scene plays slower); five seconds
-// at 50 Hz covers that with room to spare.
-constexpr size_t kSkeletonHistory = 256;
+// Remote skeletons kept to pose the hand from: a portrait is shown seconds after the moment it
+// shows on a loaded lavapipe (up to 7 s in a demo's first frames, while the other processes
+// start); twenty seconds at 50 Hz (about 1.5 MB) covers that.
+constexpr size_t kSkeletonHistory = 1024;
 
 // The gap limit is about how far the hand can move, so it counts in scene time: a scene played
 // slower (--time-scale) stretches the sender's clock between the same two poses.
@@ -126,17 +126,17 @@ void Receiver::display_loop() {
     // rather than a hand where it no longer is.
     const HandsAtTime at = remote_skeletons_.at(message.capture_timestamp_us);
     const HandSkeleton* drawn = touching(at.hands);
-    bool with_hand = false;
-    if (drawn) {
-      hand->set_pose(*drawn, portrait_camera(message));
-      with_hand = hand->has_pose() && hand->pose_error().empty();
-    }
     if (at.stale()) ++frames_no_hand_skeleton_gap_;
     const size_t drawn_index = drawn ? size_t(drawn - at.hands.data()) : 0;
-    bool adapted = false;
+    bool with_hand = false, adapted = false;
     HostImage shown;
+    uint64_t on_screen = 0;
     {
       session::UrgentTurn turn(common_.gpu_turn);
+      if (drawn) {  // in the turn: a new template or shape uploads its mesh
+        hand->set_pose(*drawn, portrait_camera(message));
+        with_hand = hand->has_pose() && hand->pose_error().empty();
+      }
       vk::upload(*common_.context, portrait, message.color);
       if (with_hand) {
         const uint64_t start = monotonic_now_us();
@@ -150,7 +150,8 @@ void Receiver::display_loop() {
       const uint64_t start = monotonic_now_us();
       graph.run();
       shown = vk::download(*common_.context, compositor->display);
-      receiver_wall_.add(double(monotonic_now_us() - start) / 1000.0);
+      on_screen = monotonic_now_us();
+      receiver_wall_.add(double(on_screen - start) / 1000.0);
       // Appearance adaption (Eq. 3) compares this portrait with the hand posed for its moment in its
       // view, on every shown portrait where the cameras see the hand well (beyond d_max, as
       // adapt_appearance_from requires anyway); the adapted texture is what the next renders sample.
@@ -160,7 +161,6 @@ void Receiver::display_loop() {
       }
     }
     if (adapted) ++appearance_adaptions_;
-    const uint64_t on_screen = monotonic_now_us();
     last_shown_us = on_screen;
     portrait_on_screen_.add(double(int64_t(on_screen) - int64_t(message.capture_timestamp_us)) / 1000.0);
     std::optional<double> skeleton_gap_ms;
@@ -181,6 +181,8 @@ void Receiver::display_loop() {
                  {"t_us", on_screen},
                  {"hand_pose", hand_pose},
                  {"skeleton_gap_ms", skeleton_gap_ms ? nlohmann::json(*skeleton_gap_ms) : nlohmann::json()},
+                 {"nearest_skeleton_ms", at.nearest_sample_gap_us ? nlohmann::json(double(*at.nearest_sample_gap_us) / 1000.0)
+                                                                  : nlohmann::json()},
                  {"appearance_adapted", adapted},
                  {"hand_distance_m", std::isfinite(hand_distance_m) ? nlohmann::json(hand_distance_m) : nlohmann::json()}},
                 repeat);
