@@ -195,8 +195,11 @@ void print_summary(const nlohmann::json& metrics) {
   };
   row("GPU ms sim/ibr/hand/receiver (pass sums)", per_stage(a, true), per_stage(b, true));
   row("wall ms sim/ibr/hand/receiver (median turn)", per_stage(a, false), per_stage(b, false));
-  row("hand render to portrait gap median ms", cell(a["latency_ms"]["hand_render_to_portrait_capture_gap"]["median_ms"]),
-      cell(b["latency_ms"]["hand_render_to_portrait_capture_gap"]["median_ms"]));
+  row("skeleton to portrait gap median ms", cell(a["latency_ms"]["skeleton_to_portrait_gap"]["median_ms"]),
+      cell(b["latency_ms"]["skeleton_to_portrait_gap"]["median_ms"]));
+  row("frames with mesh hand / none (skeleton gap)",
+      cell(a["frames"]["with_mesh_hand"], "%.0f") + " / " + cell(a["frames"]["no_hand_skeleton_gap"], "%.0f"),
+      cell(b["frames"]["with_mesh_hand"], "%.0f") + " / " + cell(b["frames"]["no_hand_skeleton_gap"], "%.0f"));
   row("touch starts / motor pulses", cell(a["touch"]["starts"], "%.0f") + " / " + cell(a["touch"]["motor_pulses"], "%.0f"),
       cell(b["touch"]["starts"], "%.0f") + " / " + cell(b["touch"]["motor_pulses"], "%.0f"));
   // A site that is still finishing sees the peer close: that loss counts here (events.jsonl says "shutdown").

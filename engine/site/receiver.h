@@ -2,24 +2,24 @@
 // The receiver of one site (DESIGN.md section 1, paper section 3.3): shows the remote user to
 // this site's user, the image-based portrait fused with the geometry hand near the glass.
 //
-//   network  remote skeletons -> history and the hand thread; portraits -> mailbox
-//   hand     newest remote skeleton -> geometry hand (skinning, raster) at the portraits' view
-//            -> short history of renders; each shown portrait -> appearance adaption (Eq. 3)
-//   display  newest portrait + the hand render whose skeleton is closest in time to it ->
-//            Eq. 4, Eq. 5, background -> PNG / MP4
+//   network  remote skeletons (50 Hz) -> a time-ordered history; portraits -> mailbox
+//   display  newest portrait -> the remote hands interpolated to its capture time from that
+//            history (tracking/skeleton_interpolation.h; none when no skeleton lies within the
+//            gap limit) -> geometry hand (skinning, raster) in its view -> Eq. 4, Eq. 5,
+//            background -> PNG / MP4; then appearance adaption (Eq. 3) from that same portrait
+//            and pose, where the cameras see the hand well.
 //
-// The hand and display loops run on their own threads (site_run.cpp starts them).
+// The hand is drawn for exactly the moment the portrait shows, not taken from renders made for
+// other skeletons, so the two representations agree however the streams interleave. The display
+// loop runs on its own thread (site_run.cpp starts it) and owns every Vulkan object it uses.
 #include <atomic>
-#include <mutex>
-#include <optional>
 
-#include "geometry/camera.h"
 #include "net/messages.h"
 #include "session/latency_stats.h"
 #include "session/mailbox.h"
-#include "session/timed_history.h"
 #include "site/site_common.h"
 #include "site/site_display.h"
+#include "tracking/skeleton_interpolation.h"
 
 namespace rt::site {
 
@@ -31,7 +31,6 @@ class Receiver {
   void on_skeleton(const net::SkeletonMessage& skeleton);
   void on_portrait(const net::PortraitMessage& portrait, uint64_t arrival_us);
 
-  void hand_loop();
   void display_loop();
   // Ends the display's wait for portraits (a stage failed).
   void stop();
@@ -46,19 +45,15 @@ class Receiver {
 
   SiteCommon& common_;
   session::Mailbox<ReceivedPortrait> portraits_;
-  session::TimedHistory<net::SkeletonMessage> remote_skeletons_;  // sender's frame and clock
-  // The hand thread: the newest remote skeleton to draw, the view to draw it from (the portraits'
-  // camera, sent with each one), the portraits shown (for appearance adaption), its renders.
-  session::Mailbox<net::SkeletonMessage> skeletons_to_draw_;
-  session::Mailbox<ReceivedPortrait> portraits_shown_;
-  std::mutex hand_camera_mutex_;
-  std::optional<Camera> hand_camera_;
-  session::TimedHistory<HandRender> hand_renders_;
-  std::atomic<bool> display_done_{false};
+  SkeletonHistory remote_skeletons_;  // sender's frame and clock
 
   std::atomic<uint64_t> hand_renders_done_{0}, link_lost_frames_{0}, frames_displayed_{0}, portraits_wrong_size_{0};
+  // Portraits shown without the mesh hand because no remote skeleton lay within the gap limit of
+  // their capture time; those shown with it; appearance adaptions run.
+  std::atomic<uint64_t> frames_no_hand_skeleton_gap_{0}, frames_with_hand_{0}, appearance_adaptions_{0};
   std::atomic<uint64_t> last_portrait_arrival_us_{0};
-  session::LatencyStats hand_to_portrait_gap_;  // capture times of the hand render and the portrait fused
+  // How far in time the drawn hand's pose reaches to the skeletons it was built from (see HandsAtTime).
+  session::LatencyStats skeleton_to_portrait_gap_;
   session::LatencyStats portrait_network_, portrait_on_screen_, hand_on_screen_;
   session::LatencyStats hand_wall_, receiver_wall_;  // wall time of the GPU turn (upload, run, download)
 };

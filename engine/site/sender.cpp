@@ -112,7 +112,6 @@ void Sender::capture_loop() {
     std::optional<pipeline::LimbTruth> limb;
     if (replay_) {
       captured.frame = replay_->read(index);  // files only: no GPU turn
-      captured.capture_us = monotonic_now_us();
       captured.scene_time_s = replay_->pacing().time_s(index);
       if (write_truth)
         if (std::optional<HostImage> recorded = ground_truth(index, told_no_truth)) truth = std::move(*recorded);
@@ -122,7 +121,6 @@ void Sender::capture_loop() {
       simulator_->seek(index);
       std::optional<sim::RgbdFrame> frame = simulator_->next_frame();
       if (!frame) break;
-      captured.capture_us = monotonic_now_us();
       captured.frame = std::move(*frame);
       captured.scene_time_s = double(index) / fps;
       if (write_truth) {
@@ -132,6 +130,10 @@ void Sender::capture_loop() {
       }
       simulator_wall_.add(double(monotonic_now_us() - start) / 1000.0);
     }
+    // Stamped with the moment the images show, as a camera stamps its exposure, not when the
+    // simulator or the files had them ready (hundreds of milliseconds later on lavapipe): the
+    // receiver poses the remote hand for this moment, from skeletons stamped when tracked.
+    captured.capture_us = common_.wall_us_at_scene_time(captured.scene_time_s);
     // The viewer's eyes are looked for in the first frames, on the finder's own thread.
     if (eye_finder_->wants_frame()) eye_finder_->offer(captured.capture_us, captured.frame.cameras);
     ++frames_captured_;

@@ -2,7 +2,9 @@
 // What the sender, the receiver and the run of one site share: the options, the scene, the
 // device and its GPU turn, the event log, the link and the scene clock. The run owns it; the
 // sender and the receiver hold a reference.
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <mutex>
@@ -39,6 +41,10 @@ struct SiteCommon {
   std::atomic<bool> sender_done{false};  // no more portraits will be sent
 
   double scene_time_s(uint64_t now_us) const { return double(now_us - epoch_us) * 1e-6 * options.time_scale; }
+  // The monotonic time at which the scene clock reads `scene_s` (the inverse of scene_time_s).
+  uint64_t wall_us_at_scene_time(double scene_s) const {
+    return epoch_us + uint64_t(std::llround(std::max(scene_s, 0.0) / options.time_scale * 1e6));
+  }
   const sim::SiteDescription& site() const { return scene.at(options.site).site; }
 
   // Per-pass GPU ms of a stage's graph, for metrics.json.

@@ -3,19 +3,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace rt::site {
-
-HandRender cropped_hand_render(const HostImage& color, const HostImage& mask, float distance_m) {
-  HandRender render;
-  render.box = nonzero_box(mask);
-  if (render.box.empty()) return render;  // posed out of view
-  render.color = crop(color, render.box);
-  render.mask = crop(mask, render.box);
-  render.distance_m = distance_m;
-  return render;
-}
 
 void label_link_lost(cv::Mat& bgr, const std::string& reason) {
   const double scale = std::max(0.3, bgr.cols / 900.0);

@@ -1,36 +1,19 @@
 #pragma once
-// The pieces of a site's receiver that are plain functions: the hand renders it keeps, the frames
-// it writes (names, the ground truth as the display would show it, the link-lost notice) and
-// what a portrait message says about its view.
+// The pieces of a site's receiver that are plain functions: the frames it writes (names, the
+// ground truth as the display would show it, the link-lost notice), what a portrait message says
+// about its view and which remote hand it draws.
 #include <opencv2/core.hpp>
 
-#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "geometry/camera.h"
 #include "image/host_image.h"
-#include "image/image_crop.h"
 #include "net/messages.h"
 #include "tracking/hand_skeleton.h"
 
 namespace rt::site {
-
-// One geometry-hand render of the hand thread, for the display to fuse with the portrait of the
-// closest capture time: color and mask cut to the hand's box (it covers a small part of the
-// view, and a dozen full frames would be mostly zeros). Nothing drawn: a NaN distance (the
-// fusion then shows the portrait alone).
-struct HandRender {
-  PixelBox box;
-  HostImage color;  // rgba32f straight alpha, box-sized
-  HostImage mask;   // r32f coverage, box-sized
-  float distance_m = NAN;
-  bool drawn() const { return std::isfinite(distance_m); }
-};
-
-// Cuts a hand render (rgba32f color, r32f mask of the full view) to the mask's box.
-HandRender cropped_hand_render(const HostImage& color, const HostImage& mask, float distance_m);
 
 // The notice on a frame shown while the link is down: a user sees why the other person vanished,
 // and that it is being dealt with.

@@ -248,7 +248,6 @@ int SiteRun::run() {
   std::thread capture = guarded("capture", [this] { sender_->capture_loop(); });
   std::thread ibr = guarded("image-based rendering", [this] { sender_->ibr_loop(); });
   std::thread display = guarded("display", [this] { receiver_->display_loop(); });
-  std::thread hand = guarded("hand rendering", [this] { receiver_->hand_loop(); });
 
   std::atomic<bool> display_finished{false};
   std::thread display_watch([&] {
@@ -260,7 +259,6 @@ int SiteRun::run() {
   common_.stopping = true;
   capture.join();
   ibr.join();
-  hand.join();
   tracker.join();
   touch_->stop();
   const double elapsed_s = double(monotonic_now_us() - common_.epoch_us) * 1e-6;
