@@ -125,7 +125,7 @@ void Receiver::display_loop() {
     // view. No skeleton near that moment, or one that cannot be posed, shows the portrait alone
     // rather than a hand where it no longer is.
     const HandsAtTime at = remote_skeletons_.at(message.capture_timestamp_us);
-    const HandSkeleton* drawn = touching(at.hands);
+    const HandSkeleton* drawn = hand_nearest_screen(at.hands);
     if (at.stale()) ++frames_no_hand_skeleton_gap_;
     const size_t drawn_index = drawn ? size_t(drawn - at.hands.data()) : 0;
     bool with_hand = false, adapted = false;

@@ -59,11 +59,4 @@ Camera portrait_camera(const net::PortraitMessage& p) {
   return camera;
 }
 
-const HandSkeleton* touching(const std::vector<HandSkeleton>& hands) {
-  const HandSkeleton* best = nullptr;
-  for (const auto& hand : hands)
-    if (std::isfinite(hand.palm.z()) && (!best || hand.palm.z() < best->palm.z())) best = &hand;
-  return best;
-}
-
 }  // namespace rt::site

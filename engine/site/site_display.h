@@ -31,7 +31,4 @@ cv::Mat to_bgr8(const HostImage& image);
 // The target view a portrait was rendered for, as its message describes it (the sender's frame).
 Camera portrait_camera(const net::PortraitMessage& portrait);
 
-// The hand nearer the glass: the one the receiver draws as geometry; null when none is finite.
-const HandSkeleton* touching(const std::vector<HandSkeleton>& hands);
-
 }  // namespace rt::site

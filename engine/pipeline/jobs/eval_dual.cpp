@@ -26,6 +26,7 @@
 #include "config/assets.h"
 #include "sim/tracker_sim.h"
 #include "sim/tracker_space.h"
+#include "tracking/skeleton_interpolation.h"
 
 namespace rt::pipeline {
 namespace {
@@ -56,30 +57,6 @@ float fusion_distance(const std::string& variant, double tracked_distance_m) {
   if (variant == "hard_switch") return tracked_distance_m < kHardSwitchM ? 0.0f : NAN;
   return float(tracked_distance_m);
 }
-
-// The remote skeletons at the portraits' capture times.
-// TODO(lead): the receiver's interpolation once it lands; the nearest sample until then.
-struct InterpolatedHands {
-  std::vector<HandSkeleton> hands;
-  std::optional<uint64_t> gap_us;
-};
-class SkeletonHistory {
- public:
-  void add(uint64_t t_us, std::vector<HandSkeleton> hands) { samples_.emplace_back(t_us, std::move(hands)); }
-  InterpolatedHands at(uint64_t t_us) const {
-    const std::pair<uint64_t, std::vector<HandSkeleton>>* best = nullptr;
-    uint64_t best_gap = 0;
-    for (const auto& sample : samples_) {
-      const uint64_t gap = sample.first > t_us ? sample.first - t_us : t_us - sample.first;
-      if (!best || gap < best_gap) best = &sample, best_gap = gap;
-    }
-    if (!best || best_gap > 100'000) return {};
-    return {best->second, best_gap};
-  }
-
- private:
-  std::vector<std::pair<uint64_t, std::vector<HandSkeleton>>> samples_;
-};
 
 struct HandRun {
   std::unique_ptr<HandRenderer> renderer;
@@ -158,11 +135,11 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
     for (const auto& camera : simulator.site().cameras) camera_positions.push_back(camera.color_camera().position_in_site());
 
     // The remote skeletons: the whole 50 Hz stream of the scene, in the sender's frame.
-    SkeletonHistory skeletons;
+    std::vector<SkeletonSample> skeletons;
     {
       sim::SimulatedHandTracker tracker = sim::make_simulated_tracker(scene, site);
       while (auto frame = tracker.next_frame())
-        skeletons.add(frame->timestamp_us, sim::skeletons_in_site(*frame, simulator.site().tracker));
+        skeletons.push_back({frame->timestamp_us, sim::skeletons_in_site(*frame, simulator.site().tracker)});
     }
 
     // The receiver: one geometry hand per configuration the variants need.
@@ -205,8 +182,10 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
       const HostImage portrait = vk::download(context, ibr.portrait());
 
       // The receiver's hand, posed from the skeleton at the portrait's capture time.
-      const InterpolatedHands at_capture = skeletons.at(frame->timestamp_us);
+      const HandsAtTime at_capture = hands_at(skeletons, frame->timestamp_us);
       const HandSkeleton* drawn = hand_nearest_screen(at_capture.hands);
+      std::optional<uint64_t> skeleton_gap_us;
+      if (drawn) skeleton_gap_us = at_capture.gap_us[size_t(drawn - at_capture.hands.data())];
       double tracked_distance_m = NAN;
       for (auto& [path, run] : hands) {
         run.drawn = false;
@@ -221,7 +200,7 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
       }
 
       FrameRecord record{user_name, uint32_t(frame->index), double(frame->timestamp_us) * 1e-6, truth.distance_m,
-                         tracked_distance_m, phase, at_capture.gap_us, count_set(region.hand_arm)};
+                         tracked_distance_m, phase, skeleton_gap_us, count_set(region.hand_arm)};
       vk::upload(context, compositor.portrait, portrait);
       std::optional<HandPath> uploaded;
       for (const std::string& name : variants) {
