@@ -105,7 +105,8 @@ std::vector<MeshVertex> person_mesh(const PersonPose& pose, const UserAppearance
   for (const ArmPose* arm : {&pose.left_arm, &pose.right_arm}) {
     append_capsule(mesh, arm->shoulder, arm->elbow, 0.045, 0.045, Eigen::Vector3d::UnitX(), body, user.shirt_rgb,
                    user.shirt_stripe_rgb, stripes, detail);
-    append_capsule(mesh, arm->elbow, arm->wrist, 0.035, 0.035, Eigen::Vector3d::UnitX(), body, skin, skin, 0.0f, detail);
+    append_capsule(mesh, arm->elbow, arm->wrist, kForearmRadiusM, kForearmRadiusM, Eigen::Vector3d::UnitX(), body, skin,
+                   skin, 0.0f, detail);
   }
   append_hand(mesh, pose.right_hand, user.hand_scale, skin, detail);
   append_hand(mesh, pose.left_hand, user.hand_scale, skin, detail);

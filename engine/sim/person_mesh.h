@@ -12,6 +12,11 @@ namespace rt::sim {
 
 using shader_abi::MeshVertex;
 
+// The simulated user's forearm: a skin-colored capsule of this radius from elbow to wrist. The
+// simulated tracker reports twice it as the arm's width.
+inline constexpr double kForearmRadiusM = 0.035;
+inline constexpr double kArmWidthM = 2 * kForearmRadiusM;
+
 struct MeshDetail {
   int segments = 16;  // around a capsule or sphere
   int rings = 8;      // from a capsule's pole to its equator
