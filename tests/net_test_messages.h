@@ -46,11 +46,14 @@ inline net::SkeletonMessage test_skeleton(uint64_t timestamp_us) {
   HandSkeleton right = flat_hand(0.1, 0.05, 0.12, timestamp_us - 5);
   right.id = 7;
   right.confidence = 0.875f;
+  right.elbow.setConstant(std::nan(""));  // a tracker frame without an elbow or widths
   HandSkeleton left = flat_hand(-0.2, -0.01, 0.3, timestamp_us - 9);
   left.id = -3;
   left.is_left = true;
   left.confidence = 0.5f;
   left.elbow = {-0.3, -0.35, 0.45};
+  left.palm_width_m = 0.0815;
+  left.arm_width_m = 0.064;
   s.hands = {right, left};
   return s;
 }

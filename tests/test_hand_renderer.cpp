@@ -117,3 +117,46 @@ TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the por
   graph.run();
   CHECK((mean_color(vk::download(context, renderer.color()), mask) - before).norm() < 1e-6);
 }
+
+TEST_CASE("HandRenderer draws the forearm only with a tracked elbow at a plausible distance") {
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  const Camera camera = target_view_camera(Eigen::Vector3d(0, 0.02, -0.7), Screen{}, 121, 67);
+  pipeline::HandRenderer renderer(context, kTemplates, 121, 67);
+  vk::FrameGraph graph(context, "test hand renderer forearm");
+  renderer.add_to(graph);
+  const auto& hand = renderer.active_template();
+  REQUIRE(hand.hand_index_count > 0);
+  REQUIRE(hand.hand_index_count < hand.indices.size());
+
+  HandSkeleton with_arm = facing_hand(0.15);
+  with_arm.palm_width_m = sim::palm_width_m(0.9);
+  with_arm.arm_width_m = 0.06;
+  renderer.set_pose(with_arm, camera);
+  REQUIRE(renderer.forearm_drawn());
+  CHECK(renderer.drawn_index_count() == hand.indices.size());
+  graph.run();
+  const HostImage depth_arm = vk::download(context, renderer.depth());
+  const double arm = covered(vk::download(context, renderer.mask()));
+  CHECK(test::count_non_finite(depth_arm) == 0);
+
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  HandSkeleton no_elbow = with_arm;
+  no_elbow.elbow = Eigen::Vector3d::Constant(nan);
+  HandSkeleton zero_forearm = with_arm;
+  zero_forearm.elbow = zero_forearm.wrist;
+  HandSkeleton wild = with_arm;
+  wild.elbow = wild.wrist - 3.0 * wild.direction;
+  for (const HandSkeleton* skeleton : {&no_elbow, &zero_forearm, &wild}) {
+    renderer.set_pose(*skeleton, camera);
+    REQUIRE(renderer.has_pose());
+    CHECK_FALSE(renderer.forearm_drawn());
+    CHECK(renderer.drawn_index_count() == hand.hand_index_count);
+    graph.run();
+    const HostImage depth = vk::download(context, renderer.depth());
+    CHECK(test::count_non_finite(depth) == 0);
+    const double alone = covered(vk::download(context, renderer.mask()));
+    CHECK(alone > 50);
+    CHECK(alone < arm - 50);  // the forearm's pixels are gone
+  }
+}

@@ -3,10 +3,12 @@
 // cases (one bone, zero weights but one, huge translations). Tolerance: 2e-6 m absolute plus
 // 1e-6 relative on positions (float32 arithmetic), 1e-5 on unit normals; never NaN.
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "hand/hand_bones.h"
 #include "hand/hand_template.h"
+#include "hand/shape_adaption.h"
 #include "passes/hand_skinning.h"
 #include "sim/hand_model.h"
 #include "support/gpu_test.h"
@@ -107,6 +109,56 @@ TEST_CASE("hand_skinning of the template over random hand poses: the GPU error s
       REQUIRE(pose.ok());
       const auto bones = hand::skinning_matrices(pose.frames, hand.rest);
       CHECK(require_matches(run_gpu(hand.vertices, bones), passes::hand_skinning_reference(hand.vertices, bones)) < 1e-5);
+    }
+  }
+}
+
+TEST_CASE("hand_skinning of the forearm, shape-adapted with widths: random poses, a zero-length forearm, an elbow missing") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), positive(0.0, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (bool is_left : {false, true}) {
+    const hand::HandTemplate hand = hand::build_hand_template(is_left);
+    for (int trial = 0; trial < 6; ++trial) {
+      INFO((is_left ? "left" : "right") << " trial " << trial);
+      sim::HandPlacement placement;
+      placement.palm = Eigen::Vector3d(0.3 * unit(rng), 0.2 * unit(rng), 0.2 + 0.2 * positive(rng));
+      placement.orientation = Eigen::Quaterniond(unit(rng), unit(rng), unit(rng), unit(rng) + 1.5).normalized();
+      placement.curl = positive(rng);
+      const double scale = 0.85 + 0.3 * positive(rng);
+      HandSkeleton skeleton = sim::build_hand(placement, is_left, scale);
+      // A forearm bent away from the hand's direction by up to ~35 degrees, or none.
+      const Eigen::Vector3d bend = 0.35 * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+      const double forearm = 0.2 + 0.1 * positive(rng);
+      skeleton.elbow = trial == 4 ? Eigen::Vector3d::Constant(nan)
+                       : trial == 5 ? skeleton.wrist
+                                    : Eigen::Vector3d(skeleton.wrist - forearm * (skeleton.direction + bend).normalized());
+      skeleton.palm_width_m = sim::palm_width_m(scale);
+      skeleton.arm_width_m = 0.055 + 0.02 * positive(rng);
+      const hand::BoneScales scales = hand::bone_scales(skeleton, hand.rest, {hand.palm_width_m, hand.arm_width_m});
+      REQUIRE(scales.ok());
+      const hand::RestSkeleton adapted = hand::adapted_rest_skeleton(hand.rest, scales);
+      const auto vertices = hand::adapt_rest_mesh(hand.vertices, hand.rest, adapted, scales);
+      const hand::BonePose pose = hand::pose_bones(skeleton, adapted);
+      REQUIRE(pose.ok());
+      const auto bones = hand::skinning_matrices(pose.frames, adapted);
+      const auto reference = passes::hand_skinning_reference(vertices, bones);
+      CHECK(require_matches(run_gpu(vertices, bones), reference) < 1e-5);
+      CHECK(hand::forearm_tracked(skeleton, hand.rest) == (trial < 4));
+      if (trial >= 4) continue;
+      // The forearm's own vertices (arm weight only) lie on the tracked elbow-wrist segment's
+      // tube: within half the tracked arm width of the axis, between the elbow's cap and the wrist.
+      const Eigen::Vector3d axis = (skeleton.wrist - skeleton.elbow).normalized();
+      for (size_t t = hand.hand_index_count; t < hand.indices.size(); ++t) {
+        const uint32_t i = hand.indices[t];
+        if (!(vertices[i].weights[0] == 1.0f && int(vertices[i].joints[0]) == hand::kArmBone)) continue;
+        const Eigen::Vector3d p(reference[i].position_u[0], reference[i].position_u[1], reference[i].position_u[2]);
+        const double along = (p - skeleton.elbow).dot(axis);
+        CHECK(along >= -0.035 * forearm / hand.rest[hand::kArmBone].length_m - 1e-6);  // the cap, scaled along
+        CHECK(along <= forearm);
+        CHECK((p - skeleton.elbow - along * axis).norm() <= skeleton.arm_width_m / 2 + 1e-6);
+      }
     }
   }
 }

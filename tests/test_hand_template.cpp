@@ -153,11 +153,11 @@ TEST_CASE("The rest shape: the generator's flat medium hand, bones and mesh") {
             reach[size_t(d)] = std::max(reach[size_t(d)], (p - end[bone]).dot(along));
           }
       }
-      // A finger's tube is at most 13 mm thick (the thumb's), the forearm 29 mm; the wrist bone
+      // A finger's tube is at most 13 mm thick (the thumb's), the forearm 35 mm; the wrist bone
       // carries the palm (4.5 cm either side of it at the knuckles) and the thumb's base.
       for (int bone = 0; bone < kBoneCount; ++bone) {
         INFO("bone " << bone_name(bone));
-        CHECK(worst_by_bone[size_t(bone)] < (bone == kWristBone ? 0.055 : bone == kArmBone ? 0.030 : 0.014));
+        CHECK(worst_by_bone[size_t(bone)] < (bone == kWristBone ? 0.055 : bone == kArmBone ? 0.036 : 0.014));
       }
       for (int d = 0; d < kDigitCount; ++d) {
         INFO("digit " << d << " reaches " << reach[size_t(d)] * 1000 << " mm past its tip joint");
@@ -165,6 +165,46 @@ TEST_CASE("The rest shape: the generator's flat medium hand, bones and mesh") {
         CHECK(reach[size_t(d)] < 0.010);
       }
     }
+}
+
+TEST_CASE("The forearm: after the hand's triangles, round as the simulator's, from the elbow to the wrist") {
+  for (bool is_left : {false, true}) {
+    const HandTemplate hand = build_hand_template(is_left);
+    INFO((is_left ? "left" : "right"));
+    REQUIRE(hand.hand_index_count % 3 == 0);
+    REQUIRE(hand.hand_index_count > 0);
+    REQUIRE(hand.hand_index_count < hand.indices.size());
+    CHECK(hand.palm_width_m == Approx(sim::palm_width_m(1.0)));
+    CHECK(hand.arm_width_m == Approx(2 * 0.035));
+    const double forearm = hand.rest[kArmBone].length_m;
+    CHECK(forearm == Approx(0.25));
+    // Vertices only the forearm uses: along -y from the wrist to the elbow's cap, within its
+    // radius of the axis, weighted to the arm (blending into the wrist only near the wrist).
+    std::vector<bool> in_hand(hand.vertices.size(), false);
+    for (uint32_t i = 0; i < hand.hand_index_count; ++i) in_hand[hand.indices[i]] = true;
+    double lowest = 0, widest = 0;
+    size_t arm_only = 0;
+    for (size_t t = hand.hand_index_count; t < hand.indices.size(); ++t) {
+      const uint32_t i = hand.indices[t];
+      REQUIRE_FALSE(in_hand[i]);
+      const HandVertex& v = hand.vertices[i];
+      const Eigen::Vector3d p(v.position_u[0], v.position_u[1], v.position_u[2]);
+      CHECK(p.y() < 0.0);
+      lowest = std::min(lowest, p.y());
+      widest = std::max(widest, std::hypot(p.x(), p.z()));
+      double arm = 0;
+      for (int k = 0; k < 4; ++k)
+        if (int(v.joints[k]) == kArmBone) arm += v.weights[k];
+        else if (v.weights[k] > 0) CHECK(int(v.joints[k]) == kWristBone);
+      if (p.y() < -0.04) CHECK(arm == Approx(1.0).margin(1e-6));
+      arm_only += arm > 0.999;
+    }
+    CHECK(lowest == Approx(-forearm - 0.035).margin(1e-4));  // the elbow's round cap
+    CHECK(widest == Approx(0.035).margin(1e-4));
+    CHECK(arm_only > 200);
+    // The hand's own triangles reach no further than 4 cm behind the wrist.
+    for (uint32_t t = 0; t < hand.hand_index_count; ++t) CHECK(hand.vertices[hand.indices[t]].position_u[1] > -0.041f);
+  }
 }
 
 TEST_CASE("Bad template files give an error that names the file and the problem") {
@@ -182,6 +222,24 @@ TEST_CASE("Bad template files give an error that names the file and the problem"
     std::ofstream(dir / "left_hand.bin", std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 2));
   }
   CHECK_THROWS_AS(load_hand_template(dir, true), HandTemplateError);
+  // A template without the forearm's split, or with one past its indices.
+  std::filesystem::copy_file(kAssets / "left_hand.bin", dir / "left_hand.bin", std::filesystem::copy_options::overwrite_existing);
+  std::string gltf;
+  {
+    std::ifstream in(kAssets / "left_hand.gltf");
+    gltf.assign((std::istreambuf_iterator<char>(in)), {});
+  }
+  const size_t key = gltf.find("\"hand_index_count\"");
+  REQUIRE(key != std::string::npos);
+  auto with = [&](const std::string& replacement) {
+    std::string changed = gltf;
+    changed.replace(key, std::string("\"hand_index_count\"").size(), replacement);
+    std::ofstream(dir / "left_hand.gltf") << changed;
+  };
+  with("\"hand_index_total\"");
+  CHECK_THROWS_WITH(load_hand_template(dir, true), Catch::Contains("left_hand.gltf") && Catch::Contains("extras.hand_index_count"));
+  with("\"hand_index_count\": 99999999, \"unused\"");
+  CHECK_THROWS_WITH(load_hand_template(dir, true), Catch::Contains("hand_index_count"));
 }
 
 TEST_CASE("Posing the rest skeleton gives identity skinning; rigid motions move the mesh rigidly") {
@@ -309,4 +367,146 @@ TEST_CASE("Shape adaption per bone: longer fingers stretch only their own bones;
   for (auto& digit : huge.digits) digit[4] = digit[3] + 10.0 * (digit[4] - digit[3]);
   const BoneScales clamped = bone_scales(huge, hand.rest);
   for (double s : clamped.scale) CHECK(s <= kMaxBoneScale);
+}
+
+TEST_CASE("Shape adaption with widths: S_j scales across the bone by the width ratio, normals by the inverse transpose") {
+  for (bool is_left : {false, true}) {
+    const HandTemplate hand = build_hand_template(is_left);
+    const TemplateWidths widths{hand.palm_width_m, hand.arm_width_m};
+    // A hand 10% longer and 15% narrower than the template, with a 28 cm forearm 6 cm wide.
+    const double k = 1.1, w = 0.85, arm_length = 0.28, arm_width = 0.06;
+    HandSkeleton tracked = posed_hand(is_left, k, 0.0, Eigen::Vector3d(0, k * sim::palm_centre_uv().y(), 0));
+    tracked.elbow = tracked.wrist - arm_length * tracked.direction;
+    tracked.palm_width_m = w * hand.palm_width_m;
+    tracked.arm_width_m = arm_width;
+    const BoneScales scales = bone_scales(tracked, hand.rest, widths);
+    REQUIRE(scales.ok());
+    for (int bone = kWristBone; bone < kBoneCount; ++bone) {
+      INFO(bone_name(bone));
+      CHECK(scales.scale[bone] == Approx(k).epsilon(1e-9));
+      CHECK(scales.across[bone] == Approx(w).epsilon(1e-9));
+    }
+    CHECK(scales.scale[kArmBone] == Approx(arm_length / 0.25).epsilon(1e-9));
+    CHECK(scales.across[kArmBone] == Approx(arm_width / hand.arm_width_m).epsilon(1e-9));
+
+    const RestSkeleton adapted = adapted_rest_skeleton(hand.rest, scales);
+    const auto vertices = adapt_rest_mesh(hand.vertices, hand.rest, adapted, scales);
+    REQUIRE(vertices.size() == hand.vertices.size());
+    // The bind frames are axis-aligned in the palm (wrist bone: the identity at the wrist), so a
+    // vertex on the wrist bone alone goes to (w x, k y, w z) and its normal to (x / w, y / k, z / w).
+    size_t checked = 0;
+    for (size_t i = 0; i < vertices.size(); ++i) {
+      const HandVertex &before = hand.vertices[i], &after = vertices[i];
+      for (int c = 0; c < 4; ++c) REQUIRE((std::isfinite(after.position_u[c]) && std::isfinite(after.normal_v[c])));
+      CHECK(std::abs(Eigen::Vector3f(after.normal_v[0], after.normal_v[1], after.normal_v[2]).norm() - 1.0f) < 1e-5f);
+      if (!(before.weights[0] == 1.0f && int(before.joints[0]) == kWristBone)) continue;
+      const Eigen::Vector3d p(before.position_u[0], before.position_u[1], before.position_u[2]);
+      const Eigen::Vector3d n(before.normal_v[0], before.normal_v[1], before.normal_v[2]);
+      const Eigen::Vector3d expected(w * p.x(), k * p.y(), w * p.z());
+      const Eigen::Vector3d expected_n = Eigen::Vector3d(n.x() / w, n.y() / k, n.z() / w).normalized();
+      CHECK((Eigen::Vector3d(after.position_u[0], after.position_u[1], after.position_u[2]) - expected).norm() < 1e-6);
+      CHECK((Eigen::Vector3d(after.normal_v[0], after.normal_v[1], after.normal_v[2]) - expected_n).norm() < 1e-5);
+      ++checked;
+    }
+    CHECK(checked > 100);
+    // The forearm is as wide and as long as the tracked one.
+    double arm_half = 0, arm_low = 0;
+    for (size_t i = 0; i < vertices.size(); ++i) {
+      const Eigen::Vector3f p(vertices[i].position_u[0], vertices[i].position_u[1], vertices[i].position_u[2]);
+      const Eigen::Vector3f q(hand.vertices[i].position_u[0], hand.vertices[i].position_u[1], hand.vertices[i].position_u[2]);
+      if (q.y() < -0.1f) arm_half = std::max(arm_half, double(std::hypot(p.x(), p.z())));
+      arm_low = std::min(arm_low, double(p.y()));
+    }
+    CHECK(arm_half == Approx(arm_width / 2).epsilon(1e-3));
+    CHECK(arm_low == Approx(-arm_length * (1.0 + 0.035 / 0.25)).epsilon(1e-4));  // the elbow's cap scales along
+    // Posed with the adapted skeleton, the fingers start where the narrowed palm puts them: this
+    // skeleton's knuckles spread by k, not by w, so its tips are missed by (k - w) times the
+    // knuckle's lateral offset (at most 4.5 cm); with a palm width that agrees they land exactly.
+    const BonePose pose = pose_bones(tracked, adapted);
+    REQUIRE(pose.ok());
+    for (int d = 0; d < kDigitCount; ++d)
+      CHECK((posed_tip(pose.frames, adapted, d) - tracked.digits[d][4]).norm() < (k - w) * 0.045 + 1e-9);
+    HandSkeleton agreeing = tracked;
+    agreeing.palm_width_m = k * hand.palm_width_m;
+    const RestSkeleton fitted = adapted_rest_skeleton(hand.rest, bone_scales(agreeing, hand.rest, widths));
+    const BonePose fitted_pose = pose_bones(agreeing, fitted);
+    REQUIRE(fitted_pose.ok());
+    for (int d = 0; d < kDigitCount; ++d)
+      CHECK((posed_tip(fitted_pose.frames, fitted, d) - agreeing.digits[d][4]).norm() < 1e-9);
+  }
+}
+
+TEST_CASE("Shape adaption with widths: missing, degenerate and wild widths and forearms") {
+  const HandTemplate hand = build_hand_template(false);
+  const TemplateWidths widths{hand.palm_width_m, hand.arm_width_m};
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const double k = 0.9;
+  const HandSkeleton base = posed_hand(false, k, 0.3, Eigen::Vector3d(0.02, 0.1, 0.3));
+  auto require_usable = [&](const HandSkeleton& tracked) {
+    const BoneScales scales = bone_scales(tracked, hand.rest, widths);
+    REQUIRE(scales.ok());
+    for (int bone = 0; bone < kBoneCount; ++bone) {
+      REQUIRE(std::isfinite(scales.scale[bone]));
+      REQUIRE(std::isfinite(scales.across[bone]));
+      CHECK(scales.scale[bone] >= kMinBoneScale);
+      CHECK(scales.across[bone] <= kMaxBoneScale);
+    }
+    const RestSkeleton adapted = adapted_rest_skeleton(hand.rest, scales);
+    const auto vertices = adapt_rest_mesh(hand.vertices, hand.rest, adapted, scales);
+    for (const HandVertex& v : vertices)
+      for (int c = 0; c < 4; ++c) REQUIRE((std::isfinite(v.position_u[c]) && std::isfinite(v.normal_v[c])));
+    const BonePose pose = pose_bones(tracked, adapted);
+    REQUIRE(pose.ok());
+    CHECK(all_finite(skin(pose.frames, adapted, vertices)));
+    return scales;
+  };
+  SECTION("no widths: the paper's uniform scale per bone") {
+    const BoneScales scales = require_usable(base);
+    for (int bone = 0; bone < kBoneCount; ++bone) CHECK(scales.across[bone] == scales.scale[bone]);
+    // And without template widths too.
+    HandSkeleton with = base;
+    with.palm_width_m = 0.07;
+    const BoneScales no_reference = bone_scales(with, hand.rest);
+    for (int bone = 0; bone < kBoneCount; ++bone) CHECK(no_reference.across[bone] == no_reference.scale[bone]);
+  }
+  SECTION("a palm width alone sets the forearm's width too") {
+    HandSkeleton with = base;
+    with.palm_width_m = 0.8 * hand.palm_width_m;
+    const BoneScales scales = require_usable(with);
+    CHECK(scales.across[kArmBone] == Approx(0.8));
+    CHECK(scales.across[digit_bone(3, 2)] == Approx(0.8));
+  }
+  SECTION("zero, negative and infinite widths are not measurements; huge ones are clamped") {
+    for (double bad : {0.0, -0.05, inf, nan}) {
+      HandSkeleton with = base;
+      with.palm_width_m = bad;
+      with.arm_width_m = bad;
+      const BoneScales scales = require_usable(with);
+      for (int bone = 0; bone < kBoneCount; ++bone) CHECK(scales.across[bone] == scales.scale[bone]);
+    }
+    HandSkeleton huge = base;
+    huge.palm_width_m = 10.0;
+    huge.arm_width_m = 1e-6;
+    const BoneScales scales = require_usable(huge);
+    CHECK(scales.across[kWristBone] == kMaxBoneScale);
+    CHECK(scales.across[kArmBone] == kMinBoneScale);
+  }
+  SECTION("an elbow missing or at the wrist: the forearm takes the palm's scale and is not drawn") {
+    HandSkeleton missing = base;
+    missing.elbow = Eigen::Vector3d::Constant(nan);
+    HandSkeleton zero = base;
+    zero.elbow = zero.wrist;
+    HandSkeleton partial = base;
+    partial.elbow.x() = nan;
+    for (const HandSkeleton* tracked : {&missing, &zero, &partial}) {
+      const BoneScales scales = require_usable(*tracked);
+      CHECK(scales.scale[kArmBone] == Approx(scales.scale[kWristBone]));
+      CHECK_FALSE(forearm_tracked(*tracked, hand.rest));
+    }
+    CHECK(forearm_tracked(base, hand.rest));
+    HandSkeleton far = base;
+    far.elbow = far.wrist - 2.0 * far.direction;
+    CHECK_FALSE(forearm_tracked(far, hand.rest));
+    CHECK(require_usable(far).scale[kArmBone] == kMaxBoneScale);
+  }
 }

@@ -103,7 +103,10 @@ TEST_CASE("small messages round-trip exactly") {
     CHECK(a.confidence == b.confidence);
     CHECK(a.wrist == b.wrist);
     CHECK(a.palm == b.palm);
-    CHECK(a.elbow == b.elbow);
+    CHECK(a.has_elbow() == b.has_elbow());
+    if (b.has_elbow()) CHECK(a.elbow == b.elbow);
+    CHECK((a.palm_width_m == b.palm_width_m || (std::isnan(a.palm_width_m) && std::isnan(b.palm_width_m))));
+    CHECK((a.arm_width_m == b.arm_width_m || (std::isnan(a.arm_width_m) && std::isnan(b.arm_width_m))));
     CHECK(a.palm_normal == b.palm_normal);
     CHECK(a.direction == b.direction);
     for (int d = 0; d < kDigitCount; ++d)
@@ -168,8 +171,10 @@ TEST_CASE("malformed headers are rejected with what is wrong") {
   bytes[0] = 'X';
   expect_rejected(bytes, DecodeErrorKind::BadMagic, "magic");
   bytes = good;
-  bytes[4] = 2;
-  expect_rejected(bytes, DecodeErrorKind::BadVersion, "version 2");
+  bytes[4] = uint8_t(kProtocolVersion + 1);
+  expect_rejected(bytes, DecodeErrorKind::BadVersion, "version " + std::to_string(kProtocolVersion + 1));
+  bytes[4] = 1;  // a version-1 peer (skeletons without widths) is told, not misread
+  expect_rejected(bytes, DecodeErrorKind::BadVersion, "version 1");
   bytes = good;
   bytes[6] = 9;
   expect_rejected(bytes, DecodeErrorKind::UnknownType, "type 9");
@@ -219,6 +224,33 @@ TEST_CASE("bad values are rejected: NaN, Inf, out of range, bad flags, hand coun
   expect_rejected(skeleton, DecodeErrorKind::BadValue, "3 hands");
   skeleton[kHeaderSize + 8] = 1;  // one hand declared, two present
   expect_rejected(skeleton, DecodeErrorKind::BadLength, "1 hands needs");
+}
+
+TEST_CASE("skeletons: a missing elbow and missing widths travel as NaN; damaged ones are refused") {
+  const SkeletonMessage sent = test::test_skeleton(10);
+  REQUIRE_FALSE(sent.hands[0].has_elbow());  // the right hand's tracker gave no elbow and no widths
+  REQUIRE(sent.hands[1].has_elbow());
+  const auto back = round_trip<SkeletonMessage>(sent);
+  CHECK_FALSE(back.hands[0].has_elbow());
+  CHECK(std::isnan(back.hands[0].palm_width_m));
+  CHECK(std::isnan(back.hands[0].arm_width_m));
+  CHECK(back.hands[1].palm_width_m == sent.hands[1].palm_width_m);
+  CHECK(back.hands[1].arm_width_m == sent.hands[1].arm_width_m);
+
+  const size_t first_hand = kHeaderSize + 9;
+  const size_t elbow = first_hand + 17 + 2 * 24, widths = first_hand + 17 + 30 * 24;
+  auto skeleton = encode_message(sent);
+  patch_f64(skeleton, elbow + 8, 0.25);  // one coordinate of the NaN elbow
+  expect_rejected(skeleton, DecodeErrorKind::BadValue, "hand 0: elbow is not finite");
+  skeleton = encode_message(sent);
+  patch_f64(skeleton, widths, -0.08);
+  expect_rejected(skeleton, DecodeErrorKind::BadValue, "hand 0: palm width");
+  skeleton = encode_message(sent);
+  patch_f64(skeleton, widths + 8, std::numeric_limits<double>::infinity());
+  expect_rejected(skeleton, DecodeErrorKind::BadValue, "arm width");
+  SkeletonMessage bad = sent;
+  bad.hands[1].arm_width_m = 3.0;
+  CHECK_THROWS_WITH(encode_message(bad), Catch::Matchers::Contains("arm width"));
 }
 
 TEST_CASE("portraits: bad fields, image sizes that disagree, corrupt images") {

@@ -3,6 +3,7 @@
 // never crashes the reader; a recorded tracker.jsonl replays the simulated frames bit for bit.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -12,6 +13,7 @@
 #include "sim/scene.h"
 #include "sim/tracker_replay.h"
 #include "sim/tracker_sim.h"
+#include "sim/tracker_space.h"
 
 using namespace rt;
 using namespace rt::sim;
@@ -102,8 +104,35 @@ TEST_CASE("a device's frame, with fields we do not read, parses", "[sim][leap_js
   CHECK(hand.palm_position == Eigen::Vector3d(31.2, 182.4, -12.5));
   CHECK(hand.digits[2].tip == Eigen::Vector3d(32, 182, -114));
   CHECK(hand.digits[4].mcp == Eigen::Vector3d(62, 182, -8));
+  REQUIRE(hand.elbow.has_value());
+  CHECK(*hand.elbow == Eigen::Vector3d(20.0, 120.0, 290.0));
+  REQUIRE(hand.arm_width.has_value());
+  CHECK(*hand.arm_width == 60.0);
   // And a frame without hands.
   CHECK(parse_leap_json_line(R"({"id": 3, "timestamp": 60000, "hands": [], "pointables": []})").hands.empty());
+}
+
+TEST_CASE("a frame without an elbow or an arm width has no forearm: nothing is invented", "[sim][leap_json]") {
+  nlohmann::json json = nlohmann::json::parse(kDeviceFrame);
+  json["hands"][0].erase("elbow");
+  json["hands"][0].erase("armWidth");
+  const TrackerFrame frame = frame_from_leap_json(json);
+  REQUIRE(frame.hands.size() == 1);
+  CHECK_FALSE(frame.hands[0].elbow.has_value());
+  CHECK_FALSE(frame.hands[0].arm_width.has_value());
+  const nlohmann::json written = leap_json_from_frame(frame);
+  CHECK_FALSE(written["hands"][0].contains("elbow"));
+  CHECK_FALSE(written["hands"][0].contains("armWidth"));
+  CHECK(frame_from_leap_json(written) == frame);
+  // In the site frame: NaN elbow and arm width, the palm width in metres.
+  const HandSkeleton skeleton = skeleton_from_tracker_hand(frame.hands[0], frame.timestamp_us, TrackerPlacement{});
+  CHECK_FALSE(skeleton.has_elbow());
+  CHECK(std::isnan(skeleton.arm_width_m));
+  CHECK(skeleton.palm_width_m == Approx(0.0849));
+  const HandSkeleton with_arm =
+      skeleton_from_tracker_hand(parse_leap_json_line(kDeviceFrame).hands[0], frame.timestamp_us, TrackerPlacement{});
+  CHECK(with_arm.has_elbow());
+  CHECK(with_arm.arm_width_m == Approx(0.060));
 }
 
 TEST_CASE("malformed frames are refused, naming the field", "[sim][leap_json]") {
@@ -132,7 +161,9 @@ TEST_CASE("malformed frames are refused, naming the field", "[sim][leap_json]") 
   require_rejected(changed([](auto& j) { j["hands"][0]["palmNormal"] = {0.0, 0.0, 0.0}; }), "'palmNormal' must be a unit vector");
   require_rejected(changed([](auto& j) { j["hands"][0]["confidence"] = 1.5; }), "'confidence'");
   require_rejected(changed([](auto& j) { j["hands"][0]["palmWidth"] = -3; }), "'palmWidth'");
-  require_rejected(changed([](auto& j) { j["hands"][0].erase("elbow"); }), "missing field 'elbow'");
+  require_rejected(changed([](auto& j) { j["hands"][0]["elbow"] = {1.0, 2.0}; }), "hand " + hand_id, "'elbow'");
+  require_rejected(changed([](auto& j) { j["hands"][0]["armWidth"] = 0; }), "hand " + hand_id, "'armWidth'");
+  require_rejected(changed([](auto& j) { j["hands"][0]["armWidth"] = "wide"; }), "'armWidth'");
   require_rejected(changed([](auto& j) { j["hands"].push_back(j["hands"][0]); }), "two hands have id " + hand_id);
   require_rejected(changed([](auto& j) { j["pointables"][2]["type"] = 7; }), "pointables[2]", "'type' must be in [0, 4]");
   require_rejected(changed([](auto& j) { j["pointables"][3]["type"] = 1; }), "two pointables of type 1");

@@ -11,6 +11,8 @@
 #include "sim/leap_json.h"
 #include "sim/motion.h"
 #include "sim/scene.h"
+#include "sim/hand_model.h"
+#include "sim/person_mesh.h"
 #include "sim/tracker_sim.h"
 #include "sim/tracker_space.h"
 #include "support/hands.h"
@@ -37,7 +39,8 @@ Scene clap_with(const TrackerEffects& effects) {
 // The joints the tracker reports with independent noise: palm, wrist, elbow and every digit joint
 // except the thumb's carp (it is its mcp) and btip (it is the tip).
 std::vector<Eigen::Vector3d> independent_points(const TrackerHand& hand) {
-  std::vector<Eigen::Vector3d> points{hand.palm_position, hand.wrist, hand.elbow};
+  std::vector<Eigen::Vector3d> points{hand.palm_position, hand.wrist};
+  if (hand.elbow) points.push_back(*hand.elbow);
   for (int d = 0; d < kDigitCount; ++d) {
     const TrackerDigit& digit = hand.digits[d];
     if (d != int(Digit::Thumb)) points.push_back(digit.carp);
@@ -54,7 +57,8 @@ const TrackerHand* find_hand(const TrackerFrame& frame, bool is_left) {
 
 double worst_joint_error(const HandSkeleton& a, const HandSkeleton& b) {
   const auto ja = a.hand_joints(), jb = b.hand_joints();
-  double worst = (a.elbow - b.elbow).norm();
+  REQUIRE(a.has_elbow() == b.has_elbow());
+  double worst = a.has_elbow() ? (a.elbow - b.elbow).norm() : 0.0;
   for (size_t i = 0; i < ja.size(); ++i) worst = std::max(worst, (ja[i] - jb[i]).norm());
   return worst;
 }
@@ -107,6 +111,9 @@ TEST_CASE("effects off: the round trip through tracker space and Leap JSON gives
         CHECK((hand.palm_normal - truth.right_hand.palm_normal).norm() < 1e-4);
         CHECK((hand.direction - truth.right_hand.direction).norm() < 1e-4);
         CHECK(hand.timestamp_us == frames[i].timestamp_us);
+        // The widths the simulated user has: the palm's from the hand's size, the forearm's capsule.
+        CHECK(hand.palm_width_m == Approx(palm_width_m(setup.user.hand_scale)).margin(1e-6));
+        CHECK(hand.arm_width_m == Approx(kArmWidthM).margin(1e-6));
         // One id for as long as the hand stays tracked.
         if (right_id && !frames[i - 1].hands.empty()) CHECK(hand.id == *right_id);
         right_id = hand.id;

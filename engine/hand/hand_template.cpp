@@ -112,6 +112,9 @@ void write_hand_template(const HandTemplate& hand, const std::filesystem::path& 
   tinygltf::Mesh mesh;
   mesh.name = hand.is_left ? "left_hand" : "right_hand";
   mesh.primitives.push_back(primitive);
+  mesh.extras = tinygltf::Value(tinygltf::Value::Object{{"hand_index_count", tinygltf::Value(int(hand.hand_index_count))},
+                                                        {"palm_width_m", tinygltf::Value(hand.palm_width_m)},
+                                                        {"arm_width_m", tinygltf::Value(hand.arm_width_m)}});
   model.meshes.push_back(mesh);
 
   // Joints: nodes 0..21 in bone order, each with its transform relative to its parent.
@@ -326,6 +329,22 @@ HandTemplate load_hand_template(const std::filesystem::path& gltf_file) {
   }
   for (double index : read_accessor(model, primitive.indices, TINYGLTF_TYPE_SCALAR, "the index list", where))
     hand.indices.push_back(uint32_t(index));
+  // Where the hand's triangles end and the forearm's begin, and the widths shape adaption divides by.
+  auto extra = [&](const char* name) {
+    const tinygltf::Value& value = mesh.extras.Get(name);
+    if (!value.IsNumber())
+      throw HandTemplateError(where + ": the mesh has no extras." + name +
+                              " (a template from before the forearm: regenerate with `cmake --build build --target "
+                              "regenerate_hand_template`)");
+    return value.GetNumberAsDouble();
+  };
+  const double hand_indices = extra("hand_index_count");
+  if (!(hand_indices >= 0 && hand_indices <= double(hand.indices.size()) && hand_indices == std::floor(hand_indices)))
+    throw HandTemplateError(where + ": extras.hand_index_count " + std::to_string(hand_indices) + " is not a count within the " +
+                            std::to_string(hand.indices.size()) + " indices");
+  hand.hand_index_count = uint32_t(hand_indices);
+  hand.palm_width_m = extra("palm_width_m");
+  hand.arm_width_m = extra("arm_width_m");
 
   // The base color texture: sRGB in the file, linear here.
   if (primitive.material < 0 || primitive.material >= int(model.materials.size()))
@@ -375,6 +394,12 @@ void validate_hand_template(const HandTemplate& hand, const std::string& where) 
       throw fail("bone '" + bone_name(bone) + "' has no rigid rest frame or a negative length");
   }
   if (hand.texture.width == 0 || hand.texture.format != PixelFormat::RGBA32F) throw fail("no skin texture");
+  if (hand.hand_index_count == 0 || hand.hand_index_count % 3 || hand.hand_index_count > hand.indices.size())
+    throw fail("hand_index_count " + std::to_string(hand.hand_index_count) + " is not a whole number of triangles in 1.." +
+               std::to_string(hand.indices.size() / 3) + " triangles (the hand's come first, the forearm's after)");
+  for (auto [width, name] : {std::pair{hand.palm_width_m, "palm_width_m"}, std::pair{hand.arm_width_m, "arm_width_m"}})
+    if (!(std::isfinite(width) && width > 0.0 && width < 1.0))
+      throw fail(std::string(name) + " " + std::to_string(width) + " is not a width in (0, 1) m");
 }
 
 }  // namespace rt::hand

@@ -1,6 +1,8 @@
 // The generator of the hand template: tubes of elliptic (palm: rounded-rectangle) rings along
 // the rest skeleton of sim::medium_adult_hand(), weighted to the bones they follow with
-// smooth blends across the joints, and planar UVs into a two-sided skin atlas.
+// smooth blends across the joints, and planar UVs into a two-sided skin atlas. The hand's
+// triangles come first, the forearm's (a tube from the wrist to the elbow, as thick as the
+// simulator's forearm) after them, so that a renderer can leave the forearm out.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -8,6 +10,7 @@
 
 #include "hand/hand_template.h"
 #include "sim/hand_model.h"
+#include "sim/person_mesh.h"
 
 namespace rt::hand {
 namespace {
@@ -46,9 +49,11 @@ struct Ring {
   Influence influence;
 };
 
-// Atlas: the back of the hand in u in [0, 0.5], the palm in [0.5, 1]; planar projection along z
-// of the right hand's rest position (a left hand is mirrored, so both share one texture).
-constexpr double kAtlasX0 = -0.08, kAtlasWidth = 0.21, kAtlasY0 = -0.105, kAtlasHeight = 0.30;
+// Atlas: the back of the hand and forearm in u in [0, 0.5], the palm side in [0.5, 1]; planar
+// projection along z of the right hand's rest position (a left hand is mirrored, so both share
+// one texture), from the elbow's cap (y = -0.285) to past the middle fingertip.
+constexpr double kAtlasX0 = -0.08, kAtlasWidth = 0.21, kAtlasY0 = -0.29, kAtlasHeight = 0.485;
+constexpr uint32_t kTextureSize = 512;  // about 0.4 mm of hand per texel across, 1 mm along
 
 std::array<float, 2> atlas_uv(const Vector3d& p, bool palm_side, double mirror) {
   const double u = std::clamp((mirror * p.x() - kAtlasX0) / kAtlasWidth, 0.0, 1.0);
@@ -84,6 +89,8 @@ class MeshBuilder {
         }
     }
   }
+
+  size_t index_count() const { return indices_.size(); }
 
   HandTemplate finish(bool is_left, const RestSkeleton& rest) {
     // Area-weighted face normals, turned away from the inside of the tube: the renderer is unlit,
@@ -227,12 +234,27 @@ HandTemplate build_hand_template(bool is_left) {
   const double mirror = is_left ? -1.0 : 1.0;
   MeshBuilder mesh(mirror);
 
-  // Forearm and palm: one tube from 10 cm up the forearm to the knuckles.
+  // The palm: one tube from just behind the wrist (hidden inside the forearm when that is
+  // drawn, capped when not) to the knuckles.
   const Vector3d lateral = rest[kWristBone].frame.linear().col(0);
-  const double knuckle_y = 0.080;
+  const double knuckle_y = 0.080, palm_start_y = -0.03;
+  // Towards the forearm the wrist hands over to the arm bone: one weight function of y for the
+  // palm and the forearm, so that where the two tubes overlap they bend alike.
+  auto wrist_influence = [](double y, double metacarpal) {
+    Influence influence;
+    const double wrist = smoothstep(-0.04, 0.005, y);
+    influence.add(kArmBone, 1.0 - wrist);
+    influence.add(kWristBone, wrist * (1.0 - metacarpal));
+    // Towards the knuckles the palm bends a little with the middle and ring metacarpals (one
+    // weight set per ring: the palm's rings are not split per finger).
+    influence.add(digit_bone(2, 0), wrist * metacarpal * 0.5);
+    influence.add(digit_bone(3, 0), wrist * metacarpal * 0.5);
+    return influence;
+  };
   std::vector<Ring> palm;
-  for (int k = 0; k <= 26; ++k) {
-    const double y = -0.10 + (knuckle_y + 0.10) * k / 26.0;
+  const int palm_rings = 16;
+  for (int k = 0; k <= palm_rings; ++k) {
+    const double y = palm_start_y + (knuckle_y - palm_start_y) * k / double(palm_rings);
     Ring ring;
     const double on_palm = smoothstep(-0.02, 0.03, y);
     const double centre_x = mirror * (-0.004 * smoothstep(0.0, knuckle_y, y));
@@ -243,21 +265,12 @@ HandTemplate build_hand_template(bool is_left) {
     ring.radius_lateral = 0.029 + 0.0155 * smoothstep(-0.01, 0.06, y);
     ring.radius_normal = 0.020 - 0.007 * on_palm;
     ring.squareness = 1.0 - 0.45 * on_palm;
-    Influence influence;
-    const double wrist = smoothstep(-0.04, 0.005, y);
-    influence.add(kArmBone, 1.0 - wrist);
-    // Towards the knuckles the palm bends a little with the middle and ring metacarpals (one
-    // weight set per ring: the palm's rings are not split per finger).
-    const double metacarpal = 0.6 * smoothstep(0.035, knuckle_y, y);
-    influence.add(kWristBone, wrist * (1.0 - metacarpal));
-    influence.add(digit_bone(2, 0), wrist * metacarpal * 0.5);
-    influence.add(digit_bone(3, 0), wrist * metacarpal * 0.5);
-    ring.influence = influence;
+    ring.influence = wrist_influence(y, 0.6 * smoothstep(0.035, knuckle_y, y));
     palm.push_back(ring);
   }
   append_cap(palm, palm.back(), Vector3d::UnitY(), 0.010, 4);
   std::reverse(palm.begin(), palm.end());
-  append_cap(palm, palm.back(), -Vector3d::UnitY(), 0.012, 3);
+  append_cap(palm, palm.back(), -Vector3d::UnitY(), 0.010, 3);
   mesh.tube(palm, 28);
 
   // Index to pinky from 2 cm inside the palm; the thumb from its base, 1.5 cm inside.
@@ -267,9 +280,37 @@ HandTemplate build_hand_template(bool is_left) {
   // The thumb's chain starts at carp == mcp; its zero-length metacarpal carries no weight.
   auto thumb = digit_rings(hand, rest, 0, int(DigitJoint::Mcp), radii[0] * 1.25, 0.015, kWristBone);
   mesh.tube(thumb, 20);
+  const size_t hand_indices = mesh.index_count();
+
+  // The forearm: round, as thick as the simulator's (so that a fitted forearm covers the true
+  // one), from a cap at the elbow to 1.5 cm before the wrist, narrowing over its last 5 cm into
+  // the palm tube's wrist, inside which it ends.
+  const double forearm = rest[kArmBone].length_m, radius = sim::kForearmRadiusM, end_y = -0.015;
+  std::vector<Ring> arm;
+  const int arm_rings = 24;
+  for (int k = 0; k <= arm_rings; ++k) {
+    const double y = -forearm + (end_y + forearm) * k / double(arm_rings);
+    const double narrowing = smoothstep(-0.07, -0.025, y);
+    Ring ring;
+    ring.centre = Vector3d(0, y, 0);
+    ring.inside = ring.centre;
+    ring.lateral = lateral;
+    ring.normal = lateral.cross(Vector3d::UnitY());
+    ring.radius_lateral = radius + (0.0285 - radius) * narrowing;
+    ring.radius_normal = radius + (0.0195 - radius) * narrowing;
+    ring.influence = wrist_influence(y, 0.0);
+    arm.push_back(ring);
+  }
+  append_cap(arm, arm.back(), Vector3d::UnitY(), 0.008, 3);
+  std::reverse(arm.begin(), arm.end());
+  append_cap(arm, arm.back(), -Vector3d::UnitY(), radius, 5);
+  mesh.tube(arm, 28);
 
   HandTemplate result = mesh.finish(is_left, rest);
-  result.texture = build_skin_texture(256);
+  result.hand_index_count = uint32_t(hand_indices);
+  result.palm_width_m = sim::palm_width_m(1.0);  // what the simulated tracker reports for this hand
+  result.arm_width_m = 2 * radius;
+  result.texture = build_skin_texture(kTextureSize);
   return result;
 }
 

@@ -12,8 +12,10 @@ namespace rt::net {
 namespace {
 
 constexpr uint32_t kEyePayload = 8 + 3 * 8 + 1;
-constexpr uint32_t kHandSize = 8 + 4 + 1 + 4 + (5 + kDigitCount * kJointsPerDigit) * 3 * 8;
+// Version 2 added the palm and forearm widths (f64 each, NaN: not given) after the joints.
+constexpr uint32_t kHandSize = 8 + 4 + 1 + 4 + (5 + kDigitCount * kJointsPerDigit) * 3 * 8 + 2 * 8;
 constexpr uint32_t kSkeletonFixed = 8 + 1;
+constexpr double kMaxHandWidth = 1.0;  // metres: wider is not a hand or a forearm
 constexpr uint32_t kTouchPayload = 8 + 1 + 1;
 constexpr uint32_t kHeartbeatPayload = 8 + 8;
 constexpr uint32_t kPortraitFixed = 8 + 8 + 4 + 4 + 4 * 8 + 16 * 8;
@@ -41,9 +43,16 @@ std::string check_point(const Eigen::Vector3d& v, const char* what) {
 std::string check_hand(const HandSkeleton& hand) {
   if (!std::isfinite(hand.confidence) || hand.confidence < 0.0f || hand.confidence > 1.0f)
     return "hand confidence " + std::to_string(hand.confidence) + " is not in [0, 1]";
-  for (auto [v, name] : {std::pair{&hand.wrist, "wrist"}, {&hand.palm, "palm"}, {&hand.elbow, "elbow"},
-                         {&hand.palm_normal, "palm normal"}, {&hand.direction, "direction"}})
+  for (auto [v, name] : {std::pair{&hand.wrist, "wrist"}, {&hand.palm, "palm"}, {&hand.palm_normal, "palm normal"},
+                         {&hand.direction, "direction"}})
     if (auto e = check_point(*v, name); !e.empty()) return e;
+  // A tracker without an elbow sends it as NaN, all three coordinates; anything else is damage.
+  if (!hand.elbow.array().isNaN().all())
+    if (auto e = check_point(hand.elbow, "elbow"); !e.empty()) return e + " (a missing elbow is NaN in all three)";
+  for (auto [width, name] : {std::pair{hand.palm_width_m, "palm width"}, {hand.arm_width_m, "arm width"}})
+    if (!std::isnan(width) && !(width > 0.0 && width <= kMaxHandWidth))
+      return std::string(name) + " " + std::to_string(width) + " m is neither NaN (not given) nor in (0, " +
+             std::to_string(kMaxHandWidth) + "] m";
   for (const auto& digit : hand.digits)
     for (const auto& joint : digit)
       if (auto e = check_point(joint, "digit joint"); !e.empty()) return e;
@@ -147,6 +156,8 @@ void encode_payload(ByteWriter& w, const Message& message, const EncodeOptions& 
             for (const auto* v : {&hand.wrist, &hand.palm, &hand.elbow, &hand.palm_normal, &hand.direction}) put_vector(w, *v);
             for (const auto& digit : hand.digits)
               for (const auto& joint : digit) put_vector(w, joint);
+            w.put<double>(hand.palm_width_m);
+            w.put<double>(hand.arm_width_m);
           }
         } else if constexpr (std::is_same_v<T, TouchEventMessage>) {
           if (m.site > 1) invalid("touch site " + std::to_string(m.site) + " is neither A (0) nor B (1)");
@@ -208,6 +219,8 @@ Message decode_payload(MessageType type, ByteReader& r) {
         for (auto* v : {&hand.wrist, &hand.palm, &hand.elbow, &hand.palm_normal, &hand.direction}) *v = get_vector(r);
         for (auto& digit : hand.digits)
           for (auto& joint : digit) joint = get_vector(r);
+        hand.palm_width_m = r.get<double>();
+        hand.arm_width_m = r.get<double>();
         if (auto e = check_hand(hand); !e.empty()) reject(DecodeErrorKind::BadValue, "hand " + std::to_string(i) + ": " + e);
         m.hands.push_back(hand);
       }

@@ -79,7 +79,7 @@ void HandRenderer::request_shape_adaption() { shape_requested_ = true; }
 
 void HandRenderer::adapt_shape(const HandSkeleton& skeleton) {
   const hand::HandTemplate& hand = active_template();
-  const hand::BoneScales scales = hand::bone_scales(skeleton, hand.rest);
+  const hand::BoneScales scales = hand::bone_scales(skeleton, hand.rest, {hand.palm_width_m, hand.arm_width_m});
   if (!scales.ok()) return;  // try again at the next well-tracked frame
   rest_ = hand::adapted_rest_skeleton(hand.rest, scales);
   rest_vertices_ = hand::adapt_rest_mesh(hand.vertices, hand.rest, rest_, scales);
@@ -109,6 +109,7 @@ void HandRenderer::set_pose(const HandSkeleton& skeleton, const Camera& target_v
   }
   pose_error_.clear();
   frames_ = pose.frames;
+  forearm_ = hand::forearm_tracked(skeleton, active_template().rest);
   matrices_ = hand::skinning_matrices(frames_, rest_);
   std::memcpy(bones_->mapped(), matrices_.data(), sizeof(matrices_));
   has_pose_ = true;
@@ -126,9 +127,15 @@ std::array<Eigen::Vector3d, kDigitCount> HandRenderer::fingertips() const {
   return tips;
 }
 
+uint32_t HandRenderer::drawn_index_count() const {
+  if (!has_pose_) return 0;
+  const hand::HandTemplate& hand = active_template();
+  return forearm_ ? uint32_t(hand.indices.size()) : hand.hand_index_count;
+}
+
 void HandRenderer::add_to(vk::FrameGraph& graph) {
   skinning_.add_to(graph, *rest_buffer_, *bones_, *skinned_, [this] { return uint32_t(rest_vertices_.size()); });
-  raster_.add_to(graph, *skinned_, *indices_, [this] { return has_pose_ ? uint32_t(active_template().indices.size()) : 0u; },
+  raster_.add_to(graph, *skinned_, *indices_, [this] { return drawn_index_count(); },
                  *adapted_texture_, sampler_, [this] { return view_; }, {color_.get(), depth_.get(), mask_.get(), depth_buffer_.get()});
 }
 
@@ -148,7 +155,7 @@ shader_abi::AppearanceState HandRenderer::appearance_state() {
 void HandRenderer::build_appearance_graph(vk::Image& portrait_color, vk::Image& portrait_depth) {
   appearance_graph_ = std::make_unique<vk::FrameGraph>(context_, "hand appearance adaption");
   vk::FrameGraph& graph = *appearance_graph_;
-  raster_.add_to(graph, *skinned_, *indices_, [this] { return uint32_t(active_template().indices.size()); }, *template_texture_,
+  raster_.add_to(graph, *skinned_, *indices_, [this] { return drawn_index_count(); }, *template_texture_,
                  sampler_, [this] { return view_; },
                  {template_color_.get(), template_depth_.get(), template_mask_.get(), template_depth_buffer_.get()},
                  "hand_raster_template");

@@ -36,7 +36,9 @@ class HandRenderer {
   HandRenderer& operator=(const HandRenderer&) = delete;
 
   // Per frame, CPU side (between graph runs). A skeleton that cannot be posed keeps the last
-  // good pose (pose_error() says why); before any good pose nothing is drawn.
+  // good pose (pose_error() says why); before any good pose nothing is drawn. The forearm is
+  // drawn only while the posed skeleton has a tracked elbow at a plausible distance from the
+  // wrist (hand::forearm_tracked); otherwise the hand alone.
   void set_pose(const HandSkeleton& skeleton_in_site, const Camera& target_view);
   void request_shape_adaption();  // again at the next well-tracked frame
   void add_to(vk::FrameGraph& graph);
@@ -58,6 +60,8 @@ class HandRenderer {
 
   bool has_pose() const { return has_pose_; }
   bool shape_adapted() const { return shape_adapted_; }
+  bool forearm_drawn() const { return has_pose_ && forearm_; }
+  uint32_t drawn_index_count() const;  // what the raster draws with the current pose
   const std::string& pose_error() const { return pose_error_; }
   double hand_distance_m() const { return hand_distance_m_; }  // averaged joints to the screen
   const hand::HandTemplate& active_template() const;
@@ -81,7 +85,7 @@ class HandRenderer {
   std::vector<shader_abi::HandVertex> rest_vertices_;
   hand::BoneFrames frames_{};
   passes::BoneMatrices matrices_{};
-  bool has_pose_ = false, tracked_ = false, shape_adapted_ = false, shape_requested_ = true;
+  bool has_pose_ = false, tracked_ = false, shape_adapted_ = false, shape_requested_ = true, forearm_ = false;
   std::string pose_error_;
   double hand_distance_m_ = 0.0;
   passes::RasterViewParams view_{};

@@ -39,8 +39,13 @@ TrackerHand hand_from_json(const nlohmann::json& json, const std::string& frame_
   hand.palm_normal = require_unit(json, "palmNormal", where);
   hand.direction = require_unit(json, "direction", where);
   hand.wrist = require_vec3(json, "wrist", where);
-  hand.elbow = require_vec3(json, "elbow", where);
+  // Service versions differ (DESIGN.md section 6): the elbow and the arm's width may be absent,
+  // and then there is no forearm to draw; present, they must be well-formed.
+  hand.elbow.reset();
+  if (json.contains("elbow") && !json["elbow"].is_null()) hand.elbow = require_vec3(json, "elbow", where);
   hand.palm_width = config::require_positive(json, "palmWidth", where);
+  if (json.contains("armWidth") && !json["armWidth"].is_null())
+    hand.arm_width = config::require_positive(json, "armWidth", where);
   return hand;
 }
 
@@ -50,15 +55,17 @@ nlohmann::json leap_json_from_frame(const TrackerFrame& frame) {
   nlohmann::json hands = nlohmann::json::array();
   nlohmann::json pointables = nlohmann::json::array();
   for (const TrackerHand& hand : frame.hands) {
-    hands.push_back({{"id", hand.id},
-                     {"type", hand.is_left ? "left" : "right"},
-                     {"confidence", hand.confidence},
-                     {"palmPosition", to_json(hand.palm_position)},
-                     {"palmNormal", to_json(hand.palm_normal)},
-                     {"direction", to_json(hand.direction)},
-                     {"wrist", to_json(hand.wrist)},
-                     {"elbow", to_json(hand.elbow)},
-                     {"palmWidth", hand.palm_width}});
+    nlohmann::json entry = {{"id", hand.id},
+                            {"type", hand.is_left ? "left" : "right"},
+                            {"confidence", hand.confidence},
+                            {"palmPosition", to_json(hand.palm_position)},
+                            {"palmNormal", to_json(hand.palm_normal)},
+                            {"direction", to_json(hand.direction)},
+                            {"wrist", to_json(hand.wrist)},
+                            {"palmWidth", hand.palm_width}};
+    if (hand.elbow) entry["elbow"] = to_json(*hand.elbow);
+    if (hand.arm_width) entry["armWidth"] = *hand.arm_width;
+    hands.push_back(std::move(entry));
     for (int type = 0; type < kDigitCount; ++type) {
       const TrackerDigit& digit = hand.digits[type];
       pointables.push_back({{"id", pointable_id(hand.id, type)},

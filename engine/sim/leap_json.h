@@ -13,7 +13,8 @@
 namespace rt::sim {
 
 // {"id", "timestamp", "currentFrameRate", "hands": [{"id", "type": "left"|"right", "confidence",
-// "palmPosition", "palmNormal", "direction", "wrist", "elbow", "palmWidth"}], "pointables":
+// "palmPosition", "palmNormal", "direction", "wrist", "elbow" (optional), "palmWidth", "armWidth"
+// (optional)}], "pointables":
 // [{"id", "handId", "type": 0..4, "carpPosition", "mcpPosition", "pipPosition", "dipPosition",
 // "btipPosition", "tipPosition"}]}. Every double is written so that it reads back exactly.
 nlohmann::json leap_json_from_frame(const TrackerFrame& frame);

@@ -12,6 +12,11 @@ namespace rt::sim {
 
 using shader_abi::MeshVertex;
 
+// The simulated user's forearm: a skin-colored capsule of this radius from elbow to wrist. The
+// simulated tracker reports twice it as the arm's width.
+inline constexpr double kForearmRadiusM = 0.035;
+inline constexpr double kArmWidthM = 2 * kForearmRadiusM;
+
 struct MeshDetail {
   int segments = 16;  // around a capsule or sphere
   int rings = 8;      // from a capsule's pole to its equator
@@ -27,8 +32,7 @@ void append_capsule(std::vector<MeshVertex>& mesh, const Eigen::Vector3d& a, con
 void append_hand(std::vector<MeshVertex>& mesh, const HandSkeleton& hand, double hand_scale,
                  const Eigen::Vector3f& skin_rgb, const MeshDetail& detail = {});
 
-// The simulated forearm: a skin-coloured capsule from the elbow to the wrist.
-inline constexpr double kForearmRadiusM = 0.035;
+// The simulated forearm: a skin-colored capsule of kForearmRadiusM from the elbow to the wrist.
 void append_forearm(std::vector<MeshVertex>& mesh, const ArmPose& arm, const Eigen::Vector3f& skin_rgb,
                     const MeshDetail& detail = {});
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "sim/motion.h"
+#include "sim/person_mesh.h"
 #include "sim/tracker_space.h"
 
 namespace rt::sim {
@@ -26,13 +27,15 @@ void quantise(Eigen::Vector3d& v, double step) {
 }
 
 void quantise(TrackerHand& hand) {
-  for (Eigen::Vector3d* p : {&hand.palm_position, &hand.wrist, &hand.elbow}) quantise(*p, kPositionStepMm);
+  for (Eigen::Vector3d* p : {&hand.palm_position, &hand.wrist}) quantise(*p, kPositionStepMm);
+  if (hand.elbow) quantise(*hand.elbow, kPositionStepMm);
   for (TrackerDigit& digit : hand.digits)
     for (Eigen::Vector3d* p : {&digit.carp, &digit.mcp, &digit.pip, &digit.dip, &digit.btip, &digit.tip})
       quantise(*p, kPositionStepMm);
   quantise(hand.palm_normal, kDirectionStep);
   quantise(hand.direction, kDirectionStep);
   hand.palm_width = quantise(hand.palm_width, kPositionStepMm);
+  if (hand.arm_width) hand.arm_width = quantise(*hand.arm_width, kPositionStepMm);
 }
 
 }  // namespace
@@ -76,7 +79,7 @@ void SimulatedHandTracker::add_jitter(TrackerHand& hand) {
   };
   shake(hand.palm_position);
   shake(hand.wrist);
-  shake(hand.elbow);
+  if (hand.elbow) shake(*hand.elbow);
   for (int d = 0; d < kDigitCount; ++d) {
     TrackerDigit& digit = hand.digits[d];
     // The thumb's metacarpal keeps zero length and the fingertip stays the distal bone's end:
@@ -109,7 +112,7 @@ std::optional<TrackerFrame> SimulatedHandTracker::next_frame() {
     if (lost || seen[side] || !placement_.sees(synthetic.skeleton.palm)) continue;
     seen[side] = true;
     if (!tracked_id_[side]) tracked_id_[side] = next_hand_id_++;
-    TrackerHand hand = tracker_hand_from_skeleton(synthetic.skeleton, synthetic.palm_width_m, placement_);
+    TrackerHand hand = tracker_hand_from_skeleton(synthetic.skeleton, synthetic.palm_width_m, synthetic.arm_width_m, placement_);
     hand.id = *tracked_id_[side];
     if (effects_.jitter) add_jitter(hand);
     quantise(hand);
@@ -130,7 +133,7 @@ SimulatedHandTracker make_simulated_tracker(const Scene& scene, Site site) {
   const double palm_width = palm_width_m(setup.user.hand_scale);
   HandSource source = [track, palm_width](double t_s) {
     const PersonPose pose = track->pose_at(t_s);
-    return std::vector<SyntheticHand>{{pose.right_hand, palm_width}, {pose.left_hand, palm_width}};
+    return std::vector<SyntheticHand>{{pose.right_hand, palm_width, kArmWidthM}, {pose.left_hand, palm_width, kArmWidthM}};
   };
   // Each site's tracker draws from its own streams.
   const uint64_t site_seed = scene.seed * 2 + (site == Site::A ? 0 : 1);

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <random>
 #include <vector>
@@ -29,6 +30,7 @@ inline constexpr double kDirectionStep = 1e-6;
 struct SyntheticHand {
   HandSkeleton skeleton;
   double palm_width_m = 0.085;
+  double arm_width_m = std::numeric_limits<double>::quiet_NaN();  // NaN: the device reports no armWidth
 };
 // The hands at a time (seconds since the scene started; may be negative under latency).
 using HandSource = std::function<std::vector<SyntheticHand>(double t_s)>;

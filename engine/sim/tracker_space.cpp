@@ -1,8 +1,11 @@
 #include "sim/tracker_space.h"
 
+#include <cmath>
+#include <limits>
+
 namespace rt::sim {
 
-TrackerHand tracker_hand_from_skeleton(const HandSkeleton& site_hand, double palm_width_m,
+TrackerHand tracker_hand_from_skeleton(const HandSkeleton& site_hand, double palm_width_m, double arm_width_m,
                                        const TrackerPlacement& placement) {
   const Eigen::Isometry3d to_tracker = placement.tracker_from_site();
   auto point = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(kMillimetresPerMetre * (to_tracker * p)); };
@@ -15,8 +18,10 @@ TrackerHand tracker_hand_from_skeleton(const HandSkeleton& site_hand, double pal
   hand.palm_normal = direction(site_hand.palm_normal);
   hand.direction = direction(site_hand.direction);
   hand.wrist = point(site_hand.wrist);
-  hand.elbow = point(site_hand.elbow);
+  hand.elbow.reset();
+  if (site_hand.has_elbow()) hand.elbow = point(site_hand.elbow);
   hand.palm_width = kMillimetresPerMetre * palm_width_m;
+  if (std::isfinite(arm_width_m)) hand.arm_width = kMillimetresPerMetre * arm_width_m;
   for (int d = 0; d < kDigitCount; ++d) {
     const auto& joints = site_hand.digits[d];
     TrackerDigit& digit = hand.digits[d];
@@ -43,7 +48,9 @@ HandSkeleton skeleton_from_tracker_hand(const TrackerHand& hand, uint64_t timest
   skeleton.confidence = float(hand.confidence);
   skeleton.palm = point(hand.palm_position);
   skeleton.wrist = point(hand.wrist);
-  skeleton.elbow = point(hand.elbow);
+  if (hand.elbow) skeleton.elbow = point(*hand.elbow);
+  skeleton.palm_width_m = hand.palm_width / kMillimetresPerMetre;
+  if (hand.arm_width) skeleton.arm_width_m = *hand.arm_width / kMillimetresPerMetre;
   skeleton.palm_normal = direction(hand.palm_normal);
   skeleton.direction = direction(hand.direction);
   for (int d = 0; d < kDigitCount; ++d) {

@@ -11,10 +11,12 @@ namespace rt::sim {
 
 inline constexpr double kMillimetresPerMetre = 1000.0;
 
-// What the simulated device reports for a hand; `palm_width_m` is the hand's width.
-TrackerHand tracker_hand_from_skeleton(const HandSkeleton& site_hand, double palm_width_m,
+// What the simulated device reports for a hand; `palm_width_m` is the hand's width, `arm_width_m`
+// the forearm's (NaN: the device reports none). A non-finite elbow is reported as none.
+TrackerHand tracker_hand_from_skeleton(const HandSkeleton& site_hand, double palm_width_m, double arm_width_m,
                                        const TrackerPlacement& placement);
-// The conversion every consumer of tracker data goes through.
+// The conversion every consumer of tracker data goes through: a hand without an elbow or an arm
+// width gets NaN there.
 HandSkeleton skeleton_from_tracker_hand(const TrackerHand& hand, uint64_t timestamp_us,
                                         const TrackerPlacement& placement);
 std::vector<HandSkeleton> skeletons_in_site(const TrackerFrame& frame, const TrackerPlacement& placement);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -44,8 +45,48 @@ HandSkeleton true_hand(const SyntheticUser& user, const Eigen::Vector3d& palm, d
   placement.curl = curl;
   HandSkeleton hand = sim::build_hand(placement, is_left, user.hand_scale);
   hand.elbow = hand.wrist - 0.25 * user.hand_scale * hand.direction + Eigen::Vector3d(0, 0, 0.05);
+  // What the simulated tracker reports for this user (tracker_sim.cpp): the palm's width from
+  // the hand's size, the forearm's from the simulator's forearm capsule.
+  hand.palm_width_m = sim::palm_width_m(user.hand_scale);
+  hand.arm_width_m = sim::kArmWidthM;
   return hand;
 }
+
+// The true hand and forearm as the simulator draws them (person_mesh.cpp): capsules through the
+// joints, the forearm a capsule of sim::kForearmRadiusM from the elbow to the wrist.
+std::vector<passes::MeshVertex> true_mesh(const HandSkeleton& truth, const SyntheticUser& user) {
+  std::vector<passes::MeshVertex> mesh;
+  sim::append_hand(mesh, truth, user.hand_scale, user.skin_rgb);
+  sim::append_capsule(mesh, truth.elbow, truth.wrist, sim::kForearmRadiusM, sim::kForearmRadiusM, truth.palm_normal,
+                      float(RT_PART_BODY), user.skin_rgb, user.skin_rgb, 0.0f);
+  return mesh;
+}
+
+// Intersection over union of the mesh's mask (coverage >= 0.5) and the truth's coverage (any
+// part: the truth render holds only the hand and its forearm). Writes `overlay` (both: skin
+// white, the mesh alone: green, the truth alone: red) when given.
+double silhouette_iou(const HostImage& mesh_mask, const HostImage& truth_part, HostImage* overlay = nullptr) {
+  size_t both = 0, either = 0;
+  if (overlay) *overlay = HostImage(mesh_mask.width, mesh_mask.height, PixelFormat::RGBA32F);
+  for (uint32_t y = 0; y < mesh_mask.height; ++y)
+    for (uint32_t x = 0; x < mesh_mask.width; ++x) {
+      const bool mesh = mesh_mask.at(x, y) >= 0.5f, truth = truth_part.at(x, y) != float(RT_PART_NONE);
+      both += mesh && truth;
+      either += mesh || truth;
+      if (overlay) {
+        const float r = truth ? 1.0f : 0.0f, g = mesh ? 1.0f : 0.0f, b = mesh && truth ? 1.0f : 0.0f;
+        overlay->at(x, y, 0) = r, overlay->at(x, y, 1) = g, overlay->at(x, y, 2) = b, overlay->at(x, y, 3) = 1.0f;
+      }
+    }
+  return either ? double(both) / double(either) : 1.0;
+}
+
+// Where the silhouettes are compared: the palm centre's distance to the screen.
+struct SilhouettePlace {
+  const char* name;
+  double palm_z;
+};
+const SilhouettePlace kSilhouettePlaces[] = {{"far", 0.45}, {"near", 0.10}, {"glass", 0.015}};
 
 // What the tracker reports: the true joints with 1 mm of Gaussian jitter.
 HandSkeleton tracked(const HandSkeleton& truth, std::mt19937& rng) {
@@ -137,7 +178,10 @@ int run_eval_hand(const RunOptions& options) {
       placement.orientation = Eigen::Quaterniond(unit(rng), unit(rng), unit(rng), unit(rng) + 1.5).normalized();
       placement.curl = curl(rng);
       HandSkeleton skeleton = sim::build_hand(placement, trial % 2 == 1, 0.85 + 0.3 * curl(rng));
-      skeleton.elbow = skeleton.wrist - 0.25 * skeleton.direction;
+      // The forearm too: most trials with an elbow, some without one or with a zero-length forearm.
+      skeleton.elbow = trial % 4 == 3 ? Eigen::Vector3d::Constant(std::nan(""))
+                       : trial % 4 == 2 ? skeleton.wrist
+                                        : Eigen::Vector3d(skeleton.wrist - (0.2 + 0.1 * curl(rng)) * skeleton.direction);
       renderer.set_pose(skeleton, camera);
       graph.run();
       const auto bytes = vk::download(context, renderer.skinned_vertices());
@@ -168,6 +212,7 @@ int run_eval_hand(const RunOptions& options) {
                       {&truth_color, &truth_depth, &truth_part, &truth_depth_buffer}, "truth_raster");
 
   double tip_before = 0, tip_after = 0;
+  std::map<std::string, std::pair<double, double>> iou;  // place -> mean over users before, after
   std::vector<double> de_before, de_after, de_floor;
   for (const SyntheticUser& user : kUsers) {
     HandRenderer renderer(context, kTemplateDir, width, height);
@@ -180,6 +225,8 @@ int run_eval_hand(const RunOptions& options) {
     HandRendererOptions fixed;
     fixed.shape_adaption = false;
     HandRenderer unadapted(context, kTemplateDir, width, height, fixed);
+    vk::FrameGraph unadapted_graph(context, "eval hand " + user.name + " unadapted");
+    unadapted.add_to(unadapted_graph);
     double before = 0, after = 0;
     const int poses = 8;
     for (int p = 0; p < poses; ++p) {
@@ -196,11 +243,8 @@ int run_eval_hand(const RunOptions& options) {
 
     // Color: the true hand (capsules through its joints, skin shaded as the cameras see it)
     // 45 cm from the screen, beyond d_max, where appearance adaption runs.
-    const HandSkeleton truth = true_hand(user, Eigen::Vector3d(0.04, 0.0, 0.45), 0.25, 0.2, false);
-    std::vector<passes::MeshVertex> mesh;
-    sim::append_hand(mesh, truth, user.hand_scale, user.skin_rgb);
-    sim::append_capsule(mesh, truth.elbow, truth.wrist, 0.03 * user.hand_scale, 0.022 * user.hand_scale, truth.palm_normal,
-                        float(RT_PART_BODY), user.skin_rgb, user.skin_rgb, 0.0f);
+    const HandSkeleton truth = true_hand(user, Eigen::Vector3d(0.04, 0.0, kSilhouettePlaces[0].palm_z), 0.25, 0.2, false);
+    const std::vector<passes::MeshVertex> mesh = true_mesh(truth, user);
     truth_vertices = uint32_t(mesh.size());
     vk::upload(context, truth_mesh, std::as_bytes(std::span(mesh)));
     truth_graph.run();
@@ -231,6 +275,30 @@ int run_eval_hand(const RunOptions& options) {
     write_image(options.out / ("hand_" + user.name + "_truth.png"), truth_rgba8);
     const auto state = renderer.appearance_state();
 
+    // Silhouettes of hand and forearm against the truth's, far (the pose above), near and at
+    // the glass: the template's shape (before) and the adapted one (after).
+    nlohmann::json silhouettes;
+    for (const SilhouettePlace& place : kSilhouettePlaces) {
+      const HandSkeleton placed = true_hand(user, Eigen::Vector3d(0.04, 0.0, place.palm_z), 0.25, 0.2, false);
+      const std::vector<passes::MeshVertex> placed_mesh = true_mesh(placed, user);
+      truth_vertices = uint32_t(placed_mesh.size());
+      vk::upload(context, truth_mesh, std::as_bytes(std::span(placed_mesh)));
+      truth_graph.run();
+      const HostImage parts = vk::download(context, truth_part);
+      const HandSkeleton placed_seen = tracked(placed, rng);
+      unadapted.set_pose(placed_seen, camera);
+      renderer.set_pose(placed_seen, camera);
+      unadapted_graph.run();
+      graph.run();
+      HostImage overlay;
+      const double iou_before = silhouette_iou(vk::download(context, unadapted.mask()), parts);
+      const double iou_after = silhouette_iou(vk::download(context, renderer.mask()), parts, &overlay);
+      write_image(options.out / ("hand_" + user.name + "_silhouette_" + place.name + ".png"), overlay);
+      silhouettes[place.name] = {{"iou_before", iou_before}, {"iou_after", iou_after}, {"forearm_drawn", renderer.forearm_drawn()}};
+      iou[place.name].first += iou_before / double(kUsers.size());
+      iou[place.name].second += iou_after / double(kUsers.size());
+    }
+
     metrics["users"][user.name] = {
         {"skin_rgb", {user.skin_rgb.x(), user.skin_rgb.y(), user.skin_rgb.z()}},
         {"hand_scale", user.hand_scale},
@@ -244,6 +312,7 @@ int run_eval_hand(const RunOptions& options) {
         {"color_pixels", color_after.pixels},
         {"appearance_frames", adapted_frames},
         {"appearance_region_pixels", state.header[2]},
+        {"silhouette_iou", silhouettes},
     };
     metrics["color_de_before_" + user.name] = color_before.de2000;
     metrics["color_de_after_" + user.name] = color_after.de2000;
@@ -261,7 +330,14 @@ int run_eval_hand(const RunOptions& options) {
   metrics["color_de_after"] = mean_after;
   metrics["color_metric"] = "CIEDE2000 (CIELAB of linear sRGB, D65), mean over pixels that are hand in both the mesh render and the ground truth";
   metrics["portrait"] = "the simulator's ground-truth target view (capsule hand, shaded albedo) stands in for the image-based portrait";
-  metrics["tracking"] = "true joints with 1 mm Gaussian jitter; shape adaption from the first such frame";
+  metrics["tracking"] = "true joints with 1 mm Gaussian jitter, the simulated tracker's palm and arm widths; shape adaption from the first such frame";
+  for (const SilhouettePlace& place : kSilhouettePlaces) {
+    metrics["silhouette_iou_before_" + std::string(place.name)] = iou[place.name].first;
+    metrics["silhouette_iou_after_" + std::string(place.name)] = iou[place.name].second;
+  }
+  metrics["silhouette_metric"] =
+      "intersection over union of the mesh's mask (>= 0.5) and the true hand+forearm coverage, palm 45 cm (far), 10 cm (near) "
+      "and 1.5 cm (glass) from the screen; before: the template's shape, after: shape adaption to the tracked lengths and widths";
   metrics["tip_metric"] = "mean over the five digits of |mesh tip joint - true tip joint|, 8 poses per user, both hands";
 
   std::ofstream(options.out / "metrics.json") << metrics.dump(2) << "\n";
@@ -273,6 +349,9 @@ int run_eval_hand(const RunOptions& options) {
     std::printf("%-26s %12.2f %12.2f %12.2f %12.2f\n", ("color_de (" + kUsers[i].name + ")").c_str(), de_before[i], de_after[i],
                 de_before[i] > 0 ? de_after[i] / de_before[i] : 0.0, de_floor[i]);
   std::printf("%-26s %12.2f %12.2f %12.2f\n", "color_de (mean)", mean_before, mean_after, mean_before > 0 ? mean_after / mean_before : 0.0);
+  for (const SilhouettePlace& place : kSilhouettePlaces)
+    std::printf("%-26s %12.3f %12.3f\n", ("silhouette_iou (" + std::string(place.name) + ")").c_str(), iou[place.name].first,
+                iou[place.name].second);
   std::printf("color difference: CIEDE2000; portrait: the simulator's ground truth; unlit floor: the true albedo, unshaded\nwritten to %s\n",
               (options.out / "metrics.json").string().c_str());
   return 0;
