@@ -88,7 +88,7 @@ Played play(double fps, uint64_t stale_frames) {
     if (hand_far(double(i) / fps) && receiver.adapt(frame_partials(adaption_frames++, 400)) == AdaptionOutcome::Fitted)
       played.after_each_fit.push_back(receiver.gpu);
   }
-  for (const auto& event : receiver.adaption.take_events()) played.events.push_back(event["event"]);
+  for (const auto& event : receiver.adaption.take_events()) played.events.push_back(event["change"]);
   played.state = receiver.gpu;
   played.status = receiver.adaption.status();
   return played;
@@ -145,7 +145,7 @@ TEST_CASE("a region too small does not count as fitted") {
                                     Catch::Contains("2 tried") && Catch::Contains("fewer than 46 pixels"));
   auto events = receiver.adaption.take_events();
   REQUIRE(events.size() == 1);  // the first refusal for a reason, not every one
-  CHECK(events[0]["event"] == "rejected");
+  CHECK(events[0]["change"] == "rejected");
   CHECK(events[0]["reason"] == "region_too_small");
 
   CHECK(receiver.adapt(frame_partials(2, 46)) == AdaptionOutcome::Fitted);
@@ -191,7 +191,7 @@ TEST_CASE("stale after K displayed frames without a fit, fitted again by one fra
   CHECK(status.frames_since_fit == 0u);
   CHECK(status.first_fit_display_frame == 0u);
   std::vector<std::string> events;
-  for (const auto& e : receiver.adaption.take_events()) events.push_back(e["event"]);
+  for (const auto& e : receiver.adaption.take_events()) events.push_back(e["change"]);
   CHECK(events == std::vector<std::string>{"fitted", "stale", "refitted"});
 
   receiver.adaption.reset();

@@ -160,7 +160,7 @@ TEST_CASE("HandRenderer's appearance status comes from the GPU's state: waiting,
   // The portrait is the template's own render: T' fits T, the statistics agree.
   for (int c = 0; c < 3; ++c) CHECK(std::abs(status.image.mean[size_t(c)] - status.mesh.mean[size_t(c)]) < 1e-3);
   std::vector<std::string> events;
-  for (const auto& e : renderer.take_appearance_events()) events.push_back(e["event"]);
+  for (const auto& e : renderer.take_appearance_events()) events.push_back(e["change"]);
   CHECK(events == std::vector<std::string>{"rejected", "fitted"});
 
   renderer.set_pose(facing_hand(0.1), camera);  // at the glass: no adaption, the fit ages

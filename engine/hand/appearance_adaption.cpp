@@ -148,7 +148,7 @@ void AppearanceAdaption::note_phase_change(AppearancePhase before) {
 
 void AppearanceAdaption::push_event(const char* event, const char* reason) {
   nlohmann::json entry = status().to_json();
-  entry["event"] = event;
+  entry["change"] = event;
   if (reason) entry["reason"] = reason;
   events_.push_back(std::move(entry));
 }

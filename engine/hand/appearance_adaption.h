@@ -79,9 +79,9 @@ class AppearanceAdaption {
   void reset();
 
   AppearanceStatus status() const;
-  // Log entries due since the last call (each the status's JSON plus "event"): "fitted" at the
+  // Log entries due since the last call, each the status's JSON plus "change": "fitted" at the
   // first fit, "stale" when a fit grows stale, "refitted" when a stale one fits again, and
-  // "rejected" at the first frame refused for each reason.
+  // "rejected" (with "reason") at the first frame refused for each reason.
   std::vector<nlohmann::json> take_events();
 
  private:
