@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hand/appearance_adaption.h"
 #include "hand_color_reduce.comp.h"
 
 namespace rt::passes {
@@ -46,7 +47,7 @@ AppearanceState color_reduce_reference(std::span<const shader_abi::ColorStatsPar
     finite &= std::isfinite(mean_i[c]) && std::isfinite(mean_g[c]) && std::isfinite(sigma_i[c]) && std::isfinite(sigma_g[c]);
   }
   if (!finite) return out;
-  const double w = state.header[0] > 0.5f ? std::clamp(double(params.smoothing), 0.0, 1.0) : 1.0;
+  const double w = hand::appearance_weight(state.header[0] > 0.5f ? double(state.header[1]) : 0.0, params.smoothing);
   for (int c = 0; c < 3; ++c) {
     out.image_mean[c] = float(state.image_mean[c] + w * (mean_i[c] - state.image_mean[c]));
     out.image_sigma[c] = float(state.image_sigma[c] + w * (sigma_i[c] - state.image_sigma[c]));

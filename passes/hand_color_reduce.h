@@ -1,8 +1,9 @@
 #pragma once
 // Pass: one workgroup adds the color statistics' partial sums and folds means and standard
 // deviations of L, alpha, beta into the running appearance state (paper Eq. 3, smoothed over
-// time). Fewer than min_pixels valid pixels, or a non-finite result, leave the state unchanged
-// (header.z still records the pixel count).
+// frames: the new frame weighs hand::appearance_weight(updates so far, smoothing), the running mean
+// at first, then `smoothing`). Fewer than min_pixels valid pixels, or a non-finite result, leave
+// the state unchanged and do not count as an update (header.z still records the pixel count).
 //   in:  partials (ColorStatsPartial[group_count])
 //   in/out: state (AppearanceState)
 // Tested in tests/test_hand_color_reduce.cpp, and in tests/test_hand_color_stats.cpp with the pass

@@ -49,7 +49,10 @@ void main() {
   for (int c = 0; c < 3; ++c)
     finite = finite && is_finite(mean_i[c]) && is_finite(mean_g[c]) && is_finite(sigma_i[c]) && is_finite(sigma_g[c]);
   if (!finite) return;
-  float w = state.header.x > 0.5 ? clamp(params.smoothing, 0.0, 1.0) : 1.0;
+  // Counted in frames, never seconds (hand/appearance_adaption.h): the running mean of the frames so
+  // far while 1 / (n + 1) exceeds `smoothing`, then the exponential average; the first frame weighs 1.
+  float fitted_before = state.header.x > 0.5 ? max(state.header.y, 0.0) : 0.0;
+  float w = max(1.0 / (fitted_before + 1.0), clamp(params.smoothing, 0.0, 1.0));
   state.image_mean.xyz = mix(state.image_mean.xyz, mean_i, w);
   state.image_sigma.xyz = mix(state.image_sigma.xyz, sigma_i, w);
   state.mesh_mean.xyz = mix(state.mesh_mean.xyz, mean_g, w);

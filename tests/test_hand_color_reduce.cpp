@@ -3,12 +3,14 @@
 // workgroup size (one, fewer than a workgroup, exactly one, one more, several), with and without
 // a previous state to smooth into; and the hard cases: partials past group_count are ignored,
 // too few pixels or a non-finite sum leave the state unchanged (the pixel count still recorded),
-// no pixel at all. Tolerance: means and sigmas 1e-4 absolute (float sums over thousands of
+// no pixel at all; and the weight by frame count (the running mean of the first 1 / smoothing
+// frames, then the smoothing), over a chain of frames fed back as the site does. Tolerance: means and sigmas 1e-4 absolute (float sums over thousands of
 // pixels); the header's counts exactly.
 #include <cmath>
 #include <limits>
 #include <random>
 
+#include "hand/appearance_adaption.h"
 #include "passes/hand_color_reduce.h"
 #include "passes/hand_color_transfer.h"
 #include "support/appearance_states.h"
@@ -135,5 +137,31 @@ TEST_CASE("hand_color_reduce hard cases", "[hand_color_reduce][gpu]") {
     CHECK(result.header[0] == 0.0f);
     CHECK(result.header[2] == 0.0f);
     CHECK(result.image_mean == AppearanceState{}.image_mean);
+  }
+}
+
+TEST_CASE("hand_color_reduce weighs a frame by the frames fitted before it, as the reference", "[hand_color_reduce][gpu]") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(25);
+  const auto params = params_for(200);
+  // A chain of frames, each folded into the state the one before left: GPU against GPU's own
+  // previous state, the reference against its own; both against the weights written out.
+  AppearanceState gpu{}, reference{};
+  for (int frame = 0; frame < 7; ++frame) {
+    INFO("frame " << frame);
+    const std::vector<ColorStatsPartial> partials = random_partials(rng, 200);
+    const AppearanceState before = reference;
+    gpu = run_gpu(partials, gpu, params);
+    reference = passes::color_reduce_reference(partials, reference, params);
+    require_state_matches(gpu, reference);
+    CHECK(gpu.header[1] == float(frame + 1));
+    // The frame's own statistics (weight 1 into an empty state) against the weight of its count.
+    const AppearanceState alone = passes::color_reduce_reference(partials, AppearanceState{}, params);
+    const double w = hand::appearance_weight(frame, params.smoothing);
+    CHECK(w == (frame < 4 ? 1.0 / (frame + 1) : 0.25));
+    for (int c = 0; c < 3; ++c) {
+      CHECK(reference.image_mean[c] == Approx(before.image_mean[c] + w * (alone.image_mean[c] - before.image_mean[c])).margin(1e-6));
+      CHECK(reference.mesh_sigma[c] == Approx(before.mesh_sigma[c] + w * (alone.mesh_sigma[c] - before.mesh_sigma[c])).margin(1e-6));
+    }
   }
 }

@@ -1,6 +1,8 @@
 // HandRenderer, the receiver's geometry hand: nothing before a pose, a held pose for a skeleton
 // that cannot be posed (never a broken mesh), the shape fitted once, appearance adaption only
-// beyond d_max, and its result moving the render's color towards the portrait's.
+// beyond d_max, and its result moving the render's color towards the portrait's; its record read
+// back from the GPU: waiting, a frame whose region is empty not counted, fitted, stale after K
+// displayed frames.
 #include <cmath>
 #include <limits>
 
@@ -159,4 +161,59 @@ TEST_CASE("HandRenderer draws the forearm only with a tracked elbow at a plausib
     CHECK(alone > 50);
     CHECK(alone < arm - 50);  // the forearm's pixels are gone
   }
+}
+
+TEST_CASE("HandRenderer's appearance status comes from the GPU's state: waiting, too small, fitted, stale") {
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  const uint32_t w = 160, h = 90;
+  const Camera camera = target_view_camera(Eigen::Vector3d(0, 0.02, -0.7), Screen{}, w, h);
+  pipeline::HandRendererOptions options;
+  options.appearance_stale_frames = 5;
+  pipeline::HandRenderer renderer(context, kTemplates, w, h, options);
+  vk::FrameGraph graph(context, "test hand appearance status");
+  renderer.add_to(graph);
+  vk::Image portrait_color(context, {"portrait color", w, h, PixelFormat::RGBA32F});
+  vk::Image portrait_depth(context, {"portrait depth", w, h, PixelFormat::R32F});
+  CHECK(renderer.appearance_status().phase == hand::AppearancePhase::Waiting);
+
+  renderer.set_pose(facing_hand(0.5), camera);
+  graph.run();
+  // An empty portrait: the adaption runs, but no pixel agrees, so nothing is fitted.
+  vk::upload(context, portrait_color, HostImage(w, h, PixelFormat::RGBA32F));
+  vk::upload(context, portrait_depth, HostImage(w, h, PixelFormat::R32F));
+  REQUIRE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  hand::AppearanceStatus status = renderer.appearance_status();
+  CHECK(status.phase == hand::AppearancePhase::Waiting);
+  CHECK(status.frames_tried == 1);
+  CHECK(status.frames_region_too_small == 1);
+  CHECK_THAT(status.describe(), Catch::StartsWith("waiting: no frame with the hand beyond 0.4 m"));
+
+  vk::upload(context, portrait_color, vk::download(context, renderer.color()));
+  vk::upload(context, portrait_depth, vk::download(context, renderer.depth()));
+  for (int frame = 0; frame < 3; ++frame) {
+    renderer.note_frame_displayed();
+    REQUIRE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  }
+  status = renderer.appearance_status();
+  CHECK(status.phase == hand::AppearancePhase::Fitted);
+  CHECK(status.frames_fitted == 3);
+  CHECK(status.describe() == "fitted from 3 frames");
+  CHECK(status.last_region_pixels > 16.0);
+  // The portrait is the template's own render: T' fits T, the statistics agree.
+  for (int c = 0; c < 3; ++c) CHECK(std::abs(status.image.mean[size_t(c)] - status.mesh.mean[size_t(c)]) < 1e-3);
+  std::vector<std::string> events;
+  for (const auto& e : renderer.take_appearance_events()) events.push_back(e["change"]);
+  CHECK(events == std::vector<std::string>{"rejected", "fitted"});
+
+  renderer.set_pose(facing_hand(0.1), camera);  // at the glass: no adaption, the fit ages
+  CHECK_FALSE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  renderer.sync_frames_displayed(3 + 5);
+  CHECK(renderer.appearance_status().phase == hand::AppearancePhase::Fitted);
+  renderer.note_frame_displayed();
+  CHECK(renderer.appearance_status().phase == hand::AppearancePhase::Stale);
+  CHECK(renderer.appearance_status().to_json()["state"] == "stale");
+
+  renderer.reset_appearance();
+  CHECK(renderer.appearance_status().phase == hand::AppearancePhase::Waiting);
 }

@@ -12,6 +12,11 @@ namespace {
 
 constexpr double kNearM = 0.05, kFarM = 20.0;
 
+// hand_color_reduce's least region: a share of the image, and at least 16 pixels.
+double min_region_pixels(const HandRendererOptions& options, uint32_t width, uint32_t height) {
+  return std::max(16.0, options.min_region_fraction * double(width) * double(height));
+}
+
 }  // namespace
 
 HandRenderer::HandRenderer(vk::Context& context, const std::filesystem::path& template_dir, uint32_t width, uint32_t height,
@@ -27,7 +32,8 @@ HandRenderer::HandRenderer(vk::Context& context, const std::filesystem::path& te
       stats_(context),
       reduce_(context),
       transfer_(context),
-      sampler_(context, "hand skin sampler") {
+      sampler_(context, "hand skin sampler"),
+      appearance_(options.appearance_stale_frames, min_region_pixels(options, width, height)) {
   if (width == 0 || height == 0) throw std::invalid_argument("hand renderer: the image size must be at least 1x1");
   const size_t vertices = std::max(right_.vertices.size(), left_.vertices.size());
   const size_t indices = std::max(right_.indices.size(), left_.indices.size());
@@ -143,6 +149,8 @@ void HandRenderer::reset_appearance() {
   const shader_abi::AppearanceState empty{};
   vk::upload(context_, *state_, std::as_bytes(std::span(&empty, 1)));
   vk::upload(context_, *adapted_texture_, right_.texture);
+  appearance_before_ = empty;
+  appearance_.reset();
 }
 
 shader_abi::AppearanceState HandRenderer::appearance_state() {
@@ -161,7 +169,7 @@ void HandRenderer::build_appearance_graph(vk::Image& portrait_color, vk::Image& 
                  "hand_raster_template");
   stats_.add_to(graph, portrait_color, portrait_depth, *template_color_, *template_depth_, *template_mask_, *partials_);
   const uint32_t groups = passes::color_stats_group_count(width_, height_);
-  const float min_pixels = float(std::max(16.0, options_.min_region_fraction * width_ * height_));
+  const float min_pixels = float(min_region_pixels(options_, width_, height_));
   reduce_.add_to(graph, *partials_, *state_, [groups, min_pixels, smoothing = options_.appearance_smoothing] {
     return shader_abi::ColorStatsReduceParams{groups, min_pixels, smoothing, passes::kSigmaFloor};
   });
@@ -181,6 +189,9 @@ bool HandRenderer::adapt_appearance_from(vk::Image& portrait_color, vk::Image& p
   if (!appearance_graph_ || appearance_portrait_[0] != &portrait_color || appearance_portrait_[1] != &portrait_depth)
     build_appearance_graph(portrait_color, portrait_depth);
   appearance_graph_->run();
+  const shader_abi::AppearanceState after = appearance_state();
+  appearance_.record(appearance_before_, after);
+  appearance_before_ = after;
   return true;
 }
 

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "geometry/camera.h"
+#include "hand/appearance_adaption.h"
 #include "hand/hand_template.h"
 #include "pipeline/hand_settings.h"
 #include "passes/hand_color_reduce.h"
@@ -49,13 +50,23 @@ class HandRenderer {
 
   // Eq. 3 from the image-based portrait of the same target view (rgba32f straight alpha, r32f
   // metres, 0 = nothing): runs now, only while the hand is tracked and farther from the screen
-  // than d_max (where the cameras see it well); returns whether it ran.
+  // than d_max (where the cameras see it well); returns whether it ran. It reads the small state
+  // back to learn whether the frame counted (a region under min-region-fraction does not).
   bool adapt_appearance_from(vk::Image& portrait_color, vk::Image& portrait_depth);
   // Whether adapt_appearance_from would run with the current pose: callers skip the work that
   // would only feed it otherwise.
   bool appearance_adaption_possible() const;
   void reset_appearance();
   shader_abi::AppearanceState appearance_state();  // reads the GPU state back
+
+  // Appearance adaption's record, counted in displayed frames (hand/appearance_adaption.h). The
+  // receiver tells it each displayed frame, from the thread that owns this renderer: one more, or
+  // the total so far from a counter the display thread keeps.
+  void note_frame_displayed(uint64_t count = 1) { appearance_.frame_displayed(count); }
+  void sync_frames_displayed(uint64_t total) { appearance_.sync_frames_displayed(total); }
+  hand::AppearanceStatus appearance_status() const { return appearance_.status(); }
+  // For the events log: "fitted", "stale", "refitted", "rejected" (hand::AppearanceAdaption).
+  std::vector<nlohmann::json> take_appearance_events() { return appearance_.take_events(); }
   vk::FrameGraph* appearance_graph() { return appearance_graph_.get(); }
 
   bool has_pose() const { return has_pose_; }
@@ -101,6 +112,8 @@ class HandRenderer {
   std::unique_ptr<vk::Image> template_color_, template_depth_, template_mask_, template_depth_buffer_;
   std::unique_ptr<vk::FrameGraph> appearance_graph_;
   const vk::Image* appearance_portrait_[2] = {nullptr, nullptr};
+  hand::AppearanceAdaption appearance_;
+  shader_abi::AppearanceState appearance_before_{};  // the GPU state as last read back
 };
 
 }  // namespace rt::pipeline

@@ -1,5 +1,7 @@
 #include "pipeline/hand_settings.h"
 
+#include <cmath>
+
 namespace rt::pipeline {
 
 using config::KnobKind;
@@ -16,8 +18,14 @@ const config::KnobTable<HandRendererOptions>& hand_knobs() {
       {"shape-adaption-confidence", "The first frame with at least this tracker confidence fixes the hand's shape",
        KnobKind::Real, 0, 1, {}, [](const O& o) { return double(o.shape_adaption_confidence); },
        [](O& o, double v) { o.shape_adaption_confidence = float(v); }},
-      {"appearance-smoothing", "Appearance adaption: weight of a new frame's color statistics", KnobKind::Real, 0, 1, {},
-       [](const O& o) { return double(o.appearance_smoothing); }, [](O& o, double v) { o.appearance_smoothing = float(v); }},
+      {"appearance-smoothing",
+       "Appearance adaption: least weight of a new frame's color statistics (the first 1/this frames are averaged)",
+       KnobKind::Real, 0, 1, {}, [](const O& o) { return double(o.appearance_smoothing); },
+       [](O& o, double v) { o.appearance_smoothing = float(v); }},
+      {"appearance-stale-frames",
+       "Appearance adaption: displayed frames without a fitting frame before the fit is reported stale", KnobKind::Integer,
+       1, 1e7, {}, [](const O& o) { return double(o.appearance_stale_frames); },
+       [](O& o, double v) { o.appearance_stale_frames = uint64_t(std::llround(v)); }},
       {"min-region-fraction",
        "Appearance adaption: least share of the image the hand must cover (and at least 16 pixels)", KnobKind::Real, 0,
        0.1, {}, [](const O& o) { return o.min_region_fraction; }, [](O& o, double v) { o.min_region_fraction = v; }},

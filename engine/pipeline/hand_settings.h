@@ -13,12 +13,13 @@ struct HandRendererOptions {
   float min_confidence = 0.5f;              // below: not tracked (no appearance adaption)
   float shape_adaption_confidence = 0.8f;   // the first frame at least this good fixes the shape
   bool shape_adaption = true;
-  float appearance_smoothing = 0.25f;       // weight of a new frame's statistics
+  float appearance_smoothing = 0.25f;       // least weight of a new frame's statistics (running mean before)
+  uint64_t appearance_stale_frames = 300;   // displayed frames without a fit before it counts as stale
   double min_region_fraction = 2e-4;        // of the image, and at least 16 pixels
 };
 
 // min-confidence, shape-adaption-confidence, shape-adaption (on|off), appearance-smoothing,
-// min-region-fraction.
+// appearance-stale-frames, min-region-fraction.
 const config::KnobTable<HandRendererOptions>& hand_knobs();
 // The prefix of the hand's command-line options: --hand-min-confidence.
 inline constexpr const char* kHandOptionPrefix = "hand-";

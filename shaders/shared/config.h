@@ -104,7 +104,7 @@ struct ColorStatsPartial {
 
 // The smoothed statistics the texture transfer uses (L, alpha, beta in xyz).
 struct AppearanceState {
-  RT_VEC4 header;  // x: 1 once statistics exist, y: updates so far, z: pixels in the last frame
+  RT_VEC4 header;  // x: 1 once statistics exist, y: frames fitted so far, z: pixels in the last frame
   RT_VEC4 image_mean;
   RT_VEC4 image_sigma;
   RT_VEC4 mesh_mean;
@@ -118,7 +118,7 @@ struct ColorTransferParams {
 struct ColorStatsReduceParams {
   RT_UINT group_count;     // partial sums to add
   float min_pixels;        // fewer pixels: keep the previous transfer
-  float smoothing;         // weight of the new statistics in the running average, (0, 1]
+  float smoothing;         // least weight of a new frame (the first 1 / smoothing: running mean), (0, 1]
   float sigma_floor;       // floor on the template's standard deviation per channel
 };
 
