@@ -12,3 +12,10 @@ add_cli_test(cli_eval_ibr_bad_fusion 105 "--fusion: median not in" ${rt} eval ib
 add_cli_test(cli_eval_ibr_bad_edge_inset 105 "--edge-inset: Value 0.5 not in range" ${rt} eval ibr --edge-inset 0.5)
 add_cli_test(cli_bench_ibr 0 "6 views: image-based model.*copy"
              ${rt} bench ibr --frames 1 --width 65 --height 33 --out ${CMAKE_BINARY_DIR}/test-out/bench-ibr)
+# The dual hand at the glass: the receiver's whole chain per touch phase and variant, small.
+add_test(NAME cli_eval_dual_outputs
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/eval_dual_outputs.sh $<TARGET_FILE:remotetouch> ${CMAKE_BINARY_DIR}/test-out/eval-dual)
+add_cli_test(cli_eval_dual_bad_variant 105 "--variants: blend not in" ${rt} eval dual --variants dual,blend)
+add_cli_test(cli_eval_dual_bad_user 105 "--users: C not in" ${rt} eval dual --users C)
+add_cli_test(cli_eval_dual_past_end 1 "eval dual: --first-frame 100000 is past the scene's 180 frames"
+             ${rt} eval dual --scene clap --first-frame 100000)

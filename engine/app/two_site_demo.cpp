@@ -208,6 +208,13 @@ void print_summary(const nlohmann::json& metrics) {
   row("PSNR final composite dB (mean)",
       cell(metrics["psnr_db"]["A"]["final_db"]) + " (" + cell(metrics["psnr_db"]["A"]["mean_db"]) + ")",
       cell(metrics["psnr_db"]["B"]["final_db"]) + " (" + cell(metrics["psnr_db"]["B"]["mean_db"]) + ")");
+  auto appearance = [](const nlohmann::json& site) {
+    const nlohmann::json::json_pointer path("/appearance/state");
+    if (!site.contains(path)) return std::string("-");
+    const nlohmann::json& a = site["appearance"];
+    return a["state"].get<std::string>() + (a["frames_fitted"].is_number() ? " (" + cell(a["frames_fitted"], "%.0f") + ")" : "");
+  };
+  row("appearance adaption (frames fitted)", appearance(a), appearance(b));
   // What the remote user sees of the hand and forearm, per touch phase.
   for (const char* phase : evaluation::kTouchPhaseNames) {
     const nlohmann::json::json_pointer path("/hand_arm/" + std::string(phase));

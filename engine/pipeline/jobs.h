@@ -2,6 +2,7 @@
 // What the commands that render run on the device, one file each under pipeline/jobs/: the
 // receiver's compositing on generated layers, the benchmarks, the simulator's recording and the
 // evaluations against its ground truth. The command line (engine/app/) only parses their options.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
 #include "pipeline/run_options.h"
+#include "sim/scene.h"
 
 namespace rt::pipeline {
 
@@ -47,6 +49,16 @@ struct EvalDualOptions {
   double resolution_scale = 0;     // of the cameras; 0 = the scene's own
   bool plots = true;               // hand_psnr.png and the contact sheets (python3-matplotlib)
 };
+
+// Which of a scene's frames an evaluation renders: from `first_frame` every `frame_step`-th,
+// `frames` of them when given, else to the scene's end; shortens scene.frame_count to the last one
+// and returns how many. Throws std::invalid_argument naming `command` for a step of 0 or a first
+// frame past the scene's end.
+struct FrameSelection {
+  uint32_t first_frame = 0, frame_step = 1;
+  std::optional<uint32_t> frames;
+};
+uint32_t select_scene_frames(sim::Scene& scene, const FrameSelection& selection, const std::string& command);
 
 // Each returns the process exit code; errors are thrown.
 int run_compose(const RunOptions& options);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iostream>
 
 #include "config/assets.h"
 #include "pipeline/hand_renderer.h"
@@ -161,6 +162,17 @@ void Receiver::display_loop() {
       }
     }
     if (adapted) ++appearance_adaptions_;
+    // Counted in displayed frames, not seconds: the fit goes stale by frames shown without one.
+    hand->note_frame_displayed();
+    for (const nlohmann::json& change : hand->take_appearance_events()) {
+      common_.events->write("appearance", monotonic_now_us(), change);
+      std::cerr << "site " << common_.name << ": appearance adaption " << change.value("change", std::string()) << ": "
+                << change.value("describe", std::string()) << "\n";
+    }
+    {
+      std::lock_guard lock(appearance_mutex_);
+      appearance_status_ = hand->appearance_status();
+    }
     last_shown_us = on_screen;
     portrait_on_screen_.add(double(int64_t(on_screen) - int64_t(message.capture_timestamp_us)) / 1000.0);
     std::optional<double> skeleton_gap_ms;
@@ -187,6 +199,14 @@ void Receiver::display_loop() {
                  {"hand_distance_m", std::isfinite(hand_distance_m) ? nlohmann::json(hand_distance_m) : nlohmann::json()}},
                 repeat);
   }
+  {
+    std::lock_guard lock(appearance_mutex_);
+    appearance_status_ = hand->appearance_status();
+    // A receiver that never fitted the remote user's skin showed them in the template's: say so.
+    if (appearance_status_.phase == hand::AppearancePhase::Waiting)
+      common_.events->write("warning", monotonic_now_us(),
+                            {{"message", "appearance adaption never fitted: " + appearance_status_.describe()}});
+  }
   common_.record_gpu_ms("receiver", graph);
   common_.record_gpu_ms("hand", hand_graph);
   if (hand->appearance_graph()) common_.record_gpu_ms("appearance", *hand->appearance_graph());
@@ -194,6 +214,10 @@ void Receiver::display_loop() {
 }
 
 void Receiver::add_metrics(nlohmann::json& m, double wall_s) const {
+  {
+    std::lock_guard lock(appearance_mutex_);
+    m["appearance"] = appearance_status_.to_json();
+  }
   m["stage_wall_ms"]["hand_render_and_readback"] = hand_wall_.to_json();
   m["stage_wall_ms"]["receiver_render_and_readback"] = receiver_wall_.to_json();
   m["latency_ms"]["capture_to_portrait_received"] = portrait_network_.to_json();

@@ -13,7 +13,9 @@
 // other skeletons, so the two representations agree however the streams interleave. The display
 // loop runs on its own thread (site_run.cpp starts it) and owns every Vulkan object it uses.
 #include <atomic>
+#include <mutex>
 
+#include "hand/appearance_adaption.h"
 #include "net/messages.h"
 #include "session/latency_stats.h"
 #include "session/mailbox.h"
@@ -51,6 +53,9 @@ class Receiver {
   // Portraits shown without the mesh hand because no remote skeleton lay within the gap limit of
   // their capture time; those shown with it; appearance adaptions run.
   std::atomic<uint64_t> frames_no_hand_skeleton_gap_{0}, frames_with_hand_{0}, appearance_adaptions_{0};
+  // The geometry hand's appearance adaption as of the last displayed frame, for metrics.json.
+  mutable std::mutex appearance_mutex_;
+  hand::AppearanceStatus appearance_status_;
   std::atomic<uint64_t> last_portrait_arrival_us_{0};
   // How far in time the drawn hand's pose reaches to the skeletons it was built from (see HandsAtTime).
   session::LatencyStats skeleton_to_portrait_gap_;

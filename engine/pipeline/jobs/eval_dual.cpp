@@ -83,13 +83,8 @@ std::optional<double> tip_error_px(const HandRenderer& renderer, const HandSkele
 
 int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
   sim::Scene scene = sim::load_scene(sim::resolve_scene(eval.scene));
-  if (eval.frame_step == 0) throw std::invalid_argument("eval dual: --frame-step must be at least 1");
-  if (eval.first_frame >= scene.frame_count)
-    throw std::invalid_argument("eval dual: --first-frame " + std::to_string(eval.first_frame) + " is past the scene's " +
-                                std::to_string(scene.frame_count) + " frames");
-  const uint32_t frames =
-      eval.frames_given ? options.frames : (scene.frame_count - eval.first_frame + eval.frame_step - 1) / eval.frame_step;
-  scene.frame_count = eval.first_frame + (frames - 1) * eval.frame_step + 1;
+  const uint32_t frames = select_scene_frames(
+      scene, {eval.first_frame, eval.frame_step, eval.frames_given ? std::optional(options.frames) : std::nullopt}, "eval dual");
   if (eval.resolution_scale > 0) scene.resolution_scale = eval.resolution_scale;
   std::vector<std::string> variants = eval.variants;
   if (variants.empty())
@@ -223,8 +218,10 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
 
       // Appearance adaption after the display, from the portrait just shown, as the site does:
       // what it fits is what the next frames sample.
-      for (auto& [path, run] : hands)
+      for (auto& [path, run] : hands) {
         if (run.drawn && run.adapts_appearance) run.renderer->adapt_appearance_from(ibr.portrait(), ibr.portrait_depth());
+        run.renderer->note_frame_displayed();
+      }
       std::fprintf(stderr, "\r  user %s: frame %u/%u", user_name.c_str(), index + 1, frames);
     }
     std::fprintf(stderr, "\n");
@@ -235,8 +232,9 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
     for (const auto& [key, scores] : totals)
       user_report["phases"][evaluation::phase_name(key.first)][key.second] = scores.to_json();
     if (hands.count(HandPath::Full)) {
-      const auto state = hands.at(HandPath::Full).renderer->appearance_state();
-      user_report["appearance_updates"] = state.header[1];
+      const hand::AppearanceStatus status = hands.at(HandPath::Full).renderer->appearance_status();
+      user_report["appearance"] = status.to_json();
+      std::printf("user %s: appearance adaption %s\n", user_name.c_str(), status.describe().c_str());
     }
     double ibr_ms = 0;
     for (const auto& timing : ibr.graph().timings()) ibr_ms += timing.median_ms;

@@ -45,14 +45,8 @@ HostImage as_png(const HostImage& portrait) {
 
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   sim::Scene scene = sim::load_scene(sim::resolve_scene(eval.scene));
-  if (eval.frame_step == 0) throw std::invalid_argument("eval ibr: --frame-step must be at least 1");
-  if (eval.first_frame >= scene.frame_count)
-    throw std::invalid_argument("eval ibr: --first-frame " + std::to_string(eval.first_frame) + " is past the scene's " +
-                                std::to_string(scene.frame_count) + " frames");
-  // How many frames are rendered: --frames, else the rest of the scene at this step.
-  const uint32_t frames =
-      eval.frames_given ? options.frames : (scene.frame_count - eval.first_frame + eval.frame_step - 1) / eval.frame_step;
-  scene.frame_count = eval.first_frame + (frames - 1) * eval.frame_step + 1;
+  const uint32_t frames = select_scene_frames(
+      scene, {eval.first_frame, eval.frame_step, eval.frames_given ? std::optional(options.frames) : std::nullopt}, "eval ibr");
   scene.color_supersampling = eval.supersample;
   if (eval.resolution_scale > 0) scene.resolution_scale = eval.resolution_scale;
   const Site site = eval.site == "B" ? Site::B : Site::A;
