@@ -14,8 +14,8 @@ using passes::AppearanceState;
 
 namespace {
 
-HostImage run_gpu(const HostImage& texture, const AppearanceState& state) {
-  const passes::HandColorTransferPass pass(test::gpu());
+HostImage run_gpu(const HostImage& texture, const AppearanceState& state, float max_contrast = passes::kMaxContrast) {
+  const passes::HandColorTransferPass pass(test::gpu(), max_contrast);
   test::PassHarness gpu("hand_color_transfer");
   pass.add_to(gpu.graph(), gpu.input("template texture", texture),
               gpu.input_buffer("appearance state", std::span(&state, 1)),
@@ -72,4 +72,27 @@ TEST_CASE("hand_color_transfer hard cases") {
     REQUIRE(test::count_non_finite(gpu) == 0);
     RT_REQUIRE_MATCHES(gpu, texture, 0.0, 0.0);
   }
+}
+
+TEST_CASE("hand_color_transfer caps the contrast: the template's detail is stretched at most max_contrast times") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(5);
+  const HostImage texture = test::random_image(rng, 23, 9, PixelFormat::RGBA32F);
+  AppearanceState state = random_state(rng);
+  state.mesh_sigma = {0.05f, 0.01f, 0.02f, 0.0f};
+  state.image_sigma = {0.5f, 0.004f, 0.2f, 0.0f};  // ratios 10, 0.4, 10
+  for (float cap : {0.5f, 1.0f, 4.0f}) {
+    INFO("max_contrast " << cap);
+    RT_REQUIRE_MATCHES(run_gpu(texture, state, cap), passes::color_transfer_reference(texture, state, passes::kSigmaFloor, cap),
+                       2e-3, 0.0);
+  }
+  // At a cap of 1 a channel whose ratio is above it keeps the template's spread: the same as an
+  // image sigma equal to the mesh's, while the channel below the cap is untouched by it.
+  AppearanceState same_spread = state;
+  same_spread.image_sigma[0] = state.mesh_sigma[0];
+  same_spread.image_sigma[2] = state.mesh_sigma[2];
+  RT_REQUIRE_MATCHES(run_gpu(texture, state, 1.0f), passes::color_transfer_reference(texture, same_spread, passes::kSigmaFloor, 100.0f),
+                     2e-3, 0.0);
+  CHECK_THROWS_AS(passes::HandColorTransferPass(test::gpu(), 0.0f), std::invalid_argument);
+  CHECK_THROWS_AS(passes::HandColorTransferPass(test::gpu(), std::numeric_limits<float>::quiet_NaN()), std::invalid_argument);
 }

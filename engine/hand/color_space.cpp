@@ -93,8 +93,9 @@ double delta_e_2000(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2) {
   return std::sqrt(std::pow(dl / s_l, 2) + std::pow(dc / s_c, 2) + std::pow(dH / s_h, 2) + r_t * (dc / s_c) * (dH / s_h));
 }
 
-double transfer_channel(double c, const ChannelStats& image, const ChannelStats& geometry, double sigma_floor) {
-  return image.sigma / std::max(geometry.sigma, sigma_floor) * (c - geometry.mean) + image.mean;
+double transfer_channel(double c, const ChannelStats& image, const ChannelStats& geometry, double sigma_floor,
+                        double max_contrast) {
+  return std::min(image.sigma / std::max(geometry.sigma, sigma_floor), max_contrast) * (c - geometry.mean) + image.mean;
 }
 
 }  // namespace rt::hand

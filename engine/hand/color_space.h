@@ -18,10 +18,13 @@ double delta_e_76(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2);
 // CIEDE2000 (Sharma, Wu, Dalal 2005), k_L = k_C = k_H = 1.
 double delta_e_2000(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2);
 
-// Eq. 3 for one channel: c' = (sigma_i / max(sigma_g, sigma_floor)) (c - m_g) + m_i.
+// Eq. 3 for one channel: c' = min(sigma_i / max(sigma_g, sigma_floor), max_contrast) (c - m_g) + m_i.
+// The cap keeps the template's own texture detail from being stretched to the portrait's spread,
+// which comes mostly from shading the unlit mesh does not have.
 struct ChannelStats {
   double mean = 0, sigma = 0;
 };
-double transfer_channel(double c, const ChannelStats& image, const ChannelStats& geometry, double sigma_floor);
+double transfer_channel(double c, const ChannelStats& image, const ChannelStats& geometry, double sigma_floor,
+                        double max_contrast);
 
 }  // namespace rt::hand

@@ -31,7 +31,7 @@ HandRenderer::HandRenderer(vk::Context& context, const std::filesystem::path& te
       raster_(context),
       stats_(context),
       reduce_(context),
-      transfer_(context),
+      transfer_(context, options.appearance_max_contrast),
       sampler_(context, "hand skin sampler"),
       appearance_(options.appearance_stale_frames, min_region_pixels(options, width, height)) {
   if (width == 0 || height == 0) throw std::invalid_argument("hand renderer: the image size must be at least 1x1");

@@ -15,6 +15,7 @@ struct HandRendererOptions {
   bool shape_adaption = true;
   float appearance_smoothing = 0.25f;       // least weight of a new frame's statistics (running mean before)
   uint64_t appearance_stale_frames = 300;   // displayed frames without a fit before it counts as stale
+  float appearance_max_contrast = 1.5f;     // cap on sigma_i / sigma_g (passes/hand_color_transfer.h)
   double min_region_fraction = 2e-4;        // of the image, and at least 16 pixels
 };
 
