@@ -221,10 +221,10 @@ void print_summary(const nlohmann::json& metrics) {
     auto figures = [&](const nlohmann::json& site) {
       if (!site.contains(path)) return std::string("-");
       const nlohmann::json& f = site.at(path);
-      return cell(f.value("psnr_hand_arm_db", nlohmann::json())) + " / " + cell(f.value("de_hand", nlohmann::json())) + " (" +
+      return cell(f.value("psnr_hand_arm_db", nlohmann::json())) + "/" + cell(f.value("de_hand", nlohmann::json())) + " (" +
              cell(f.value("frames", nlohmann::json()), "%.0f") + ")";
     };
-    row(std::string("hand+arm PSNR dB / CIEDE2000 (frames), ") + phase, figures(metrics["psnr_db"]["A"]),
+    row(std::string("hand+arm dB/CIEDE2000 (frames) ") + phase, figures(metrics["psnr_db"]["A"]),
         figures(metrics["psnr_db"]["B"]));
   }
   std::printf("paper (RTX 3090): portrait ~400 ms, hand ~250 ms, touch to motor ~60 ms, 30 fps\n");

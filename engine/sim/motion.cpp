@@ -74,7 +74,8 @@ class KeyPoses {
   BodyKey raised() const {
     BodyKey key = rest();
     key.lean_rad = 0.06;
-    key.right.palm = {target_.x() + 0.04, target_.y() - 0.06, body_.head_rest.z() - 0.30};
+    // Beyond d_max, where the cameras see the hand well and appearance adaption fits it.
+    key.right.palm = {target_.x() + 0.04, target_.y() - 0.06, body_.head_rest.z() - 0.24};
     key.right.orientation = palm_towards_screen();
     key.right.curl = 0.3;
     return key;

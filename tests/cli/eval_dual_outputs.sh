@@ -5,8 +5,8 @@
 set -euo pipefail
 binary=$1 out=$2
 rm -rf "$out"
-# Frames 0, 30, ..., 150 of the clap reach far, approach, near and touching for both users.
-"$binary" eval dual --scene clap --frame-step 30 --width 96 --height 54 --out "$out" --validation | tee "$out.log"
+# Frames 0, 10, ..., 170 of the clap reach far, approach, near and touching for both users.
+"$binary" eval dual --scene clap --frame-step 10 --width 96 --height 54 --out "$out" --validation | tee "$out.log"
 [ -s "$out/metrics.json" ] || { echo "missing $out/metrics.json" >&2; exit 1; }
 /usr/bin/python3 - "$out" <<'PY'
 import json, math, sys, csv
@@ -32,7 +32,7 @@ assert m["goals"], "no goals checked"
 text = open(f"{out}/metrics.json").read()
 assert "NaN" not in text and "Infinity" not in text
 rows = list(csv.DictReader(open(f"{out}/frames.csv")))
-assert len(rows) == 2 * 6 * len(variants), len(rows)
+assert len(rows) == 2 * 18 * len(variants), len(rows)
 for row in rows:
     for key, value in row.items():
         assert value.lower() not in ("nan", "inf", "-inf"), (key, row)
