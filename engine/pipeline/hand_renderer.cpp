@@ -4,6 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "geometry/hand_distance.h"
 #include "geometry/site_frames.h"
 #include "hand/shape_adaption.h"
 
@@ -119,12 +120,7 @@ void HandRenderer::set_pose(const HandSkeleton& skeleton, const Camera& target_v
   matrices_ = hand::skinning_matrices(frames_, rest_);
   std::memcpy(bones_->mapped(), matrices_.data(), sizeof(matrices_));
   has_pose_ = true;
-  double distance = 0;
-  const auto joints = skeleton.hand_joints();
-  size_t counted = 0;
-  for (const auto& joint : joints)
-    if (joint.allFinite()) distance += distance_to_screen(joint), ++counted;
-  hand_distance_m_ = counted ? distance / double(counted) : 0.0;
+  hand_distance_m_ = hand_distance_to_screen(skeleton);
 }
 
 std::array<Eigen::Vector3d, kDigitCount> HandRenderer::fingertips() const {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "geometry/site_frames.h"
+#include "geometry/hand_distance.h"
 #include "ibr/camera_selection.h"
 #include "sim/person_mesh.h"
 
@@ -45,17 +45,9 @@ LimbTruth LimbTruthRenderer::measure(const sim::PersonPose& pose, const sim::Use
   graph_.run();
   truth.region = evaluation::hand_region(scene_color, scene_depth, scene_part, vk::download(context_, depth_),
                                          vk::download(context_, part_));
-  truth.distance_m = mean_distance_to_screen(truth.hand);
+  truth.distance_m = hand_distance_to_screen(truth.hand);
   truth.phase = evaluation::touch_phase(truth.distance_m);
   return truth;
-}
-
-double mean_distance_to_screen(const HandSkeleton& hand) {
-  double sum = 0;
-  size_t counted = 0;
-  for (const auto& joint : hand.hand_joints())
-    if (joint.allFinite()) sum += distance_to_screen(joint), ++counted;
-  return counted ? sum / double(counted) : NAN;
 }
 
 }  // namespace rt::pipeline

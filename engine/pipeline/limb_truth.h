@@ -35,7 +35,4 @@ class LimbTruthRenderer {
   vk::FrameGraph graph_;
 };
 
-// The mean distance of a hand's finite joints to the screen; NaN without any.
-double mean_distance_to_screen(const HandSkeleton& hand);
-
 }  // namespace rt::pipeline
