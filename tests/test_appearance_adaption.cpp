@@ -49,10 +49,10 @@ std::vector<ColorStatsPartial> frame_partials(uint64_t k, int pixels) {
 // A receiver: the state machine plus the reduce (its reference) that it reads back after each frame.
 struct Receiver {
   explicit Receiver(uint64_t stale_frames) : adaption(stale_frames, kMinPixels) {}
-  AdaptionOutcome adapt(const std::vector<ColorStatsPartial>& partials) {
+  AdaptionOutcome adapt(const std::vector<ColorStatsPartial>& partials, bool beyond_d_max = true) {
     const shader_abi::ColorStatsReduceParams params{uint32_t(partials.size()), float(kMinPixels), kSmoothing, 0.01f};
     const AppearanceState after = passes::color_reduce_reference(partials, gpu, params);
-    const AdaptionOutcome outcome = adaption.record(gpu, after);
+    const AdaptionOutcome outcome = adaption.record(gpu, after, beyond_d_max);
     gpu = after;
     return outcome;
   }
@@ -116,7 +116,7 @@ TEST_CASE("appearance adaption waits until a frame fits, and says so") {
   Receiver receiver(30);
   hand::AppearanceStatus status = receiver.adaption.status();
   CHECK(status.phase == AppearancePhase::Waiting);
-  CHECK(status.describe() == "waiting: no frame with the hand beyond 0.4 m seen by the cameras yet");
+  CHECK(status.describe() == "waiting: no frame with the hand seen by the cameras yet");
   receiver.adaption.frame_displayed(500);  // never stale without a fit
   status = receiver.adaption.status();
   CHECK(status.phase == AppearancePhase::Waiting);
@@ -141,7 +141,7 @@ TEST_CASE("a region too small does not count as fitted") {
   CHECK(status.frames_tried == 2);
   CHECK(status.frames_region_too_small == 2);
   CHECK(status.last_region_pixels == 0.0);
-  CHECK_THAT(status.describe(), Catch::StartsWith("waiting: no frame with the hand beyond 0.4 m") &&
+  CHECK_THAT(status.describe(), Catch::StartsWith("waiting: no frame with the hand seen by the cameras") &&
                                     Catch::Contains("2 tried") && Catch::Contains("fewer than 46 pixels"));
   auto events = receiver.adaption.take_events();
   REQUIRE(events.size() == 1);  // the first refusal for a reason, not every one
@@ -166,6 +166,57 @@ TEST_CASE("a region too small does not count as fitted") {
     CHECK(receiver.adapt(broken) == AdaptionOutcome::NotFinite);
     CHECK(receiver.adaption.status().frames_not_finite == 1);
     CHECK(receiver.adaption.status().frames_fitted == 1);
+  }
+}
+
+TEST_CASE("a hand never seen beyond d_max fits provisionally, until the first frame beyond it starts afresh") {
+  Receiver receiver(30);
+  CHECK(receiver.adaption.accepts(false));
+  CHECK(receiver.adaption.accepts(true));
+  CHECK_FALSE(receiver.adaption.restarts_before(true));  // nothing to drop yet
+
+  REQUIRE(receiver.adapt(frame_partials(0, 400), false) == AdaptionOutcome::Fitted);
+  REQUIRE(receiver.adapt(frame_partials(1, 400), false) == AdaptionOutcome::Fitted);
+  hand::AppearanceStatus status = receiver.adaption.status();
+  CHECK(status.phase == AppearancePhase::Fitted);
+  CHECK(status.provisional);
+  CHECK(status.frames_fitted == 2);
+  CHECK_THAT(status.describe(), Catch::StartsWith("fitted from 2 frames, provisional: the hand was never seen beyond 0.4 m"));
+  CHECK(status.to_json()["provisional"] == true);
+  CHECK(receiver.adaption.accepts(false));  // more of the arm refines it
+  CHECK_FALSE(receiver.adaption.restarts_before(false));
+  CHECK(receiver.adaption.restarts_before(true));
+  receiver.adaption.frame_displayed(31);
+  CHECK_THAT(receiver.adaption.status().describe(), Catch::EndsWith("(fitted from 2 frames, provisional)"));
+
+  // The receiver drops the provisional fit (the GPU state too) before the first frame beyond d_max.
+  receiver.adaption.reset();
+  receiver.gpu = {};
+  REQUIRE(receiver.adapt(frame_partials(2, 400), true) == AdaptionOutcome::Fitted);
+  status = receiver.adaption.status();
+  CHECK_FALSE(status.provisional);
+  CHECK(status.frames_fitted == 1);  // the first full view weighs 1: nothing of the arm-only fit is left
+  CHECK(status.describe() == "fitted from 1 frame");
+  {
+    Receiver fresh(30);
+    fresh.adapt(frame_partials(2, 400), true);
+    CHECK(same_state(receiver.gpu, fresh.gpu));
+  }
+  // From now on only frames beyond d_max are used, and nothing restarts.
+  CHECK_FALSE(receiver.adaption.accepts(false));
+  CHECK(receiver.adaption.accepts(true));
+  CHECK_FALSE(receiver.adaption.restarts_before(true));
+  receiver.adaption.frame_displayed(100);
+  CHECK(receiver.adaption.status().phase == AppearancePhase::Stale);
+  CHECK_FALSE(receiver.adaption.accepts(false));  // stale, but a full view's fit still beats the arm's
+
+  SECTION("a provisional frame that is rejected leaves it waiting, and frames inside d_max still count") {
+    Receiver r(30);
+    CHECK(r.adapt(frame_partials(0, 10), false) == AdaptionOutcome::RegionTooSmall);
+    CHECK(r.adaption.status().phase == AppearancePhase::Waiting);
+    CHECK_FALSE(r.adaption.status().provisional);
+    CHECK(r.adaption.accepts(false));
+    CHECK_FALSE(r.adaption.restarts_before(true));
   }
 }
 

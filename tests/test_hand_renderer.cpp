@@ -76,7 +76,7 @@ TEST_CASE("HandRenderer draws nothing before a pose and holds the last pose for 
                     Catch::Contains("64x64"));
 }
 
-TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the portrait's colors") {
+TEST_CASE("HandRenderer adapts its appearance towards the portrait's colors, inside d_max only until a frame beyond it fits") {
   test::NoValidationErrors no_errors;
   vk::Context& context = test::gpu();
   const uint32_t w = 160, h = 90;
@@ -87,9 +87,14 @@ TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the por
   vk::Image portrait_color(context, {"portrait color", w, h, PixelFormat::RGBA32F});
   vk::Image portrait_depth(context, {"portrait depth", w, h, PixelFormat::R32F});
 
-  renderer.set_pose(facing_hand(0.2), camera);  // inside the ramp: the cameras do not see it well
+  // Inside the ramp, before any fit: provisionally (an empty portrait: nothing agrees, nothing fits).
+  renderer.set_pose(facing_hand(0.2), camera);
   graph.run();
-  CHECK_FALSE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  CHECK(renderer.appearance_adaption_possible());
+  vk::upload(context, portrait_color, HostImage(w, h, PixelFormat::RGBA32F));
+  vk::upload(context, portrait_depth, HostImage(w, h, PixelFormat::R32F));
+  CHECK(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  CHECK(renderer.appearance_status().phase == hand::AppearancePhase::Waiting);
 
   renderer.set_pose(facing_hand(0.5), camera);
   graph.run();
@@ -106,6 +111,7 @@ TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the por
   vk::upload(context, portrait_color, portrait);
   vk::upload(context, portrait_depth, vk::download(context, renderer.depth()));
   REQUIRE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  CHECK_FALSE(renderer.appearance_status().provisional);
   const auto state = renderer.appearance_state();
   CHECK(state.header[0] == 1.0f);
   CHECK(state.header[2] > 16.0f);
@@ -115,9 +121,60 @@ TEST_CASE("HandRenderer adapts its appearance only beyond d_max, towards the por
   INFO("before " << before.transpose() << ", after " << after.transpose() << ", portrait " << target.transpose());
   CHECK((after - target).norm() < 0.25 * (before - target).norm());
 
+  // A full view has fitted: inside d_max the cameras see only part of the hand, so no more there.
+  renderer.set_pose(facing_hand(0.2), camera);
+  CHECK_FALSE(renderer.appearance_adaption_possible());
+  CHECK_FALSE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  renderer.set_pose(facing_hand(0.5), camera);
+
   renderer.reset_appearance();
   graph.run();
   CHECK((mean_color(vk::download(context, renderer.color()), mask) - before).norm() < 1e-6);
+}
+
+TEST_CASE("HandRenderer fits provisionally inside d_max, and starts afresh at the first frame beyond it") {
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  const uint32_t w = 160, h = 90;
+  const Camera camera = target_view_camera(Eigen::Vector3d(0, 0.02, -0.7), Screen{}, w, h);
+  pipeline::HandRenderer renderer(context, kTemplates, w, h);
+  vk::FrameGraph graph(context, "test hand provisional appearance");
+  renderer.add_to(graph);
+  vk::Image portrait_color(context, {"portrait color", w, h, PixelFormat::RGBA32F});
+  vk::Image portrait_depth(context, {"portrait depth", w, h, PixelFormat::R32F});
+  // The portrait: one skin color wherever the hand is, at the hand's depth.
+  auto tinted_portrait = [&](Eigen::Vector3f skin) {
+    graph.run();
+    const HostImage mask = vk::download(context, renderer.mask());
+    HostImage portrait(w, h, PixelFormat::RGBA32F);
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x)
+        if (mask.at(x, y) > 0.5f)
+          for (uint32_t c = 0; c < 4; ++c) portrait.at(x, y, c) = c < 3 ? skin[int(c)] : 1.0f;
+    vk::upload(context, portrait_color, portrait);
+    vk::upload(context, portrait_depth, vk::download(context, renderer.depth()));
+  };
+
+  renderer.set_pose(facing_hand(0.2), camera);
+  tinted_portrait({0.3f, 0.2f, 0.15f});  // what the cameras make of the arm close to the glass
+  REQUIRE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  REQUIRE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  hand::AppearanceStatus status = renderer.appearance_status();
+  CHECK(status.phase == hand::AppearancePhase::Fitted);
+  CHECK(status.provisional);
+  CHECK(status.frames_fitted == 2);
+  const auto provisional = renderer.appearance_state();
+
+  renderer.set_pose(facing_hand(0.5), camera);
+  tinted_portrait({0.9f, 0.8f, 0.7f});
+  REQUIRE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
+  status = renderer.appearance_status();
+  CHECK_FALSE(status.provisional);
+  CHECK(status.frames_fitted == 1);  // afresh: the provisional frames are gone
+  const auto full = renderer.appearance_state();
+  CHECK(full.header[1] == 1.0f);
+  for (int c = 0; c < 3; ++c) CHECK(std::isfinite(full.image_mean[size_t(c)]));
+  CHECK(full.image_mean[0] > provisional.image_mean[0] + 0.1f);  // the lighter portrait alone, not a mix
 }
 
 TEST_CASE("HandRenderer draws the forearm only with a tracked elbow at a plausible distance") {
@@ -187,7 +244,7 @@ TEST_CASE("HandRenderer's appearance status comes from the GPU's state: waiting,
   CHECK(status.phase == hand::AppearancePhase::Waiting);
   CHECK(status.frames_tried == 1);
   CHECK(status.frames_region_too_small == 1);
-  CHECK_THAT(status.describe(), Catch::StartsWith("waiting: no frame with the hand beyond 0.4 m"));
+  CHECK_THAT(status.describe(), Catch::StartsWith("waiting: no frame with the hand seen by the cameras"));
 
   vk::upload(context, portrait_color, vk::download(context, renderer.color()));
   vk::upload(context, portrait_depth, vk::download(context, renderer.depth()));

@@ -45,16 +45,21 @@ std::string AppearanceStatus::describe() const {
   std::ostringstream s;
   switch (phase) {
     case AppearancePhase::Waiting:
-      s << "waiting: no frame with the hand beyond " << RT_FUSION_D_MAX_M << " m seen by the cameras yet";
+      s << "waiting: no frame with the hand seen by the cameras yet";
       if (frames_tried > 0)
         s << " (" << frames_tried << " tried: " << frames_region_too_small << " with the hand on fewer than "
           << min_region_pixels << " pixels where portrait and mesh agree, the last on " << last_region_pixels << "; "
           << frames_not_finite << " not finite)";
       break;
-    case AppearancePhase::Fitted: s << "fitted from " << frames_fitted << " frame" << (frames_fitted == 1 ? "" : "s"); break;
+    case AppearancePhase::Fitted:
+      s << "fitted from " << frames_fitted << " frame" << (frames_fitted == 1 ? "" : "s");
+      if (provisional)
+        s << ", provisional: the hand was never seen beyond " << RT_FUSION_D_MAX_M
+          << " m, only the part of it the cameras see closer";
+      break;
     case AppearancePhase::Stale:
       s << "stale: last fitted " << frames_since_fit.value_or(0) << " frames ago (fitted from " << frames_fitted << " frame"
-        << (frames_fitted == 1 ? "" : "s") << ")";
+        << (frames_fitted == 1 ? "" : "s") << (provisional ? ", provisional" : "") << ")";
       break;
   }
   return s.str();
@@ -64,6 +69,7 @@ nlohmann::json AppearanceStatus::to_json() const {
   const bool known = phase != AppearancePhase::Waiting;
   return {{"state", appearance_phase_name(phase)},
           {"describe", describe()},
+          {"provisional", provisional},
           {"frames_fitted", frames_fitted},
           {"frames_tried", frames_tried},
           {"frames_rejected", {{"region_too_small", frames_region_too_small}, {"not_finite", frames_not_finite}}},
@@ -95,7 +101,8 @@ void AppearanceAdaption::sync_frames_displayed(uint64_t total) {
   if (total > displayed_) frame_displayed(total - displayed_);
 }
 
-AdaptionOutcome AppearanceAdaption::record(const shader_abi::AppearanceState& before, const shader_abi::AppearanceState& after) {
+AdaptionOutcome AppearanceAdaption::record(const shader_abi::AppearanceState& before, const shader_abi::AppearanceState& after,
+                                           bool hand_beyond_d_max) {
   const AppearancePhase phase_before = phase();
   ++tried_;
   state_ = after;
@@ -106,6 +113,7 @@ AdaptionOutcome AppearanceAdaption::record(const shader_abi::AppearanceState& be
   if (outcome == AdaptionOutcome::Fitted) {
     if (!first_fit_at_) first_fit_at_ = displayed_;
     last_fit_at_ = displayed_;
+    if (hand_beyond_d_max) fitted_beyond_d_max_ = true;
   } else {
     uint64_t& rejected = outcome == AdaptionOutcome::RegionTooSmall ? too_small_ : not_finite_;
     if (rejected++ == 0) push_event("rejected", adaption_outcome_name(outcome));
@@ -119,11 +127,13 @@ void AppearanceAdaption::reset() {
   tried_ = too_small_ = not_finite_ = 0;
   first_fit_at_.reset();
   last_fit_at_.reset();
+  fitted_beyond_d_max_ = false;
 }
 
 AppearanceStatus AppearanceAdaption::status() const {
   AppearanceStatus s;
   s.phase = phase();
+  s.provisional = provisional();
   s.frames_fitted = state_.header[0] > 0.5f ? uint64_t(std::llround(std::max(state_.header[1], 0.0f))) : 0;
   s.frames_tried = tried_;
   s.frames_region_too_small = too_small_;

@@ -175,7 +175,7 @@ void HandRenderer::build_appearance_graph(vk::Image& portrait_color, vk::Image& 
 }
 
 bool HandRenderer::appearance_adaption_possible() const {
-  return has_pose_ && tracked_ && hand_distance_m_ > RT_FUSION_D_MAX_M;
+  return has_pose_ && tracked_ && appearance_.accepts(hand_distance_m_ > RT_FUSION_D_MAX_M);
 }
 
 bool HandRenderer::adapt_appearance_from(vk::Image& portrait_color, vk::Image& portrait_depth) {
@@ -184,9 +184,11 @@ bool HandRenderer::adapt_appearance_from(vk::Image& portrait_color, vk::Image& p
     throw std::invalid_argument("hand renderer: portrait '" + portrait_color.name() + "' differs in size from the hand render");
   if (!appearance_graph_ || appearance_portrait_[0] != &portrait_color || appearance_portrait_[1] != &portrait_depth)
     build_appearance_graph(portrait_color, portrait_depth);
+  const bool beyond_d_max = hand_distance_m_ > RT_FUSION_D_MAX_M;
+  if (appearance_.restarts_before(beyond_d_max)) reset_appearance();
   appearance_graph_->run();
   const shader_abi::AppearanceState after = appearance_state();
-  appearance_.record(appearance_before_, after);
+  appearance_.record(appearance_before_, after, beyond_d_max);
   appearance_before_ = after;
   return true;
 }

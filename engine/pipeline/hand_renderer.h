@@ -49,8 +49,9 @@ class HandRenderer {
   vk::Image& mask() { return *mask_; }    // r32f coverage in [0, 1]
 
   // Eq. 3 from the image-based portrait of the same target view (rgba32f straight alpha, r32f
-  // metres, 0 = nothing): runs now, only while the hand is tracked and farther from the screen
-  // than d_max (where the cameras see it well); returns whether it ran. It reads the small state
+  // metres, 0 = nothing): runs now, only while the hand is tracked, and farther from the screen
+  // than d_max (where the cameras see it well) once a frame there has fitted; until then also
+  // closer, provisionally (hand::AppearanceAdaption); returns whether it ran. It reads the small state
   // back to learn whether the frame counted (a region under min-region-fraction does not).
   bool adapt_appearance_from(vk::Image& portrait_color, vk::Image& portrait_depth);
   // Whether adapt_appearance_from would run with the current pose: callers skip the work that

@@ -154,8 +154,9 @@ void Receiver::display_loop() {
       on_screen = monotonic_now_us();
       receiver_wall_.add(double(on_screen - start) / 1000.0);
       // Appearance adaption (Eq. 3) compares this portrait with the hand posed for its moment in its
-      // view, on every shown portrait where the cameras see the hand well (beyond d_max, as
-      // adapt_appearance_from requires anyway); the adapted texture is what the next renders sample.
+      // view, on every shown portrait where the cameras see the hand (beyond d_max, or closer
+      // until a frame there has fitted, as adapt_appearance_from decides); the adapted texture is
+      // what the next renders sample.
       if (with_hand && hand->appearance_adaption_possible()) {
         vk::upload(*common_.context, *portrait_depth, message.depth);
         adapted = hand->adapt_appearance_from(portrait, *portrait_depth);
