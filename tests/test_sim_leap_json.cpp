@@ -1,8 +1,11 @@
 // Leap v6 JSON frames: written one per line and read back exactly; a real device's frame (with
-// fields we do not use) parses; a malformed frame is refused with an error naming the field and
-// never crashes the reader; a recorded tracker.jsonl replays the simulated frames bit for bit.
+// fields we do not use) parses; fields that some service versions leave out are derived from the
+// digits, close to what the service would have sent; a malformed frame is refused with an error
+// naming the field and never crashes the reader; a recorded tracker.jsonl replays the simulated
+// frames bit for bit, and a bad one (or one with an endless line) is refused when checked.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -135,6 +138,86 @@ TEST_CASE("a frame without an elbow or an arm width has no forearm: nothing is i
   CHECK(with_arm.arm_width_m == Approx(0.060));
 }
 
+double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / 3.14159265358979;
+}
+
+TEST_CASE("fields other service versions leave out are derived from the digits", "[sim][leap_json]") {
+  // Every frame with hands of the clap, both sites (right and left hands, many poses), each hand
+  // field left out in turn and all at once: derived within a centimetre or two and a few degrees
+  // of what the tracker sent (millimetres, the hand about 180 mm long).
+  size_t hands_checked = 0;
+  for (const Site site : {Site::A, Site::B})
+    for (const TrackerFrame& frame : simulate("clap", site)) {
+      if (frame.hands.empty()) continue;
+      const nlohmann::json sent = leap_json_from_frame(frame);
+      auto without = [&](std::initializer_list<const char*> fields) {
+        nlohmann::json json = sent;
+        for (auto& hand : json["hands"])
+          for (const char* field : fields) hand.erase(field);
+        return frame_from_leap_json(json);
+      };
+      const TrackerFrame derived = without({"wrist", "direction", "palmPosition", "palmNormal", "confidence", "palmWidth"});
+      const TrackerFrame no_wrist = without({"wrist"}), no_direction = without({"direction"});
+      const TrackerFrame no_palm = without({"palmPosition"}), no_normal = without({"palmNormal"});
+      REQUIRE(derived.hands.size() == frame.hands.size());
+      for (size_t h = 0; h < frame.hands.size(); ++h) {
+        const TrackerHand& truth = frame.hands[h];
+        INFO("site " << (site == Site::A ? "A" : "B") << " frame " << frame.id << (truth.is_left ? " left" : " right"));
+        CHECK((no_wrist.hands[h].wrist - truth.wrist).norm() < 15.0);
+        CHECK(angle_deg(no_direction.hands[h].direction, truth.direction) < 6.0);
+        CHECK((no_palm.hands[h].palm_position - truth.palm_position).norm() < 12.0);
+        CHECK(angle_deg(no_normal.hands[h].palm_normal, truth.palm_normal) < 10.0);  // and out of the palm, not into it
+        const TrackerHand& all = derived.hands[h];
+        CHECK((all.wrist - truth.wrist).norm() < 15.0);
+        CHECK(angle_deg(all.direction, truth.direction) < 10.0);
+        CHECK(angle_deg(all.palm_normal, truth.palm_normal) < 12.0);
+        CHECK((all.palm_position - truth.palm_position).norm() < 15.0);
+        CHECK(all.confidence == 1.0);
+        CHECK_FALSE(all.palm_width.has_value());
+        CHECK(all.digits == truth.digits);  // the digits are what was sent
+        // Nothing else changes, and the site frame's skeleton leaves the palm's width unknown.
+        CHECK(no_wrist.hands[h].direction == truth.direction);
+        CHECK(std::isnan(skeleton_from_tracker_hand(all, frame.timestamp_us, TrackerPlacement{}).palm_width_m));
+        ++hands_checked;
+      }
+    }
+  CHECK(hands_checked > 40);
+}
+
+TEST_CASE("a digit's missing carp or tip is derived, and a hand that cannot be placed is refused", "[sim][leap_json]") {
+  const TrackerFrame frame = frame_with_a_hand();
+  const TrackerHand& truth = frame.hands[0];
+  const nlohmann::json sent = leap_json_from_frame(frame);
+  nlohmann::json json = sent;
+  for (auto& pointable : json["pointables"]) pointable.erase("carpPosition");
+  json["pointables"][1].erase("btipPosition");
+  json["pointables"][2].erase("tipPosition");
+  const TrackerHand hand = frame_from_leap_json(json).hands[0];
+  CHECK(hand.digits[0].carp == truth.digits[0].mcp);  // the thumb's metacarpal has zero length
+  for (int d = 1; d < kDigitCount; ++d) CHECK(hand.digits[size_t(d)].carp == truth.wrist);
+  CHECK(hand.digits[1].btip == truth.digits[1].tip);
+  CHECK(hand.digits[2].tip == truth.digits[2].btip);
+  CHECK(hand.wrist == truth.wrist);
+
+  const std::string hand_id = std::to_string(truth.id);
+  nlohmann::json unplaced = sent;
+  unplaced["hands"][0].erase("wrist");
+  unplaced["pointables"][3].erase("carpPosition");
+  require_rejected(unplaced, "hand " + hand_id, "no 'wrist' and no 'carpPosition' for digit 3");
+  nlohmann::json no_end = sent;
+  no_end["pointables"][4].erase("tipPosition");
+  no_end["pointables"][4].erase("btipPosition");
+  require_rejected(no_end, "pointables[4]", "neither 'tipPosition' nor 'btipPosition'");
+  nlohmann::json null_wrist = sent;  // null is the same as left out
+  null_wrist["hands"][0]["wrist"] = nullptr;
+  CHECK((frame_from_leap_json(null_wrist).hands[0].wrist - truth.wrist).norm() < 15.0);
+  nlohmann::json flat = sent;  // no normal, and the knuckles along the direction: no palm plane
+  flat["hands"][0].erase("palmNormal");
+  flat["pointables"][4]["mcpPosition"] = flat["pointables"][1]["mcpPosition"];
+  require_rejected(flat, "hand " + hand_id, "no 'palmNormal'");
+}
+
 TEST_CASE("malformed frames are refused, naming the field", "[sim][leap_json]") {
   const nlohmann::json good = leap_json_from_frame(frame_with_a_hand());
   const std::string hand_id = std::to_string(good["hands"][0]["id"].get<int>());
@@ -243,4 +326,23 @@ TEST_CASE("a bad recording names the file and the line", "[sim][leap_json]") {
   ReplayHandTracker reversed(backwards);
   CHECK(reversed.next_frame());
   CHECK_THROWS_WITH(reversed.next_frame(), Contains("line 2") && Contains("goes back in time"));
+
+  // Checked whole before a site uses it: the bad line is found at once.
+  CHECK_THROWS_WITH(check_tracker_recording(broken), Contains("line 3"));
+  CHECK_THROWS_WITH(check_tracker_recording(backwards), Contains("line 2"));
+
+  // A line without end (a file of 3 MB and no newline) is refused at the bound, not buffered.
+  const std::filesystem::path endless = kOut / "endless-tracker.jsonl";
+  {
+    std::ofstream out(endless);
+    out << good << "\n";
+    const std::string chunk(64 * 1024, ' ');
+    for (int i = 0; i < 48; ++i) out << chunk;
+  }
+  ReplayHandTracker long_line(endless);
+  CHECK(long_line.next_frame());
+  CHECK_THROWS_WITH(long_line.next_frame(), Contains("line 2") && Contains("longer than 1048576 bytes"));
+  const std::filesystem::path two = kOut / "two-frames-tracker.jsonl";
+  std::ofstream(two) << good << "\n\n" << good << "\n";
+  CHECK(check_tracker_recording(two) == 2);
 }

@@ -34,7 +34,7 @@ struct TrackerHand {
   Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();    // unit, palm towards the fingers
   Eigen::Vector3d wrist = Eigen::Vector3d::Zero();          // mm
   std::optional<Eigen::Vector3d> elbow = Eigen::Vector3d::Zero();  // mm; a real v6 frame may lack it
-  double palm_width = 85.0;                                 // mm
+  std::optional<double> palm_width = 85.0;                  // mm; some service versions leave it out
   std::optional<double> arm_width;                          // mm; only some service versions send it
   std::array<TrackerDigit, kDigitCount> digits{};           // thumb .. pinky (Leap's pointable type 0..4)
   bool operator==(const TrackerHand&) const = default;

@@ -34,7 +34,7 @@ void quantise(TrackerHand& hand) {
       quantise(*p, kPositionStepMm);
   quantise(hand.palm_normal, kDirectionStep);
   quantise(hand.direction, kDirectionStep);
-  hand.palm_width = quantise(hand.palm_width, kPositionStepMm);
+  if (hand.palm_width) hand.palm_width = quantise(*hand.palm_width, kPositionStepMm);
   if (hand.arm_width) hand.arm_width = quantise(*hand.arm_width, kPositionStepMm);
 }
 

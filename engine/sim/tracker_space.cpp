@@ -20,7 +20,8 @@ TrackerHand tracker_hand_from_skeleton(const HandSkeleton& site_hand, double pal
   hand.wrist = point(site_hand.wrist);
   hand.elbow.reset();
   if (site_hand.has_elbow()) hand.elbow = point(site_hand.elbow);
-  hand.palm_width = kMillimetresPerMetre * palm_width_m;
+  hand.palm_width.reset();
+  if (std::isfinite(palm_width_m)) hand.palm_width = kMillimetresPerMetre * palm_width_m;
   if (std::isfinite(arm_width_m)) hand.arm_width = kMillimetresPerMetre * arm_width_m;
   for (int d = 0; d < kDigitCount; ++d) {
     const auto& joints = site_hand.digits[d];
@@ -49,7 +50,7 @@ HandSkeleton skeleton_from_tracker_hand(const TrackerHand& hand, uint64_t timest
   skeleton.palm = point(hand.palm_position);
   skeleton.wrist = point(hand.wrist);
   if (hand.elbow) skeleton.elbow = point(*hand.elbow);
-  skeleton.palm_width_m = hand.palm_width / kMillimetresPerMetre;
+  if (hand.palm_width) skeleton.palm_width_m = *hand.palm_width / kMillimetresPerMetre;
   if (hand.arm_width) skeleton.arm_width_m = *hand.arm_width / kMillimetresPerMetre;
   skeleton.palm_normal = direction(hand.palm_normal);
   skeleton.direction = direction(hand.direction);

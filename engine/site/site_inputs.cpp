@@ -113,6 +113,7 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
   }
   if (!std::filesystem::is_regular_file(dir_ / "tracker.jsonl"))
     throw std::runtime_error("recording '" + dir_.string() + "' has no 'tracker.jsonl'");
+  sim::check_tracker_recording(dir_ / "tracker.jsonl");
 }
 
 sim::RgbdFrame SiteReplay::read(size_t i) {
