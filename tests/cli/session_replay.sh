@@ -8,7 +8,8 @@
 #                                                       replaying site fails naming the file, the
 #                                                       peer sees the connection end and finishes
 #   session_replay.sh BINARY OUT RECORDING bad-inputs   missing folder, broken calibration.json,
-#                                                       --motor usb without a board: clear errors
+#                                                       a broken tracker frame, --motor usb without
+#                                                       a board: clear errors
 set -euo pipefail
 binary=$1 out=$2 recording=$3 mode=$4
 rm -rf "$out"
@@ -40,6 +41,13 @@ if [ "$mode" = bad-inputs ]; then
   printf '{"format": "remotetouch-recording/1", "name": "x", "cameras": 3}' > "$out/broken/calibration.json"
   expect_error calibration-cameras "broken/calibration.json.*cameras" \
     "${tiny[@]}" --replay "$out/broken" --out "$out/broken-out"
+  # A broken tracker frame at the recording's end is found when the site starts, not mid-session.
+  mkdir -p "$out/bad-tracker"
+  cp -r "$recording/." "$out/bad-tracker/"
+  lines=$(wc -l < "$out/bad-tracker/tracker.jsonl")
+  echo '{"id": 1, "timestamp": 99999999999, "hands": [{"id": 4}], "pointables": []}' >> "$out/bad-tracker/tracker.jsonl"
+  expect_error bad-tracker "bad-tracker/tracker.jsonl' line $((lines + 1)).*missing field 'type'" \
+    "${tiny[@]}" --replay "$out/bad-tracker" --out "$out/bad-tracker-out"
   # The config's replay path is relative to the config's folder.
   echo '{"site": "B", "replay": "no-such-recording"}' > "$out/replay.json"
   expect_error config-missing "recording folder '$out/no-such-recording' does not exist" \
