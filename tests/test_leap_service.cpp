@@ -1,0 +1,226 @@
+// The live Leap tracker (devices/tracker/leap_service.h) against a fake Leap service started by the
+// test on loopback: it greets as the service does, checks the client's two requests, then replays
+// the clap's tracker frames (as tracker.jsonl holds them) with garbage, a malformed frame and an
+// oversized message among them. The client keeps the newest frame, counts and survives the bad
+// messages (the oversized one ends the connection, and it reconnects), comes back after the
+// service stops and restarts on the same port, and says clearly when no service answers.
+#include <catch2/catch.hpp>
+
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <thread>
+
+#include "sim/leap_json.h"
+#include "sim/scene.h"
+#include "sim/tracker_sim.h"
+#include "sim/tracker_space.h"
+#include "tracker/leap_service.h"
+
+using namespace rt;
+using namespace std::chrono_literals;
+using Catch::Matchers::Contains;
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace websocket = beast::websocket;
+using tcp = asio::ip::tcp;
+
+namespace {
+
+const std::filesystem::path kScenes = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes";
+
+std::vector<std::string> clap_lines() {
+  sim::SimulatedHandTracker tracker = sim::make_simulated_tracker(sim::load_scene(kScenes / "clap.json"), Site::A);
+  std::vector<std::string> lines;
+  while (auto frame = tracker.next_frame())
+    if (!frame->hands.empty()) lines.push_back(sim::leap_json_line(*frame));
+  return lines;
+}
+
+// One connection at a time; `script` talks to each accepted client. Stops when destroyed.
+class FakeLeapService {
+ public:
+  using Script = std::function<void(websocket::stream<tcp::socket>&)>;
+  FakeLeapService(uint16_t port, Script script) : acceptor_(io_) {
+    const tcp::endpoint endpoint(asio::ip::make_address("127.0.0.1"), port);
+    acceptor_.open(endpoint.protocol());
+    acceptor_.set_option(asio::socket_base::reuse_address(true));
+    acceptor_.bind(endpoint);
+    acceptor_.listen();
+    port_ = acceptor_.local_endpoint().port();
+    thread_ = std::thread([this, script] {
+      while (!stopping_) {
+        beast::error_code ec;
+        tcp::socket socket(io_);
+        acceptor_.accept(socket, ec);
+        if (ec) return;
+        websocket::stream<tcp::socket> ws(std::move(socket));
+        try {
+          ws.accept();
+          script(ws);
+          ws.close(websocket::close_code::normal);
+        } catch (const beast::system_error&) {
+          // The client went away: wait for the next one.
+        }
+        ++served_;
+      }
+    });
+  }
+  ~FakeLeapService() {
+    stopping_ = true;
+    beast::error_code ec;
+    acceptor_.close(ec);
+    // Unblocks accept(): a connection to ourselves.
+    tcp::socket poke(io_);
+    poke.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port_), ec);
+    thread_.join();
+  }
+  uint16_t port() const { return port_; }
+  int served() const { return served_; }
+
+ private:
+  asio::io_context io_;
+  tcp::acceptor acceptor_;
+  uint16_t port_ = 0;
+  std::atomic<bool> stopping_{false};
+  std::atomic<int> served_{0};
+  std::thread thread_;
+};
+
+// What the service does first: greets, then reads the client's background and focus requests.
+void greet(websocket::stream<tcp::socket>& ws, std::vector<std::string>* requests = nullptr) {
+  ws.text(true);
+  ws.write(asio::buffer(std::string(R"({"version": 6, "serviceVersion": "fake-4.1.0"})")));
+  for (int i = 0; i < 2; ++i) {
+    beast::flat_buffer buffer;
+    ws.read(buffer);
+    if (requests) requests->push_back(beast::buffers_to_string(buffer.data()));
+  }
+}
+
+void send(websocket::stream<tcp::socket>& ws, const std::string& text) {
+  ws.text(true);
+  ws.write(asio::buffer(text));
+}
+
+template <typename Predicate>
+bool eventually(Predicate predicate, std::chrono::milliseconds timeout = 5000ms) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    if (predicate()) return true;
+    std::this_thread::sleep_for(5ms);
+  }
+  return predicate();
+}
+
+devices::LeapServiceTracker::Options client_options(uint16_t port) {
+  devices::LeapServiceTracker::Options options;
+  options.url = "ws://127.0.0.1:" + std::to_string(port) + "/v6.json";
+  options.reconnect_delay = 50ms;
+  options.max_message_bytes = 64 * 1024;
+  return options;
+}
+
+}  // namespace
+
+TEST_CASE("Leap service URLs: defaults, and clear errors", "[tracker]") {
+  const devices::LeapUrl url = devices::parse_leap_url("ws://127.0.0.1");
+  CHECK(url.text() == "ws://127.0.0.1:6437/v6.json");
+  CHECK(devices::parse_leap_url("ws://leap.local:7000/v7.json").text() == "ws://leap.local:7000/v7.json");
+  CHECK_THROWS_WITH(devices::parse_leap_url("http://127.0.0.1:6437"), Contains("must start with ws://"));
+  CHECK_THROWS_WITH(devices::parse_leap_url("ws://:6437/v6.json"), Contains("has no host"));
+  CHECK_THROWS_WITH(devices::parse_leap_url("ws://127.0.0.1:99999/v6.json"), Contains("port must be a number"));
+  CHECK_THROWS_WITH(devices::parse_leap_url("ws://127.0.0.1:x/v6.json"), Contains("port must be a number"));
+  CHECK_THROWS_WITH(devices::parse_leap_url("ws://127.0.0.1:6437/v6 .json"), Contains("space"));
+}
+
+TEST_CASE("the live tracker reads the service's frames and survives bad messages", "[tracker]") {
+  const std::vector<std::string> lines = clap_lines();
+  REQUIRE(lines.size() > 20);
+  std::vector<std::string> requests;
+  std::atomic<bool> sent_all{false};
+  FakeLeapService service(0, [&](websocket::stream<tcp::socket>& ws) {
+    if (sent_all) {  // after the oversized message: a second connection gets the rest
+      greet(ws);
+      send(ws, lines.back());
+      std::this_thread::sleep_for(300ms);
+      return;
+    }
+    greet(ws, &requests);
+    for (size_t i = 0; i + 1 < lines.size(); ++i) {
+      send(ws, lines[i]);
+      if (i == 3) send(ws, "not json at all {");
+      if (i == 5) send(ws, R"({"id": 9, "timestamp": 5, "hands": [{"id": 4}], "pointables": []})");
+      if (i == 7) send(ws, R"({"event": {"type": "deviceEvent"}})");
+    }
+    std::this_thread::sleep_for(100ms);
+    sent_all = true;
+    send(ws, std::string(100 * 1024, ' '));  // over the client's bound
+    std::this_thread::sleep_for(300ms);
+  });
+
+  devices::LeapServiceTracker tracker(client_options(service.port()));
+  tracker.wait_connected(3000ms);
+  REQUIRE(eventually([&] { return tracker.status().connections >= 2 && tracker.status().frames == lines.size(); }));
+  const devices::LeapServiceStatus status = tracker.status();
+  CHECK(requests == std::vector<std::string>{R"({"background": true})", R"({"focused": true})"});
+  CHECK(status.frames == lines.size());
+  CHECK(status.frames_with_hands == lines.size());
+  CHECK(status.messages_malformed == 2);
+  CHECK(status.messages_oversized == 1);
+  CHECK(status.messages_other >= 3);  // the greetings and the event
+  CHECK(status.service_version == "fake-4.1.0");
+  const auto newest = tracker.newest();
+  REQUIRE(newest);
+  CHECK(newest->frame == sim::parse_leap_json_line(lines.back()));
+  CHECK(newest->sequence == lines.size());
+  // In the site frame through the tracker's placement, as the site maps it.
+  const auto site = sim::skeletons_in_site(newest->frame, sim::TrackerPlacement{});
+  REQUIRE(site.size() == newest->frame.hands.size());
+  CHECK(site[0].wrist.allFinite());
+  CHECK(status.to_json()["messages_refused"]["oversized"] == 1);
+}
+
+TEST_CASE("the live tracker reconnects when the service stops and comes back", "[tracker]") {
+  const std::vector<std::string> lines = clap_lines();
+  uint16_t port = 0;
+  auto script = [&](websocket::stream<tcp::socket>& ws) {
+    greet(ws);
+    for (int i = 0; i < 5; ++i) send(ws, lines[size_t(i)]);
+    std::this_thread::sleep_for(200ms);
+  };
+  auto first = std::make_unique<FakeLeapService>(0, script);
+  port = first->port();
+  devices::LeapServiceTracker tracker(client_options(port));
+  tracker.wait_connected(3000ms);
+  REQUIRE(eventually([&] { return tracker.status().frames >= 5; }));
+  first.reset();  // the service stops
+  REQUIRE(eventually([&] { return tracker.status().state != devices::LeapState::Connected; }));
+  CHECK_FALSE(tracker.status().last_error.empty());
+  const uint64_t connections = tracker.status().connections;
+  FakeLeapService second(port, script);  // and comes back on the same port
+  REQUIRE(eventually([&] { return tracker.status().connections > connections && tracker.status().frames >= 10; }));
+  CHECK(tracker.status().state == devices::LeapState::Connected);
+}
+
+TEST_CASE("no service: a clear error at once, and stopping never hangs", "[tracker]") {
+  uint16_t port = 0;
+  {
+    FakeLeapService probe(0, [](auto&) {});
+    port = probe.port();
+  }  // nothing listens there now
+  const auto start = std::chrono::steady_clock::now();
+  devices::LeapServiceTracker tracker(client_options(port));
+  CHECK_THROWS_WITH(tracker.wait_connected(500ms),
+                    Contains("no Leap service answers at ws://127.0.0.1:" + std::to_string(port) + "/v6.json") &&
+                        Contains("refused"));
+  CHECK(std::chrono::steady_clock::now() - start < 2s);
+  CHECK(tracker.status().state == devices::LeapState::Connecting);
+  CHECK(tracker.status().connections == 0);
+  CHECK_FALSE(tracker.newest());
+}
