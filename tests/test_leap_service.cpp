@@ -6,10 +6,6 @@
 // service stops and restarts on the same port, and says clearly when no service answers.
 #include <catch2/catch.hpp>
 
-#include <boost/asio/ip/tcp.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/websocket.hpp>
-
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -17,6 +13,7 @@
 #include <thread>
 
 #include "sim/leap_json.h"
+#include "support/fake_leap_service.h"
 #include "sim/scene.h"
 #include "sim/tracker_sim.h"
 #include "sim/tracker_space.h"
@@ -25,10 +22,9 @@
 using namespace rt;
 using namespace std::chrono_literals;
 using Catch::Matchers::Contains;
-namespace asio = boost::asio;
-namespace beast = boost::beast;
-namespace websocket = beast::websocket;
-using tcp = asio::ip::tcp;
+using test::FakeLeapService;
+using test::LeapSocket;
+using test::greet;
 
 namespace {
 
@@ -40,72 +36,6 @@ std::vector<std::string> clap_lines() {
   while (auto frame = tracker.next_frame())
     if (!frame->hands.empty()) lines.push_back(sim::leap_json_line(*frame));
   return lines;
-}
-
-// One connection at a time; `script` talks to each accepted client. Stops when destroyed.
-class FakeLeapService {
- public:
-  using Script = std::function<void(websocket::stream<tcp::socket>&)>;
-  FakeLeapService(uint16_t port, Script script) : acceptor_(io_) {
-    const tcp::endpoint endpoint(asio::ip::make_address("127.0.0.1"), port);
-    acceptor_.open(endpoint.protocol());
-    acceptor_.set_option(asio::socket_base::reuse_address(true));
-    acceptor_.bind(endpoint);
-    acceptor_.listen();
-    port_ = acceptor_.local_endpoint().port();
-    thread_ = std::thread([this, script] {
-      while (!stopping_) {
-        beast::error_code ec;
-        tcp::socket socket(io_);
-        acceptor_.accept(socket, ec);
-        if (ec) return;
-        websocket::stream<tcp::socket> ws(std::move(socket));
-        try {
-          ws.accept();
-          script(ws);
-          ws.close(websocket::close_code::normal);
-        } catch (const beast::system_error&) {
-          // The client went away: wait for the next one.
-        }
-        ++served_;
-      }
-    });
-  }
-  ~FakeLeapService() {
-    stopping_ = true;
-    beast::error_code ec;
-    acceptor_.close(ec);
-    // Unblocks accept(): a connection to ourselves.
-    tcp::socket poke(io_);
-    poke.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port_), ec);
-    thread_.join();
-  }
-  uint16_t port() const { return port_; }
-  int served() const { return served_; }
-
- private:
-  asio::io_context io_;
-  tcp::acceptor acceptor_;
-  uint16_t port_ = 0;
-  std::atomic<bool> stopping_{false};
-  std::atomic<int> served_{0};
-  std::thread thread_;
-};
-
-// What the service does first: greets, then reads the client's background and focus requests.
-void greet(websocket::stream<tcp::socket>& ws, std::vector<std::string>* requests = nullptr) {
-  ws.text(true);
-  ws.write(asio::buffer(std::string(R"({"version": 6, "serviceVersion": "fake-4.1.0"})")));
-  for (int i = 0; i < 2; ++i) {
-    beast::flat_buffer buffer;
-    ws.read(buffer);
-    if (requests) requests->push_back(beast::buffers_to_string(buffer.data()));
-  }
-}
-
-void send(websocket::stream<tcp::socket>& ws, const std::string& text) {
-  ws.text(true);
-  ws.write(asio::buffer(text));
 }
 
 template <typename Predicate>
@@ -144,23 +74,23 @@ TEST_CASE("the live tracker reads the service's frames and survives bad messages
   REQUIRE(lines.size() > 20);
   std::vector<std::string> requests;
   std::atomic<bool> sent_all{false};
-  FakeLeapService service(0, [&](websocket::stream<tcp::socket>& ws) {
+  FakeLeapService service(0, [&](LeapSocket& ws) {
     if (sent_all) {  // after the oversized message: a second connection gets the rest
       greet(ws);
-      send(ws, lines.back());
+      test::send_text(ws, lines.back());
       std::this_thread::sleep_for(300ms);
       return;
     }
     greet(ws, &requests);
     for (size_t i = 0; i + 1 < lines.size(); ++i) {
-      send(ws, lines[i]);
-      if (i == 3) send(ws, "not json at all {");
-      if (i == 5) send(ws, R"({"id": 9, "timestamp": 5, "hands": [{"id": 4}], "pointables": []})");
-      if (i == 7) send(ws, R"({"event": {"type": "deviceEvent"}})");
+      test::send_text(ws, lines[i]);
+      if (i == 3) test::send_text(ws, "not json at all {");
+      if (i == 5) test::send_text(ws, R"({"id": 9, "timestamp": 5, "hands": [{"id": 4}], "pointables": []})");
+      if (i == 7) test::send_text(ws, R"({"event": {"type": "deviceEvent"}})");
     }
     std::this_thread::sleep_for(100ms);
     sent_all = true;
-    send(ws, std::string(100 * 1024, ' '));  // over the client's bound
+    test::send_text(ws, std::string(100 * 1024, ' '));  // over the client's bound
     std::this_thread::sleep_for(300ms);
   });
 
@@ -184,14 +114,17 @@ TEST_CASE("the live tracker reads the service's frames and survives bad messages
   REQUIRE(site.size() == newest->frame.hands.size());
   CHECK(site[0].wrist.allFinite());
   CHECK(status.to_json()["messages_refused"]["oversized"] == 1);
+  REQUIRE(status.frames_per_second());
+  CHECK(*status.frames_per_second() > 0);
+  CHECK(tracker.status().last_frame_us >= tracker.status().first_frame_us);
 }
 
 TEST_CASE("the live tracker reconnects when the service stops and comes back", "[tracker]") {
   const std::vector<std::string> lines = clap_lines();
   uint16_t port = 0;
-  auto script = [&](websocket::stream<tcp::socket>& ws) {
+  auto script = [&](LeapSocket& ws) {
     greet(ws);
-    for (int i = 0; i < 5; ++i) send(ws, lines[size_t(i)]);
+    for (int i = 0; i < 5; ++i) test::send_text(ws, lines[size_t(i)]);
     std::this_thread::sleep_for(200ms);
   };
   auto first = std::make_unique<FakeLeapService>(0, script);
@@ -223,4 +156,6 @@ TEST_CASE("no service: a clear error at once, and stopping never hangs", "[track
   CHECK(tracker.status().state == devices::LeapState::Connecting);
   CHECK(tracker.status().connections == 0);
   CHECK_FALSE(tracker.newest());
+  CHECK_FALSE(tracker.status().frames_per_second());
+  CHECK(tracker.status().to_json()["frames_per_second"].is_null());
 }

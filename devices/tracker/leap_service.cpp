@@ -51,8 +51,15 @@ const char* leap_state_name(LeapState state) {
   return "?";
 }
 
+std::optional<double> LeapServiceStatus::frames_per_second() const {
+  if (frames < 2 || last_frame_us <= first_frame_us) return std::nullopt;
+  return double(frames - 1) / (double(last_frame_us - first_frame_us) * 1e-6);
+}
+
 nlohmann::json LeapServiceStatus::to_json() const {
+  const std::optional<double> rate = frames_per_second();
   return {{"state", leap_state_name(state)},
+          {"frames_per_second", rate ? nlohmann::json(*rate) : nlohmann::json()},
           {"connections", connections},
           {"frames", frames},
           {"frames_with_hands", frames_with_hands},
@@ -201,7 +208,10 @@ void LeapServiceTracker::handle_message(const std::string& text) {
     sim::TrackerFrame frame = sim::frame_from_leap_json(json);
     ++status_.frames;
     if (!frame.hands.empty()) ++status_.frames_with_hands;
-    newest_ = Received{std::move(frame), monotonic_now_us(), status_.frames};
+    const uint64_t now = monotonic_now_us();
+    if (status_.frames == 1) status_.first_frame_us = now;
+    status_.last_frame_us = now;
+    newest_ = Received{std::move(frame), now, status_.frames};
   } catch (const config::JsonError& error) {
     ++status_.messages_malformed;
     status_.last_error = std::string("a frame refused: ") + error.what();

@@ -42,8 +42,11 @@ struct LeapServiceStatus {
   uint64_t messages_malformed = 0;  // not JSON, or a frame refused by the parser
   uint64_t messages_oversized = 0;  // over the bound: the connection was dropped
   uint64_t messages_other = 0;      // JSON that is not a frame (the version message, events)
+  uint64_t first_frame_us = 0, last_frame_us = 0;  // monotonic, when the first and the newest arrived
   std::string service_version;      // from the service's first message, when it sent one
   std::string last_error;           // the last connection error or refused message
+  // The rate the frames arrived at, between the first and the newest; none before two frames.
+  std::optional<double> frames_per_second() const;
   nlohmann::json to_json() const;
 };
 

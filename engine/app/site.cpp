@@ -41,6 +41,17 @@ class SiteCommand : public Command {
     command_->add_option("--motor", options_.motor, "simulated, usb (the Arduino; an error without it) or auto")
         ->check(CLI::IsMember({"simulated", "usb", "auto"}))
         ->capture_default_str();
+    command_->add_option("--tracker", options_.tracker,
+                         "scene (simulated, or the replay's), or leap[:ws://HOST:PORT/PATH]: the Leap service live")
+        ->check([](const std::string& value) {
+          try {
+            site::leap_tracker_url(value);
+            return std::string();
+          } catch (const std::invalid_argument& error) {
+            return std::string(error.what());
+          }
+        })
+        ->capture_default_str();
     ibr_ = add_ibr_options(*command_);
     hand_ = add_hand_options(*command_);
     return command_;
@@ -64,6 +75,7 @@ class SiteCommand : public Command {
       if (given("--site")) options_.site = site_ == "B" ? Site::B : Site::A;
       if (given("--replay")) options_.replay = flags.replay;
       if (given("--motor")) options_.motor = flags.motor;
+      if (given("--tracker")) options_.tracker = flags.tracker;
     } else {
       options_.site = site_ == "B" ? Site::B : Site::A;
     }

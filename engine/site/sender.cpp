@@ -10,9 +10,20 @@
 #include "site/site_display.h"
 #include "site/site_metrics.h"
 #include "sim/tracker_sim.h"
+#include "sim/tracker_space.h"
 #include "time/monotonic_clock.h"
 
 namespace rt::site {
+
+namespace {
+
+// Long enough for a service on this machine or the local network; a missing one is reported
+// before the site waits for its peer.
+constexpr std::chrono::milliseconds kLeapConnectTimeout{3000};
+// A live frame older than this is a service that stalled: no hands rather than frozen ones.
+constexpr uint64_t kLeapFrameMaxAgeUs = 5 * sim::kTrackerPeriodUs;
+
+}  // namespace
 
 Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(touch) {
   const SiteRunOptions& options = common_.options;
@@ -41,6 +52,13 @@ Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(t
       limb_truth_ = std::make_unique<pipeline::LimbTruthRenderer>(*common_.context, *simulator_->renderer().target_view());
       truth_regions_ = std::make_unique<TruthRegionWriter>(common_.out / "truth");
     }
+  }
+  if (const std::optional<std::string> url = leap_tracker_url(options.tracker)) {
+    devices::LeapServiceTracker::Options leap_options;
+    leap_options.url = *url;
+    leap_ = std::make_unique<devices::LeapServiceTracker>(leap_options);
+    leap_->wait_connected(kLeapConnectTimeout);
+    std::cerr << "site " << common_.name << ": tracker: the Leap service at " << leap_->url().text() << "\n";
   }
   ibr_ = std::make_unique<pipeline::IbrRenderer>(*common_.context, cameras, settings);
   for (const auto& camera : common_.site().cameras) camera_positions_.push_back(camera.color_camera().position_in_site());
@@ -199,6 +217,7 @@ void Sender::tracker_loop() {
               : PacedHandTracker(std::make_unique<sim::SimulatedHandTracker>(
                                      sim::make_simulated_tracker(common_.scene, common_.options.site)),
                                  site.tracker, 0);
+  devices::LeapState leap_state = devices::LeapState::Connected;  // wait_connected saw it so
   std::optional<Eigen::Vector3d> sent_eye;
   auto next = std::chrono::steady_clock::now();
   for (uint64_t tick = 0; !common_.stopping; ++tick) {
@@ -211,7 +230,21 @@ void Sender::tracker_loop() {
       sent_eye = eye;
     }
     std::vector<HandSkeleton> hands;
-    if (const auto tracked = tracker.at(common_.scene_time_s(now))) {
+    if (leap_) {
+      const devices::LeapServiceStatus status = leap_->status();
+      if (status.state != leap_state) {
+        leap_state = status.state;
+        std::cerr << "site " << common_.name << ": tracker: " << devices::leap_state_name(leap_state)
+                  << (leap_state == devices::LeapState::Connected ? std::string() : ": " + status.last_error) << "\n";
+        common_.events->write("tracker", now, status.to_json());
+      }
+      const auto newest = leap_->newest();
+      if (newest && now - newest->received_us <= kLeapFrameMaxAgeUs) {
+        hands = sim::skeletons_in_site(newest->frame, site.tracker);
+        tracked_hands_.add(common_.scene_time_s(now), hands);
+        for (auto& hand : hands) hand.timestamp_us = now;
+      }
+    } else if (const auto tracked = tracker.at(common_.scene_time_s(now))) {
       tracked_hands_.add(tracked->time_s, tracked->hands);
       hands = tracked->hands;
       // Ages count on this machine's clock from when the site has the frame.
@@ -238,6 +271,13 @@ void Sender::add_metrics(nlohmann::json& m, double wall_s) const {
   m["fps"]["capture"] = double(frames_captured_) / wall_s;
   m["fps"]["portraits_sent"] = double(portraits_sent_) / wall_s;
   m["fps"]["tracker"] = double(tracker_ticks_) / wall_s;
+  if (leap_) {
+    const devices::LeapServiceStatus status = leap_->status();
+    m["tracker"] = status.to_json();
+    m["tracker"]["source"] = "the Leap service at " + leap_->url().text();
+  } else {
+    m["tracker"] = {{"source", replay_ ? "the recording's tracker.jsonl" : "simulated from the scene"}};
+  }
   const uint64_t scene_frames = common_.scene.frame_count;
   m["frames"]["captured"] = frames_captured_.load();
   m["frames"]["portraits_sent"] = portraits_sent_.load();

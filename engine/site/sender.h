@@ -4,7 +4,8 @@
 //
 //   capture  (scene clock)  simulated or replayed RGBD frame -> mailbox; the ground truth of it
 //   ibr      newest frame + remote eye -> portrait (RGBA + depth) -> network
-//   tracker  (50 Hz)        local skeletons -> network, touch loop; local eye -> network
+//   tracker  (50 Hz)        local skeletons (simulated, replayed, or the Leap service's newest
+//                           frame) -> network, touch loop; local eye -> network
 //
 // Each loop runs on its own thread (site_run.cpp starts them); a stage that falls behind drops
 // stale frames rather than queueing them.
@@ -26,12 +27,14 @@
 #include "site/site_eye.h"
 #include "site/site_inputs.h"
 #include "touch/touch_loop.h"
+#include "tracker/leap_service.h"
 
 namespace rt::site {
 
 class Sender {
  public:
-  // Opens this site's inputs (a replay updates common.scene) and the image-based model.
+  // Opens this site's inputs (a replay updates common.scene) and the image-based model; with
+  // --tracker leap, connects to the Leap service first (an error at once when none answers).
   Sender(SiteCommon& common, TouchLoop& touch);
 
   void capture_loop();
@@ -59,6 +62,7 @@ class Sender {
   // The site's inputs (site_inputs.h): simulated from the scene, or replayed from a recording.
   std::unique_ptr<pipeline::SiteSimulator> simulator_;
   std::unique_ptr<SiteReplay> replay_;
+  std::unique_ptr<devices::LeapServiceTracker> leap_;  // --tracker leap: the hands come from it
   // The simulated truth's hand and forearm region, beside the truth (displayed_truth.h).
   std::unique_ptr<pipeline::LimbTruthRenderer> limb_truth_;
   std::unique_ptr<TruthRegionWriter> truth_regions_;

@@ -8,8 +8,19 @@
 #include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
 #include "site/site_options.h"
+#include "tracker/leap_service.h"
 
 namespace rt::site {
+
+std::optional<std::string> leap_tracker_url(const std::string& tracker) {
+  if (tracker == "scene") return std::nullopt;
+  if (tracker == "leap") return std::string(devices::kDefaultLeapUrl);
+  if (tracker.rfind("leap:", 0) == 0) {
+    devices::parse_leap_url(tracker.substr(5));
+    return tracker.substr(5);
+  }
+  throw std::invalid_argument("'" + tracker + "' is not a tracker: scene, leap, or leap:ws://HOST:PORT/PATH");
+}
 
 void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options) {
   std::ifstream file(config);
@@ -32,7 +43,7 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   for (const auto& [key, value] : json.items())
     if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
         key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" &&
-        key != "motor" && key != "ibr" && key != "hand")
+        key != "motor" && key != "tracker" && key != "ibr" && key != "hand")
       throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
   std::string site = site_name(options.site), key_file;
   string_field("scene", options.scene);
@@ -48,6 +59,12 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   if (!replay.empty())
     options.replay = std::filesystem::path(replay).is_absolute() ? std::filesystem::path(replay) : (base / replay).lexically_normal();
   string_field("motor", options.motor);
+  string_field("tracker", options.tracker);
+  try {
+    leap_tracker_url(options.tracker);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(config.string() + ": 'tracker': " + error.what());
+  }
   if (options.motor != "simulated" && options.motor != "usb" && options.motor != "auto")
     throw std::runtime_error(config.string() + ": 'motor' must be \"simulated\", \"usb\" or \"auto\"");
   number_field("time_scale", options.time_scale, 1e-3, 10.0);

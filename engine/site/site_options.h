@@ -1,6 +1,7 @@
 #pragma once
 // What one site takes from its command line or its --config file (site_config.cpp).
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "geometry/site_frames.h"
@@ -27,15 +28,22 @@ struct SiteRunOptions {
   // replay: its cameras, frames, times and tracker replace the scene's at this site.
   std::filesystem::path replay;
   std::string motor = "auto";  // simulated | usb | auto (the Arduino on USB when attached)
+  // The hand tracker: "scene" (simulated from the scene, or the replay's tracker.jsonl), or
+  // "leap" / "leap:ws://HOST:PORT/PATH", the Leap service live (devices/tracker/leap_service.h).
+  std::string tracker = "scene";
   pipeline::IbrSettings ibr;            // the sender's image-based model (its width and height are the display's)
   pipeline::HandRendererOptions hand;   // the receiver's geometry hand
 };
 
 // Fills the fields a --config JSON names (scene, site, listen, peer, key_file, time_scale,
-// resolution_scale, width, height, frames, replay, motor, and the objects "ibr" and "hand" of
+// resolution_scale, width, height, frames, replay, motor, tracker, and the objects "ibr" and "hand" of
 // the knobs in pipeline/ibr_settings.h and hand_settings.h, e.g. "ibr": {"refine": 9,
 // "best_views": 4}); a file path (key_file, replay) is relative to the config's folder.
 // Throws naming the file and field.
+// The Leap service's URL that a --tracker value names, or none for "scene". Throws
+// std::invalid_argument saying what is wrong with any other value.
+std::optional<std::string> leap_tracker_url(const std::string& tracker);
+
 void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options);
 
 }  // namespace rt::site
