@@ -66,6 +66,8 @@ LumiNetBlender::LumiNetBlender(vk::Context& context, ibr::LumiNetModel model, ui
 
 LumiNetBlender::~LumiNetBlender() = default;
 
+vk::Buffer& LumiNetBlender::inputs() { return buffers_->inputs; }
+vk::Buffer& LumiNetBlender::coverage() { return buffers_->coverage; }
 vk::Buffer& LumiNetBlender::logits() { return buffers_->layer_outputs.back(); }
 
 void LumiNetBlender::add_to(vk::FrameGraph& graph, vk::Image& fused_depth, vk::Image& warped, vk::Image& features,

@@ -26,7 +26,10 @@ class LumiNetBlender {
               vk::Image& portrait, vk::Image& portrait_depth, uint32_t view_count);
 
   const ibr::LumiNetModel& model() const { return model_; }
-  // The head's logits (views, 2, h, w) at the network's resolution: for the peer check.
+  // At the network's resolution, for the peer check: the input tensors lumi_input wrote and the
+  // head's logits (views, 2, h, w).
+  vk::Buffer& inputs();
+  vk::Buffer& coverage();
   vk::Buffer& logits();
 
  private:
