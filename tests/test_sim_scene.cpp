@@ -17,7 +17,7 @@ using Catch::Matchers::Contains;
 namespace {
 
 const std::filesystem::path kScenes = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes";
-const char* const kShippedScenes[] = {"clap", "miss", "wave", "approach", "noisy-clap"};
+const char* const kShippedScenes[] = {"clap", "miss", "wave", "approach", "noisy-clap", "train-fast-reach", "train-raise-hold"};
 
 struct Touch {
   Eigen::Vector3d palm_global = Eigen::Vector3d::Zero();

@@ -19,6 +19,7 @@ namespace rt::app {
   X("eval", eval_ibr)                      \
   X("eval", eval_hand)                     \
   X("eval", eval_dual)                     \
+  X("export", export_lumi)                 \
   X("calibrate", calibrate_intrinsics)     \
   X("calibrate", calibrate_extrinsics)     \
   X("calibrate", calibrate_tracker)        \
@@ -40,6 +41,7 @@ const std::vector<CommandGroup>& command_groups() {
   static const std::vector<CommandGroup> groups = {
       {"bench", "Benchmarks: per-pass GPU times, latency, bandwidth (one command per benchmark)"},
       {"eval", "Measure a part of the system against the simulator's ground truth"},
+      {"export", "Training data from the simulator (Lumi-Net's: scripts/train-lumi)"},
       {"calibrate", "Calibrate a site: camera intrinsics, camera poses, the hand tracker"},
   };
   return groups;

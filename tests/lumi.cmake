@@ -1,0 +1,10 @@
+# The OpenCV DNN peer check of Lumi-Net needs OpenCV's dnn module, which only this test links.
+find_package(OpenCV REQUIRED COMPONENTS dnn)
+target_link_libraries(test_lumi_onnx PRIVATE opencv_dnn)
+
+# Lumi-Net's training data as a user exports it (a tiny target), and its refusals.
+set(rt $<TARGET_FILE:remotetouch>)
+add_cli_test(cli_export_lumi 0 "export lumi: scene miss.*at 1/2 \\(17x9\\), 4 views.*wrote 2 frames"
+             ${rt} export lumi --scene miss --frames 2 --frame-step 30 --width 33 --height 17 --supersample 1
+             --out ${CMAKE_BINARY_DIR}/test-out/export-lumi)
+add_cli_test(cli_export_lumi_bad_scale 105 "--scale: 3 not in" ${rt} export lumi --scale 3)
