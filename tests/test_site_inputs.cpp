@@ -83,18 +83,32 @@ EyePair no_face() {
   return pair;
 }
 
+// How a recording's calibration.json gives the cameras' sizes: the intrinsics at the recorded
+// size (as `simulate` writes them), or at the calibrated size with the scale stated beside them,
+// or at the calibrated size with nothing said (which a reader must refuse, not guess).
+enum class CalibrationSizes { Recorded, ScaleStated, Unstated };
+constexpr double kRecordedScale = 0.02;
+
 // A tiny recording of the default site: `frames` frames at 1/50 of the cameras' resolution.
-std::filesystem::path write_recording(const std::string& name, int frames = 3) {
+std::filesystem::path write_recording(const std::string& name, int frames = 3,
+                                      CalibrationSizes sizes = CalibrationSizes::Recorded) {
   const std::filesystem::path dir = fresh_dir(name);
   const sim::SiteDescription site = sim::make_default_site();
-  sim::RecordingWriter writer(dir, sim::site_to_json(site));
+  sim::SiteDescription recorded = site;
+  for (auto& camera : recorded.cameras) {
+    camera.color = scaled_intrinsics(camera.color, kRecordedScale);
+    camera.depth = scaled_intrinsics(camera.depth, kRecordedScale);
+  }
+  nlohmann::json calibration = sim::site_to_json(sizes == CalibrationSizes::Recorded ? recorded : site);
+  if (sizes == CalibrationSizes::ScaleStated) calibration["recorded_scale"] = kRecordedScale;
+  sim::RecordingWriter writer(dir, calibration);
   for (int i = 0; i < frames; ++i) {
     sim::RgbdFrame frame;
     frame.index = uint64_t(i);
     frame.timestamp_us = 1'000'000 + uint64_t(i) * 33'333;
     for (const auto& camera : site.cameras) {
-      const CameraIntrinsics color = scaled_intrinsics(camera.color, 0.02);
-      const CameraIntrinsics depth = scaled_intrinsics(camera.depth, 0.02);
+      const CameraIntrinsics color = scaled_intrinsics(camera.color, kRecordedScale);
+      const CameraIntrinsics depth = scaled_intrinsics(camera.depth, kRecordedScale);
       sim::RgbdImage image;
       image.camera = camera.name;
       image.timestamp_us = frame.timestamp_us;
@@ -317,6 +331,36 @@ TEST_CASE("a recording for replay: cameras at the images' size, ground truth whe
   write_image(sim::ground_truth_color_path(dir, 1), HostImage(8, 6, PixelFormat::RGBA8, 1.0f));
   CHECK(replay.ground_truth(1)->width == 8);
   CHECK(site::SiteReplay(dir, 2, 4).frame_count() == 2);  // --frames plays fewer
+}
+
+TEST_CASE("a recording's calibration gives the recorded sizes, or states the scale: nothing is guessed", "[site_inputs][replay]") {
+  const CameraIntrinsics full = sim::make_default_site().cameras[0].color;
+  const CameraIntrinsics recorded = scaled_intrinsics(full, kRecordedScale);
+  REQUIRE(recorded.width != full.width);
+
+  site::SiteReplay as_recorded(write_recording("sizes-recorded", 1, CalibrationSizes::Recorded), 0, 4);
+  CHECK(as_recorded.cameras()[0].color.intrinsics.width == recorded.width);
+  CHECK(as_recorded.cameras()[0].color.intrinsics.fx == recorded.fx);
+
+  site::SiteReplay stated(write_recording("sizes-stated", 1, CalibrationSizes::ScaleStated), 0, 4);
+  CHECK(stated.cameras()[0].color.intrinsics.width == recorded.width);
+  CHECK(stated.cameras()[0].color.intrinsics.fx == Approx(recorded.fx));
+  CHECK(stated.cameras()[0].depth.intrinsics.height == scaled_intrinsics(sim::make_default_site().cameras[0].depth, kRecordedScale).height);
+
+  const std::filesystem::path unstated = write_recording("sizes-unstated", 1, CalibrationSizes::Unstated);
+  CHECK_THROWS_WITH(site::SiteReplay(unstated, 0, 4),
+                    Contains(sim::color_path(unstated, 0, 0).string()) &&
+                        Contains(std::to_string(recorded.width) + "x" + std::to_string(recorded.height)) &&
+                        Contains(std::to_string(full.width) + "x" + std::to_string(full.height)) && Contains("recorded_scale"));
+
+  const std::filesystem::path wrong_scale = write_recording("sizes-wrong-scale", 1, CalibrationSizes::ScaleStated);
+  nlohmann::json calibration = config::read_json_file(wrong_scale / "calibration.json");
+  calibration["recorded_scale"] = 0.5;
+  config::write_json_file(wrong_scale / "calibration.json", calibration);
+  CHECK_THROWS_WITH(site::SiteReplay(wrong_scale, 0, 4), Contains("at its recorded_scale 0.5"));
+  calibration["recorded_scale"] = "half";
+  config::write_json_file(wrong_scale / "calibration.json", calibration);
+  CHECK_THROWS_WITH(site::SiteReplay(wrong_scale, 0, 4), Contains("calibration.json") && Contains("recorded_scale"));
 }
 
 TEST_CASE("a bad recording is refused before the site connects, naming the file", "[site_inputs][replay]") {

@@ -1,6 +1,7 @@
 #pragma once
 // The recording format (README "Recorded sequences"): a folder with
-//   calibration.json            the site description (cameras, tracker, screen) plus "format"
+//   calibration.json            the site description (cameras, tracker, screen) plus "format";
+//                               intrinsics at the recorded images' size, or "recorded_scale"
 //   frames.jsonl                one line per frame: index, nominal time, each camera's time
 //   cam<K>/color_<NNNNNN>.png   8-bit RGBA, K = the camera's index in calibration.json
 //   cam<K>/depth_<NNNNNN>.png   16-bit millimetres, 0 = invalid

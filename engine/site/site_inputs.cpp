@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "pipeline/site_simulator.h"
+#include "config/json.h"
 #include "image/image_io.h"
 #include "sim/tracker_replay.h"
 #include "sim/tracker_space.h"
@@ -14,24 +16,19 @@ namespace {
 
 std::string size_text(uint32_t width, uint32_t height) { return std::to_string(width) + "x" + std::to_string(height); }
 
-// The calibration's intrinsics at the size of a recorded image: `simulate` records at the
-// scene's resolution scale and writes the full-resolution calibration.
-CameraIntrinsics intrinsics_for_image(const CameraIntrinsics& calibrated, const HostImage& image,
-                                      const std::filesystem::path& file, const std::string& camera) {
-  // The scales that round to the image's width and to its height (scaled_intrinsics rounds):
-  // any scale in both ranges gives the same intrinsics.
-  auto range = [](uint32_t pixels, uint32_t full) {
-    return std::pair((double(pixels) - 0.5) / double(full), (double(pixels) + 0.5) / double(full));
-  };
-  const auto [width_low, width_high] = range(image.width, calibrated.width);
-  const auto [height_low, height_high] = range(image.height, calibrated.height);
-  const double low = std::max({width_low, height_low, 1e-9}), high = std::min(width_high, height_high);
-  const CameraIntrinsics scaled = scaled_intrinsics(calibrated, low < high ? 0.5 * (low + high) : width_low + 0.5 / calibrated.width);
-  if (!(low < high) || scaled.width != image.width || scaled.height != image.height)
-    throw std::runtime_error("'" + file.string() + "' is " + size_text(image.width, image.height) +
-                             ", which is not camera '" + camera + "' of the calibration (" +
-                             size_text(calibrated.width, calibrated.height) + ") at one resolution scale");
-  return scaled;
+// The intrinsics of a recorded image: calibration.json describes the images as recorded, or
+// states the scale they were recorded at ("recorded_scale") beside intrinsics of another size.
+// Nothing is guessed from the images' sizes.
+CameraIntrinsics intrinsics_for_image(const CameraIntrinsics& calibrated, std::optional<double> recorded_scale,
+                                      const HostImage& image, const std::filesystem::path& file, const std::string& camera) {
+  const CameraIntrinsics recorded = recorded_scale ? scaled_intrinsics(calibrated, *recorded_scale) : calibrated;
+  if (recorded.width != image.width || recorded.height != image.height)
+    throw std::runtime_error("'" + file.string() + "' is " + size_text(image.width, image.height) + ", camera '" + camera +
+                             "' of the calibration " + size_text(recorded.width, recorded.height) +
+                             (recorded_scale ? " at its recorded_scale " + std::to_string(*recorded_scale)
+                                             : std::string(": give the intrinsics at the recorded size, or the "
+                                                           "calibration's recorded_scale")));
+  return recorded;
 }
 
 }  // namespace
@@ -80,6 +77,11 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
   const std::string calibration_file = "'" + (dir_ / "calibration.json").string() + "'";
   nlohmann::json description = source_.calibration();
   description.erase("format");
+  std::optional<double> recorded_scale;
+  if (description.contains("recorded_scale")) {
+    recorded_scale = config::require_in_range(description, "recorded_scale", calibration_file, 0.01, 4.0);
+    description.erase("recorded_scale");
+  }
   site_ = sim::site_from_json(description, calibration_file);
   if (site_.cameras.size() < cameras_needed)
     throw std::runtime_error(calibration_file + " has " + std::to_string(site_.cameras.size()) +
@@ -106,9 +108,10 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
     const sim::RgbdCamera& camera = site_.cameras[k];
     passes::IbrCameraModel model{camera.color_camera(), camera.depth_camera()};
     model.color.intrinsics =
-        intrinsics_for_image(camera.color, first.cameras[k].color, sim::color_path(dir_, k, first.index), camera.name);
+        intrinsics_for_image(camera.color, recorded_scale, first.cameras[k].color, sim::color_path(dir_, k, first.index), camera.name);
     model.depth.intrinsics =
-        intrinsics_for_image(camera.depth, first.cameras[k].depth_mm, sim::depth_path(dir_, k, first.index), camera.name);
+        intrinsics_for_image(camera.depth, recorded_scale, first.cameras[k].depth_mm, sim::depth_path(dir_, k, first.index),
+                             camera.name);
     cameras_.push_back(model);
   }
   if (!std::filesystem::is_regular_file(dir_ / "tracker.jsonl"))

@@ -22,7 +22,14 @@ int run_simulate(const RunOptions& options, const SimulateOptions& simulate) {
   GpuSession session(options);
   SiteSimulator simulator(session.context(), scene, site, simulate.gt_width, simulate.gt_height);
 
-  sim::RecordingWriter writer(options.out, sim::site_to_json(scene.at(site).site));
+  // The calibration describes the images as recorded: the cameras' intrinsics at the resolution
+  // scale the simulator renders them at, so that a reader needs no scale of its own.
+  sim::SiteDescription recorded = scene.at(site).site;
+  for (sim::RgbdCamera& camera : recorded.cameras) {
+    camera.color = scaled_intrinsics(camera.color, scene.resolution_scale);
+    camera.depth = scaled_intrinsics(camera.depth, scene.resolution_scale);
+  }
+  sim::RecordingWriter writer(options.out, sim::site_to_json(recorded));
   std::printf("simulate: scene '%s', site %s, %u frames, %zu cameras -> %s\n", scene.name.c_str(), site_name(site),
               scene.frame_count, scene.at(site).site.cameras.size(), options.out.string().c_str());
   while (true) {
