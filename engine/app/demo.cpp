@@ -38,6 +38,7 @@ class DemoCommand : public Command {
     command_->add_option("--loss", options_.loss, "Fault injection: probability of dropping a record")->check(CLI::Range(0.0, 0.9));
     command_->add_option("--replay-a", options_.replay_a, "Site A plays this recording instead of the scene (site --replay)");
     command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
+    add_inspection_options(*command_, options_.run);  // forwarded to both sites
     ibr_ = add_ibr_options(*command_);
     hand_ = add_hand_options(*command_);
     return command_;

@@ -52,6 +52,7 @@ class SiteCommand : public Command {
           }
         })
         ->capture_default_str();
+    add_inspection_options(*command_, options_.run);
     ibr_ = add_ibr_options(*command_);
     hand_ = add_hand_options(*command_);
     return command_;

@@ -254,6 +254,8 @@ int run_two_site_demo(const DemoOptions& options) {
     if (options.resolution_scale > 0) args.insert(args.end(), {"--resolution-scale", std::to_string(options.resolution_scale)});
     if (!options.run.device.empty()) args.insert(args.end(), {"--device", options.run.device});
     if (options.run.validation) args.push_back("--validation");
+    if (options.run.profile) args.push_back("--profile");
+    if (options.run.capture_frame >= 0) args.insert(args.end(), {"--capture-frame", std::to_string(options.run.capture_frame)});
     const std::filesystem::path& replay = site == "A" ? options.replay_a : options.replay_b;
     if (!replay.empty()) args.insert(args.end(), {"--replay", replay.string()});
     // The image-based model's and the hand's options, as the demo was given them.

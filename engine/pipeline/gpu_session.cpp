@@ -32,12 +32,13 @@ void GpuSession::run_frame(vk::FrameGraph& graph, uint32_t frame_index) {
   if (capture) end_capture();
 }
 
-void GpuSession::begin_capture() {
-  if (capture_.available()) capture_.begin_frame(context_->instance());
+void GpuSession::begin_capture(const std::string& title) {
+  if (capture_.available()) capture_.begin_frame(context_->instance(), title);
 }
 
-void GpuSession::end_capture() {
+std::optional<std::string> GpuSession::end_capture() {
   if (capture_.available()) capture_path_ = capture_.end_frame(context_->instance());
+  return capture_path_;
 }
 
 void GpuSession::report_capture() const {

@@ -19,9 +19,12 @@ class GpuSession {
 
   // Runs one frame of `graph`, capturing it if it is the requested frame.
   void run_frame(vk::FrameGraph& graph, uint32_t frame_index);
-  // For work that is not one graph run: bracket it (no-ops without RenderDoc).
-  void begin_capture();
-  void end_capture();
+  // For work that is not one graph run: bracket it (no-ops without RenderDoc). end_capture
+  // returns the capture's file, when one was written.
+  void begin_capture(const std::string& title = "");
+  std::optional<std::string> end_capture();
+  bool capture_available() const { return capture_.available(); }
+  const std::string& capture_unavailable_reason() const { return capture_.why_unavailable(); }
   // Says whether the requested capture was taken, and where, or why not.
   void report_capture() const;
 

@@ -73,6 +73,7 @@ void Receiver::display_loop() {
   std::optional<uint64_t> last_video_frame;
   const HostImage no_portrait(common_.width, common_.height, PixelFormat::RGBA32F);
   uint64_t last_shown_us = 0;
+  uint64_t portraits_shown = 0;
   // A displayed frame: PNG, `video_repeat` frames of the MP4, a line of frames.jsonl.
   auto write_frame = [&](const cv::Mat& bgr, nlohmann::json entry, uint64_t video_repeat) {
     const uint64_t display_index = frames_displayed_++;
@@ -134,6 +135,7 @@ void Receiver::display_loop() {
     uint64_t on_screen = 0;
     {
       session::UrgentTurn turn(common_.gpu_turn);
+      const SiteCapture::Scope capture = common_.capture->scope(SiteCapture::Stage::Receiver, portraits_shown++);
       if (drawn) {  // in the turn: a new template or shape uploads its mesh
         hand->set_pose(*drawn, portrait_camera(message));
         with_hand = hand->has_pose() && hand->pose_error().empty();

@@ -188,6 +188,7 @@ void Sender::ibr_loop() {
     net::PortraitMessage message;
     {
       std::lock_guard turn(common_.gpu_turn);
+      const SiteCapture::Scope capture = common_.capture->scope(SiteCapture::Stage::Sender, portraits_rendered_++);
       const uint64_t start = monotonic_now_us();
       ibr_->render(captured->frame.cameras, selection, target);
       message.color = vk::download(*common_.context, ibr_->portrait());

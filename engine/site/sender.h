@@ -75,6 +75,7 @@ class Sender {
   mutable std::mutex eye_mutex_;
   std::optional<Eigen::Vector3d> remote_eye_;
 
+  uint64_t portraits_rendered_ = 0;  // by the ibr loop, which alone counts them
   std::atomic<uint64_t> frames_captured_{0}, portraits_sent_{0}, frames_without_eye_{0}, tracker_ticks_{0},
       last_scene_frame_{0}, truth_frames_{0};
   session::LatencyStats capture_to_sent_;

@@ -17,6 +17,7 @@
 #include "session/fair_mutex.h"
 #include "sim/scene.h"
 #include "site/site_options.h"
+#include "site/site_capture.h"
 #include "vulkan/context.h"
 #include "vulkan/frame_graph.h"
 
@@ -33,6 +34,7 @@ struct SiteCommon {
   session::FairMutex gpu_turn;  // lavapipe is one queue on the CPU: GPU work from all threads takes turns
   session::EventLog* events = nullptr;
   net::Session* net = nullptr;
+  SiteCapture* capture = nullptr;  // --capture-frame: the sender's and the receiver's iteration
   HostImage background;  // what the display shows behind the remote user
 
   // The scene clock: scene time = (now - epoch) * time_scale from the moment the sites connect.

@@ -1,6 +1,7 @@
 #include "site/site_run.h"
 
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <fstream>
 #include <iostream>
@@ -19,6 +20,21 @@
 
 namespace rt::site {
 namespace {
+
+// --profile: each graph's passes with their median GPU time, as metrics.json has them.
+void print_profile(const std::string& site, const nlohmann::json& gpu_ms) {
+  auto row = [](const std::string& name, double ms) {
+    char line[96];
+    std::snprintf(line, sizeof(line), "  %-28s %9.3f\n", name.c_str(), ms);
+    std::cout << line;
+  };
+  for (const auto& [stage, passes] : gpu_ms.items()) {
+    std::cout << "site " << site << ", " << stage << ": GPU ms per pass (median over the run)\n";
+    for (const auto& [pass, ms] : passes.items())
+      if (pass != "total" && ms.is_number()) row(pass, ms.get<double>());
+    if (passes.contains("total") && passes["total"].is_number()) row("total", passes["total"].get<double>());
+  }
+}
 
 constexpr auto kMotorPulse = std::chrono::milliseconds(150);
 constexpr int kMotorStrength = 200;
@@ -59,6 +75,7 @@ class SiteRun {
   void monitor(const std::atomic<bool>& display_finished);
 
   pipeline::GpuSession gpu_;
+  std::unique_ptr<SiteCapture> capture_;
   session::EventLog events_;
   SiteCommon common_;
   SiteMotor motor_;  // used by the touch loop's thread only (usb_motor.h)
@@ -83,6 +100,8 @@ SiteRun::SiteRun(const SiteRunOptions& options)
   common_.height = options.run.height;
   common_.out = options.run.out;
   common_.context = &gpu_.context();
+  capture_ = std::make_unique<SiteCapture>(gpu_, options.run.capture_frame, common_.name);
+  common_.capture = capture_.get();
   common_.events = &events_;
   common_.background = pipeline::make_demo_layers(common_.width, common_.height).background;
   if (options.frames_given) common_.scene.frame_count = options.run.frames;
@@ -271,8 +290,11 @@ int SiteRun::run() {
   m["latency_ms"]["touch_to_motor_command"] = touch_to_motor_.to_json();
   m["latency_ms"]["touch_detected_to_motor_command"] = detect_to_motor_.to_json();
   m["fps"]["touch_loop"] = double(touch_->ticks()) / std::max(elapsed_s, 1e-6);
+  if (options.run.capture_frame >= 0) m["capture"] = capture_->to_json();
   net_->stop();
   std::ofstream(common_.out / "metrics.json") << m.dump(2) << "\n";
+  capture_->report();
+  if (options.run.profile) print_profile(common_.name, m["gpu_ms"]);
   if (failed) return 1;
   vk::Context& context = gpu_.context();
   if (context.validation_enabled() && context.validation_errors() > 0) {

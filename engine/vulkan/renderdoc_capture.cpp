@@ -45,9 +45,10 @@ RenderDocCapture::RenderDocCapture(bool load_if_absent, const std::string& file_
   }
 }
 
-void RenderDocCapture::begin_frame(VkInstance instance) {
+void RenderDocCapture::begin_frame(VkInstance instance, const std::string& title) {
   if (!api_) throw std::logic_error("begin_frame without RenderDoc: " + why_unavailable_);
   api_->StartFrameCapture(RENDERDOC_DEVICEPOINTER_FROM_VKINSTANCE(instance), nullptr);
+  if (!title.empty()) api_->SetCaptureTitle(title.c_str());
 }
 
 std::string RenderDocCapture::end_frame(VkInstance instance) {

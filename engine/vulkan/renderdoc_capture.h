@@ -22,7 +22,8 @@ class RenderDocCapture {
   bool available() const { return api_ != nullptr; }
   const std::string& why_unavailable() const { return why_unavailable_; }
 
-  void begin_frame(VkInstance instance);
+  // title: what the capture shows, as RenderDoc lists it (empty: RenderDoc's own name).
+  void begin_frame(VkInstance instance, const std::string& title = "");
   // Ends the capture started by begin_frame; returns the path of the written .rdc file.
   std::string end_frame(VkInstance instance);
 
