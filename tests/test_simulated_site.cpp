@@ -128,7 +128,10 @@ TEST_CASE("a recorded simulation replays exactly", "[simulated_site][gpu]") {
   pipeline::SiteSimulator simulator(test::gpu(), scene, Site::A);
   std::vector<sim::RgbdFrame> frames;
   {
-    sim::RecordingWriter writer(dir, sim::site_to_json(scene.at(Site::A).site));
+    // The calibration at the site's own size, with the scale the images were recorded at.
+    nlohmann::json calibration = sim::site_to_json(scene.at(Site::A).site);
+    calibration["recorded_scale"] = scene.resolution_scale;
+    sim::RecordingWriter writer(dir, calibration);
     while (auto frame = simulator.next_frame()) {
       writer.write_frame(*frame);
       frames.push_back(std::move(*frame));

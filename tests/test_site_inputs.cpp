@@ -357,7 +357,10 @@ TEST_CASE("a recording's calibration gives the recorded sizes, or states the sca
   nlohmann::json calibration = config::read_json_file(wrong_scale / "calibration.json");
   calibration["recorded_scale"] = 0.5;
   config::write_json_file(wrong_scale / "calibration.json", calibration);
-  CHECK_THROWS_WITH(site::SiteReplay(wrong_scale, 0, 4), Contains("at its recorded_scale 0.5"));
+  const CameraIntrinsics at_half = scaled_intrinsics(full, 0.5);
+  CHECK_THROWS_WITH(site::SiteReplay(wrong_scale, 0, 4),
+                    Contains("expected " + std::to_string(at_half.width) + "x" + std::to_string(at_half.height)) &&
+                        Contains("not decoded"));
   calibration["recorded_scale"] = "half";
   config::write_json_file(wrong_scale / "calibration.json", calibration);
   CHECK_THROWS_WITH(site::SiteReplay(wrong_scale, 0, 4), Contains("calibration.json") && Contains("recorded_scale"));

@@ -136,8 +136,9 @@ uint64_t require_unsigned(const nlohmann::json& object, const std::string& field
   const nlohmann::json& value = require(object, field, where);
   if (value.is_number_unsigned()) return value.get<uint64_t>();
   if (value.is_number_integer()) throw JsonError(where + ": field '" + field + "' must not be negative");
+  // A float is refused even when whole: 1e300 does not fit, and converting it would be undefined.
   throw JsonError(where + ": field '" + field + "' must be a non-negative integer, not " +
-                  (value.is_number() ? std::string("a fraction") : std::string(value.type_name())));
+                  (value.is_number() ? "the number " + value.dump() : std::string(value.type_name())));
 }
 
 const nlohmann::json& require_object(const nlohmann::json& object, const std::string& field, const std::string& where) {

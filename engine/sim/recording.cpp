@@ -5,6 +5,7 @@
 
 #include "config/json.h"
 #include "image/image_io.h"
+#include "image/png_header.h"
 
 namespace rt::sim {
 namespace {
@@ -93,6 +94,18 @@ ReplayRgbdSource::ReplayRgbdSource(const std::filesystem::path& dir) : dir_(dir)
     throw config::JsonError(where + ": format is '" + calibration_["format"].get<std::string>() + "', expected '" +
                             kRecordingFormat + "'");
   camera_names_ = camera_names_of(calibration_, where);
+  nlohmann::json description = calibration_;
+  description.erase("format");
+  std::optional<double> recorded_scale;
+  if (description.contains("recorded_scale")) {
+    recorded_scale = config::require_in_range(description, "recorded_scale", where, 0.01, 4.0);
+    description.erase("recorded_scale");
+  }
+  site_ = site_from_json(description, where);
+  for (const RgbdCamera& camera : site_.cameras)
+    recorded_.push_back(recorded_scale ? RecordedIntrinsics{scaled_intrinsics(camera.color, *recorded_scale),
+                                                            scaled_intrinsics(camera.depth, *recorded_scale)}
+                                       : RecordedIntrinsics{camera.color, camera.depth});
   std::ifstream lines(dir_ / "frames.jsonl");
   if (!lines) throw std::runtime_error("cannot read '" + (dir_ / "frames.jsonl").string() + "'");
   std::string line;
@@ -101,10 +114,17 @@ ReplayRgbdSource::ReplayRgbdSource(const std::filesystem::path& dir) : dir_(dir)
     const std::string at = "'" + (dir_ / "frames.jsonl").string() + "' line " + std::to_string(number);
     try {
       nlohmann::json frame = nlohmann::json::parse(line);
-      config::require_number(frame, "frame", at);
-      config::require_number(frame, "timestamp_us", at);
-      if (config::require_array(frame, "cameras", at).size() != camera_names_.size())
+      if (!frame.is_object()) throw config::JsonError(at + ": must be a JSON object");
+      config::require_unsigned(frame, "frame", at);
+      config::require_unsigned(frame, "timestamp_us", at);
+      const nlohmann::json& cameras = config::require_array(frame, "cameras", at);
+      if (cameras.size() != camera_names_.size())
         throw config::JsonError(at + ": field 'cameras' must list every camera of the calibration");
+      for (size_t k = 0; k < cameras.size(); ++k) {
+        const std::string camera_at = at + " cameras[" + std::to_string(k) + "]";
+        if (!cameras[k].is_object()) throw config::JsonError(camera_at + ": must be an object");
+        if (cameras[k].contains("timestamp_us")) config::require_unsigned(cameras[k], "timestamp_us", camera_at);
+      }
       frames_.push_back(std::move(frame));
     } catch (const nlohmann::json::parse_error& error) {
       throw config::JsonError(at + " is not valid JSON: " + error.what());
@@ -130,13 +150,21 @@ std::optional<RgbdFrame> ReplayRgbdSource::next_frame() {
     image.camera = camera_names_[k];
     image.timestamp_us = line["cameras"][k].value("timestamp_us", frame.timestamp_us);
     const std::filesystem::path color_file = color_path(dir_, k, frame.index);
+    const std::filesystem::path depth_file = depth_path(dir_, k, frame.index);
+    try {
+      check_png_header(color_file, recorded_[k].color.width, recorded_[k].color.height, PngKind::Color8);
+      check_png_header(depth_file, recorded_[k].depth.width, recorded_[k].depth.height, PngKind::Depth16);
+    } catch (const std::runtime_error& error) {
+      throw std::runtime_error(std::string(error.what()) + "; camera '" + camera_names_[k] +
+                               "' of calibration.json, whose intrinsics give the recorded size (or its recorded_scale)");
+    }
     const HostImage color = read_image(color_file);
     if (color.format != PixelFormat::RGBA32F)
       throw std::runtime_error("color image '" + color_file.string() + "' is not an RGB or RGBA image");
     // PNG color comes back as float RGBA: keep the engine's 8-bit format.
     image.color = HostImage(color.width, color.height, PixelFormat::RGBA8);
     image.color.texels = color.texels;
-    image.depth_mm = read_depth_png(depth_path(dir_, k, frame.index));
+    image.depth_mm = read_depth_png(depth_file);
     frame.cameras.push_back(std::move(image));
   }
   return frame;

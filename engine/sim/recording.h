@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sim/rgbd_source.h"
+#include "sim/site_description.h"
 
 namespace rt::sim {
 
@@ -42,9 +43,18 @@ class RecordingWriter {
 // Replays a recording, reproducing exactly the images and times that were written.
 class ReplayRgbdSource : public RgbdSource {
  public:
+  // Reads calibration.json (the site, and the images' sizes: its intrinsics, or those at its
+  // "recorded_scale") and frames.jsonl; throws naming the file, line and field.
   explicit ReplayRgbdSource(const std::filesystem::path& dir);
+  // Each image's PNG header is checked against the recorded size and kind before it is decoded.
   std::optional<RgbdFrame> next_frame() override;
   const nlohmann::json& calibration() const { return calibration_; }
+  const SiteDescription& site() const { return site_; }  // as calibrated
+  struct RecordedIntrinsics {
+    CameraIntrinsics color, depth;
+  };
+  // Of camera k's images as recorded.
+  const std::vector<RecordedIntrinsics>& recorded_intrinsics() const { return recorded_; }
   size_t frame_count() const { return frames_.size(); }
   // Of the i-th line of frames.jsonl, without reading its images: a live replay skips the
   // frames it could not keep up with.
@@ -56,6 +66,8 @@ class ReplayRgbdSource : public RgbdSource {
  private:
   std::filesystem::path dir_;
   nlohmann::json calibration_;
+  SiteDescription site_;
+  std::vector<RecordedIntrinsics> recorded_;
   std::vector<std::string> camera_names_;
   std::vector<nlohmann::json> frames_;
   size_t next_ = 0;

@@ -16,21 +16,6 @@ namespace {
 
 std::string size_text(uint32_t width, uint32_t height) { return std::to_string(width) + "x" + std::to_string(height); }
 
-// The intrinsics of a recorded image: calibration.json describes the images as recorded, or
-// states the scale they were recorded at ("recorded_scale") beside intrinsics of another size.
-// Nothing is guessed from the images' sizes.
-CameraIntrinsics intrinsics_for_image(const CameraIntrinsics& calibrated, std::optional<double> recorded_scale,
-                                      const HostImage& image, const std::filesystem::path& file, const std::string& camera) {
-  const CameraIntrinsics recorded = recorded_scale ? scaled_intrinsics(calibrated, *recorded_scale) : calibrated;
-  if (recorded.width != image.width || recorded.height != image.height)
-    throw std::runtime_error("'" + file.string() + "' is " + size_text(image.width, image.height) + ", camera '" + camera +
-                             "' of the calibration " + size_text(recorded.width, recorded.height) +
-                             (recorded_scale ? " at its recorded_scale " + std::to_string(*recorded_scale)
-                                             : std::string(": give the intrinsics at the recorded size, or the "
-                                                           "calibration's recorded_scale")));
-  return recorded;
-}
-
 }  // namespace
 
 ReplayPacing::ReplayPacing(std::vector<uint64_t> timestamps_us) {
@@ -75,14 +60,7 @@ std::vector<uint64_t> recorded_times(const sim::ReplayRgbdSource& source, size_t
 SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size_t cameras_needed)
     : dir_(dir), source_(open_recording(dir)), pacing_(std::vector<uint64_t>{0}) {
   const std::string calibration_file = "'" + (dir_ / "calibration.json").string() + "'";
-  nlohmann::json description = source_.calibration();
-  description.erase("format");
-  std::optional<double> recorded_scale;
-  if (description.contains("recorded_scale")) {
-    recorded_scale = config::require_in_range(description, "recorded_scale", calibration_file, 0.01, 4.0);
-    description.erase("recorded_scale");
-  }
-  site_ = sim::site_from_json(description, calibration_file);
+  site_ = source_.site();
   if (site_.cameras.size() < cameras_needed)
     throw std::runtime_error(calibration_file + " has " + std::to_string(site_.cameras.size()) +
                              " cameras; the image-based model uses " + std::to_string(cameras_needed));
@@ -102,16 +80,14 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
         if (!std::filesystem::is_regular_file(file))
           throw std::runtime_error("recording '" + dir_.string() + "': frame " + std::to_string(source_.frame_index(i)) +
                                    " has no image '" + file.string() + "'");
+  // The first frame read whole (each image's header checked against the recorded size first).
   source_.seek(0);
-  const sim::RgbdFrame first = *source_.next_frame();
+  source_.next_frame();
   for (size_t k = 0; k < site_.cameras.size(); ++k) {
     const sim::RgbdCamera& camera = site_.cameras[k];
     passes::IbrCameraModel model{camera.color_camera(), camera.depth_camera()};
-    model.color.intrinsics =
-        intrinsics_for_image(camera.color, recorded_scale, first.cameras[k].color, sim::color_path(dir_, k, first.index), camera.name);
-    model.depth.intrinsics =
-        intrinsics_for_image(camera.depth, recorded_scale, first.cameras[k].depth_mm, sim::depth_path(dir_, k, first.index),
-                             camera.name);
+    model.color.intrinsics = source_.recorded_intrinsics()[k].color;
+    model.depth.intrinsics = source_.recorded_intrinsics()[k].depth;
     cameras_.push_back(model);
   }
   if (!std::filesystem::is_regular_file(dir_ / "tracker.jsonl"))
