@@ -18,6 +18,10 @@ add_test(NAME session_demo_outage
 # A slow, lossy link (40 ms delay, 20 ms jitter, 5 % of records lost): still one touch per site.
 add_test(NAME session_demo_lossy
          COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-lossy clap 115 1 --delay-ms 40 --jitter-ms 20 --loss 0.05)
+# A site stopped by SIGTERM mid-run writes its metrics; SIGINT while waiting for a peer ends the wait.
+add_test(NAME session_site_signal
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_signal.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-signal)
+set_tests_properties(session_site_signal PROPERTIES TIMEOUT 300)
 # A wrong key: both sites refuse the handshake and give up cleanly, saying why.
 add_test(NAME session_site_wrong_key
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_wrong_key.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-wrong-key)

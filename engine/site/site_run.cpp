@@ -1,5 +1,6 @@
 #include "site/site_run.h"
 
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <deque>
@@ -20,6 +21,20 @@
 
 namespace rt::site {
 namespace {
+
+// SIGINT or SIGTERM asks the site to stop: the handler only notes which; the monitor loop ends
+// the stages, and the site writes its metrics as after a normal end.
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void note_stop_signal(int signal) { g_stop_signal = signal; }
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = note_stop_signal;
+  sigemptyset(&action.sa_mask);
+  for (const int signal : {SIGINT, SIGTERM}) sigaction(signal, &action, nullptr);
+}
+
+const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
 
 // --profile: each graph's passes with their median GPU time, as metrics.json has them.
 void print_profile(const std::string& site, const nlohmann::json& gpu_ms) {
@@ -206,9 +221,19 @@ void SiteRun::monitor(const std::atomic<bool>& display_finished) {
   net::ConnectionState state = net::ConnectionState::Connected;
   uint64_t last_progress = UINT64_MAX;
   const uint64_t frames = common_.scene.frame_count;
+  bool stop_noted = false;
   while (!display_finished) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const uint64_t now = monotonic_now_us();
+    if (g_stop_signal && !stop_noted) {
+      stop_noted = true;
+      std::cerr << "site " << common_.name << ": " << signal_name(g_stop_signal) << ": stopping\n";
+      events_.write("stopped", now, {{"signal", signal_name(g_stop_signal)}});
+      common_.stopping = true;
+      common_.sender_done = true;
+      sender_->stop();
+      receiver_->stop();
+    }
     const net::ConnectionStatus status = net_->status();
     if (status.state != state) {
       const char* phase = now > common_.end_us ? "shutdown" : "run";
@@ -232,7 +257,17 @@ int SiteRun::run() {
   net_->start();
   if (options.peer.empty()) std::cout << "listening on " << net_->local_port() << std::endl;
   events_.write("waiting_for_peer", monotonic_now_us(), {{"role", options.peer.empty() ? "listener" : "connector"}});
-  if (!net_->wait_connected(std::chrono::milliseconds(int64_t(options.connect_timeout_s * 1000)))) {
+  // Waited for in slices, so that a stop signal ends the wait too.
+  const uint64_t give_up_us = monotonic_now_us() + uint64_t(options.connect_timeout_s * 1e6);
+  bool connected = false;
+  while (!(connected = net_->wait_connected(std::chrono::milliseconds(100))) && !g_stop_signal && monotonic_now_us() < give_up_us) {
+  }
+  if (!connected && g_stop_signal) {
+    std::cerr << "site " << common_.name << ": " << signal_name(g_stop_signal) << " before the other site connected\n";
+    events_.write("stopped", monotonic_now_us(), {{"signal", signal_name(g_stop_signal)}, {"phase", "waiting_for_peer"}});
+    return 128 + g_stop_signal;
+  }
+  if (!connected) {
     const net::ConnectionStatus status = net_->status();
     events_.write("connect_failed", monotonic_now_us(), {{"state", net::connection_state_name(status.state)}, {"reason", status.reason}});
     std::cerr << "site " << common_.name << ": no connection to the other site within " << options.connect_timeout_s
@@ -291,11 +326,13 @@ int SiteRun::run() {
   m["latency_ms"]["touch_detected_to_motor_command"] = detect_to_motor_.to_json();
   m["fps"]["touch_loop"] = double(touch_->ticks()) / std::max(elapsed_s, 1e-6);
   if (options.run.capture_frame >= 0) m["capture"] = capture_->to_json();
+  m["stopped_by"] = g_stop_signal ? nlohmann::json(signal_name(g_stop_signal)) : nlohmann::json();
   net_->stop();
   std::ofstream(common_.out / "metrics.json") << m.dump(2) << "\n";
   capture_->report();
   if (options.run.profile) print_profile(common_.name, m["gpu_ms"]);
   if (failed) return 1;
+  if (g_stop_signal) return 128 + g_stop_signal;  // stopped, not finished: as a shell reports it
   vk::Context& context = gpu_.context();
   if (context.validation_enabled() && context.validation_errors() > 0) {
     std::cerr << "site " << common_.name << ": " << context.validation_errors() << " validation errors\n";
@@ -309,6 +346,7 @@ int SiteRun::run() {
 
 int run_site(const SiteRunOptions& options) {
   if (options.key_file.empty()) throw std::invalid_argument("a site needs --key-file (64 hex digits, the same at both sites)");
+  install_stop_handlers();
   SiteRun site(options);
   return site.run();
 }

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# A site stopped by a signal stops cleanly: SIGTERM mid-run ends its stages and writes its
+# metrics.json (stopped_by: SIGTERM) and an event, exit status 143, and its peer sees the
+# connection end and finishes; SIGINT while it waits for its peer ends the wait at once (130).
+#   session_signal.sh BINARY OUT
+set -euo pipefail
+binary=$1 out=$2
+rm -rf "$out"
+mkdir -p "$out"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+printf '%064d\n' 42 > "$out/session.key"
+common=(--scene clap --frames 115 --width 96 --height 54 --resolution-scale 0.1 --time-scale 1 --connect-timeout 60
+        --key-file "$out/session.key")
+
+"$binary" site --site A --listen 127.0.0.1:0 "${common[@]}" --out "$out/A" > "$out/a.out" 2> "$out/a.err" &
+a=$!
+for _ in $(seq 1 600); do grep -q "listening on" "$out/a.out" && break; sleep 0.1; done
+port=$(sed -n 's/^listening on //p' "$out/a.out")
+[ -n "$port" ] || { kill "$a"; fail "site A never listened"; }
+"$binary" site --site B --peer "127.0.0.1:$port" "${common[@]}" --out "$out/B" > "$out/b.out" 2> "$out/b.err" &
+b=$!
+for _ in $(seq 1 600); do grep -q "^connected" "$out/a.out" && break; sleep 0.1; done
+grep -q "^connected" "$out/a.out" || { kill "$a" "$b"; fail "the sites never connected"; }
+sleep 1.5
+kill -TERM "$a"
+set +e
+wait "$a"; a_status=$?
+wait "$b"; b_status=$?
+set -e
+cat "$out/a.err" "$out/b.err"
+[ "$a_status" -eq 143 ] || fail "site A exited with $a_status after SIGTERM, expected 143"
+[ "$b_status" -lt 128 ] || fail "site B crashed (exit status $b_status)"
+grep -q "site A: SIGTERM: stopping" "$out/a.err" || fail "site A did not say why it stopped"
+grep -q '"event":"stopped"' "$out/A/events.jsonl" || fail "no stopped event"
+/usr/bin/python3 - "$out/A/metrics.json" <<'PY' || fail "site A's metrics"
+import json, sys
+m = json.load(open(sys.argv[1]))
+assert m["stopped_by"] == "SIGTERM", m.get("stopped_by")
+assert m["frames"]["captured"] > 0 and "gpu_ms" in m
+print("site A stopped by", m["stopped_by"], "after", m["frames"]["captured"], "captured frames")
+PY
+
+# SIGINT while waiting for a peer that never comes: at once, not after --connect-timeout.
+"$binary" site --site A --listen 127.0.0.1:0 "${common[@]}" --out "$out/alone" > "$out/alone.out" 2> "$out/alone.err" &
+alone=$!
+for _ in $(seq 1 600); do grep -q "listening on" "$out/alone.out" && break; sleep 0.1; done
+start=$(date +%s%N)
+kill -INT "$alone"
+set +e
+wait "$alone"; alone_status=$?
+set -e
+elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
+[ "$alone_status" -eq 130 ] || fail "a waiting site exited with $alone_status after SIGINT, expected 130"
+[ "$elapsed_ms" -lt 5000 ] || fail "a waiting site took $elapsed_ms ms to stop"
+grep -q "SIGINT before the other site connected" "$out/alone.err" || fail "the waiting site did not say why it stopped"
+echo "stopped cleanly by signals"
