@@ -38,6 +38,21 @@ add_cli_test(session_demo_unknown_device 1 "no Vulkan device fits.*site A ended"
              ${rt} demo --frames 2 --width 32 --height 18 --device no-such-gpu --out ${CMAKE_BINARY_DIR}/test-out/session-no-device)
 add_cli_test(session_site_needs_key 1 "remotetouch: error: a site needs --key-file"
              ${rt} site --site A --out ${CMAKE_BINARY_DIR}/test-out/site-no-key)
+# Key files: keygen makes one owner-only and never overwrites it; a site refuses one others can read.
+add_test(NAME session_keygen
+         COMMAND ${CMAKE_COMMAND} -E rm -f ${CMAKE_BINARY_DIR}/test-out/keygen/site.key)
+add_cli_test(session_keygen_writes 0 "wrote a new session key to .*keygen/site.key \\(mode 0600\\)"
+             ${rt} keygen ${CMAKE_BINARY_DIR}/test-out/keygen/site.key)
+add_cli_test(session_keygen_never_overwrites 1 "cannot create the key file .*keygen/site.key: File exists \\(a key file is never overwritten"
+             ${rt} keygen ${CMAKE_BINARY_DIR}/test-out/keygen/site.key)
+set_tests_properties(session_keygen PROPERTIES FIXTURES_SETUP keygen)
+set_tests_properties(session_keygen_writes PROPERTIES FIXTURES_REQUIRED keygen FIXTURES_SETUP keygen_written)
+set_tests_properties(session_keygen_never_overwrites PROPERTIES FIXTURES_REQUIRED keygen_written)
+file(WRITE ${CMAKE_BINARY_DIR}/test-out/keygen/open.key "0000000000000000000000000000000000000000000000000000000000000042\n")
+file(CHMOD ${CMAKE_BINARY_DIR}/test-out/keygen/open.key PERMISSIONS OWNER_READ OWNER_WRITE GROUP_READ WORLD_READ)
+add_cli_test(session_site_open_key_file 1 "open.key is open to the group or others \\(mode 0644\\): chmod 600"
+             ${rt} site --site A --key-file ${CMAKE_BINARY_DIR}/test-out/keygen/open.key
+                   --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-open-key)
 add_cli_test(session_site_bad_key_file 1 "remotetouch: error: .*site_config_bad\\.json: session key: expected 64 hex digits"
              ${rt} site --site A --key-file ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json
                    --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-bad-key)

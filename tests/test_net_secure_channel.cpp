@@ -2,6 +2,9 @@
 // hellos, tampered ciphertext and headers, replayed and missing records.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -31,13 +34,57 @@ TEST_CASE("session keys from hex and key files, with clear errors") {
   CHECK(session_key_from_hex("  " + to_hex(key) + "\n").bytes == key.bytes);
   CHECK_THROWS_WITH(session_key_from_hex("abcd"), Catch::Contains("64 hex digits") && Catch::Contains("got 4"));
   CHECK_THROWS_WITH(session_key_from_hex(std::string(63, '0') + "g"), Catch::Contains("'g' is not a hex digit"));
-  const auto dir = std::filesystem::temp_directory_path() / "rt_net_key_test";
+  const auto dir = std::filesystem::temp_directory_path() / ("rt_net_key_test_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  auto owner_only = [](const std::filesystem::path& path) {
+    std::filesystem::permissions(path, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  };
   std::ofstream(dir / "good.key") << to_hex(key) << "\n";
+  owner_only(dir / "good.key");
   CHECK(load_session_key_file(dir / "good.key").bytes == key.bytes);
   std::ofstream(dir / "bad.key") << "not a key\n";
+  owner_only(dir / "bad.key");
   CHECK_THROWS_WITH(load_session_key_file(dir / "bad.key"), Catch::Contains("bad.key") && Catch::Contains("64 hex"));
   CHECK_THROWS_WITH(load_session_key_file(dir / "missing.key"), Catch::Contains("cannot be opened"));
+
+  // A key others can read is refused, saying how to fix it.
+  std::filesystem::permissions(dir / "good.key", std::filesystem::perms::group_read | std::filesystem::perms::others_read,
+                               std::filesystem::perm_options::add);
+  CHECK_THROWS_WITH(load_session_key_file(dir / "good.key"), Catch::Contains("open to the group or others (mode 0644)") &&
+                                                                 Catch::Contains("chmod 600"));
+  // Not a regular file: a device that never ends, a folder, a FIFO (without blocking).
+  CHECK_THROWS_WITH(load_session_key_file("/dev/zero"), Catch::Contains("/dev/zero is not a regular file"));
+  CHECK_THROWS_WITH(load_session_key_file(dir), Catch::Contains("is not a regular file"));
+  REQUIRE(::mkfifo((dir / "fifo.key").c_str(), 0600) == 0);
+  CHECK_THROWS_WITH(load_session_key_file(dir / "fifo.key"), Catch::Contains("fifo.key is not a regular file"));
+  // Longer than a key's line, and weak keys.
+  std::ofstream(dir / "long.key") << to_hex(key) << std::string(1000, ' ') << "\n";
+  owner_only(dir / "long.key");
+  CHECK_THROWS_WITH(load_session_key_file(dir / "long.key"), Catch::Contains("longer than a key's line"));
+  for (const char* weak : {"0000000000000000000000000000000000000000000000000000000000000000",
+                           "abababababababababababababababababababababababababababababababab"}) {
+    std::ofstream(dir / "weak.key") << weak << "\n";
+    owner_only(dir / "weak.key");
+    CHECK_THROWS_WITH(load_session_key_file(dir / "weak.key"), Catch::Contains("weak key") && Catch::Contains("keygen"));
+  }
+}
+
+TEST_CASE("a new key file: owner-only, never over an existing file or through a link") {
+  const auto dir = std::filesystem::temp_directory_path() / ("rt_net_keygen_test_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const SessionKey key = write_new_session_key_file(dir / "new.key");
+  CHECK(load_session_key_file(dir / "new.key").bytes == key.bytes);
+  const auto perms = std::filesystem::status(dir / "new.key").permissions();
+  CHECK(perms == (std::filesystem::perms::owner_read | std::filesystem::perms::owner_write));
+  CHECK_THROWS_WITH(write_new_session_key_file(dir / "new.key"), Catch::Contains("never overwritten"));
+  CHECK(load_session_key_file(dir / "new.key").bytes == key.bytes);  // the old key is still there
+  std::filesystem::create_symlink(dir / "elsewhere.key", dir / "link.key");
+  CHECK_THROWS(write_new_session_key_file(dir / "link.key"));
+  CHECK_FALSE(std::filesystem::exists(dir / "elsewhere.key"));  // nothing written through the link
+  CHECK(write_new_session_key_file(dir / "other.key").bytes != key.bytes);
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("handshake with the same key: both verify and derive crosswise traffic keys") {

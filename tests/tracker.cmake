@@ -12,6 +12,7 @@ add_cli_test(session_site_bad_tracker 105 "--tracker: 'kinect' is not a tracker:
 add_cli_test(session_site_bad_tracker_url 105 "--tracker: Leap service URL 'http://127.0.0.1' must start with ws://"
              $<TARGET_FILE:remotetouch> site --tracker leap:http://127.0.0.1)
 file(WRITE ${CMAKE_BINARY_DIR}/test-out/leap-key/session.key "0000000000000000000000000000000000000000000000000000000000000042\n")
+file(CHMOD ${CMAKE_BINARY_DIR}/test-out/leap-key/session.key PERMISSIONS OWNER_READ OWNER_WRITE)
 add_cli_test(session_site_no_leap_service 1
              "remotetouch: error: no Leap service answers at ws://127.0.0.1:1/v6.json within 3000 ms: cannot connect: Connection refused"
              $<TARGET_FILE:remotetouch> site --site A --tracker leap:ws://127.0.0.1:1/v6.json

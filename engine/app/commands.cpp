@@ -16,6 +16,7 @@ namespace rt::app {
   X("bench", bench_hand)                   \
   X("bench", bench_net)                    \
   X("", simulate)                          \
+  X("", keygen)                            \
   X("eval", eval_ibr)                      \
   X("eval", eval_hand)                     \
   X("eval", eval_dual)                     \

@@ -236,12 +236,11 @@ int run_two_site_demo(const DemoOptions& options) {
   const std::filesystem::path out = options.run.out;
   std::filesystem::create_directories(out);
   for (const char* site : {"site_A", "site_B"}) std::filesystem::remove_all(out / site);
+  // A fresh key each run, created owner-only in one step (an old one, or a link in its place,
+  // is removed, never written through).
   const std::filesystem::path key_file = out / "session.key";
-  {
-    std::ofstream key(key_file);
-    key << net::to_hex(net::random_session_key()) << "\n";
-  }
-  std::filesystem::permissions(key_file, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  std::filesystem::remove(key_file);
+  net::write_new_session_key_file(key_file);
 
   auto site_args = [&](const std::string& site) {
     std::vector<std::string> args = {"site", "--site", site, "--scene", options.scene, "--key-file", key_file.string(),

@@ -1,11 +1,16 @@
 #include "net/secure_channel.h"
 
+#include <fcntl.h>
 #include <sodium.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cctype>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 namespace rt::net {
@@ -60,16 +65,80 @@ SessionKey session_key_from_hex(const std::string& hex_in) {
   return key;
 }
 
+namespace {
+
+// 64 hex digits and a line end, with room for a CR and surrounding spaces.
+constexpr size_t kMaxKeyFileBytes = 80;
+
+// Closes the descriptor and wipes what was read, whichever way the function leaves.
+struct KeyFileBuffer {
+  int fd = -1;
+  std::array<char, kMaxKeyFileBytes + 1> bytes{};
+  ~KeyFileBuffer() {
+    sodium_memzero(bytes.data(), bytes.size());
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+}  // namespace
+
 SessionKey load_session_key_file(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  if (!file) throw std::invalid_argument("session key file " + path.string() + " cannot be opened");
-  std::stringstream contents;
-  contents << file.rdbuf();
+  const std::string name = "session key file " + path.string();
+  KeyFileBuffer buffer;
+  // Non-blocking: a FIFO named as the key must not hang the site before it is refused.
+  buffer.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (buffer.fd < 0) throw std::invalid_argument(name + " cannot be opened: " + std::strerror(errno));
+  struct stat info {};
+  if (::fstat(buffer.fd, &info) != 0 || !S_ISREG(info.st_mode))
+    throw std::invalid_argument(name + " is not a regular file");
+  if (info.st_size > off_t(kMaxKeyFileBytes))
+    throw std::invalid_argument(name + " is " + std::to_string(info.st_size) + " bytes, longer than a key's line (64 hex digits)");
+  size_t size = 0;
+  while (size < buffer.bytes.size()) {
+    const ssize_t n = ::read(buffer.fd, buffer.bytes.data() + size, buffer.bytes.size() - size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw std::invalid_argument(name + " cannot be read: " + std::strerror(errno));
+    if (n == 0) break;
+    size += size_t(n);
+  }
+  if (size > kMaxKeyFileBytes) throw std::invalid_argument(name + " is longer than a key's line (64 hex digits)");
+  SessionKey key;
   try {
-    return session_key_from_hex(contents.str());
+    key = session_key_from_hex(std::string(buffer.bytes.data(), size));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(path.string() + ": " + e.what());
   }
+  if (std::all_of(key.bytes.begin(), key.bytes.end(), [&](uint8_t b) { return b == key.bytes[0]; }))
+    throw std::invalid_argument(name + " holds a weak key (every byte the same): make one with remotetouch keygen FILE");
+  if (info.st_mode & (S_IRWXG | S_IRWXO)) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", unsigned(info.st_mode & 07777));
+    throw std::invalid_argument(name + " is open to the group or others (mode " + mode + "): chmod 600 " + path.string());
+  }
+  return key;
+}
+
+SessionKey write_new_session_key_file(const std::filesystem::path& path) {
+  const SessionKey key = random_session_key();
+  std::string line = to_hex(key) + "\n";
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    sodium_memzero(line.data(), line.size());
+    throw std::runtime_error("cannot create the key file " + path.string() + ": " + std::strerror(errno) +
+                             (errno == EEXIST ? " (a key file is never overwritten: remove it first)" : ""));
+  }
+  size_t written = 0;
+  while (written < line.size()) {
+    const ssize_t n = ::write(fd, line.data() + written, line.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    written += size_t(n);
+  }
+  const bool ok = written == line.size() && ::fsync(fd) == 0;
+  ::close(fd);
+  sodium_memzero(line.data(), line.size());
+  if (!ok) throw std::runtime_error("cannot write the key file " + path.string() + ": " + std::strerror(errno));
+  return key;
 }
 
 SessionKey random_session_key() {

@@ -29,8 +29,13 @@ struct SessionKey {
 
 // 64 hex digits (surrounding whitespace ignored). Throws std::invalid_argument saying what is wrong.
 SessionKey session_key_from_hex(const std::string& hex);
-// A key file holds the key as 64 hex digits (one line). Throws naming the file.
+// A key file holds the key as 64 hex digits (one line), readable by its owner only. Refused,
+// naming the file: not a regular file, longer than a key's line, not a key, a weak key (every
+// byte the same), or readable by the group or others. Throws std::invalid_argument.
 SessionKey load_session_key_file(const std::filesystem::path& path);
+// Writes a new random key to `path` (mode 0600, never over an existing file or through a
+// symbolic link) and returns it. Throws std::runtime_error saying why it could not.
+SessionKey write_new_session_key_file(const std::filesystem::path& path);
 SessionKey random_session_key();
 std::string to_hex(const SessionKey& key);
 

@@ -16,6 +16,7 @@ rm -rf "$out"
 mkdir -p "$out"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 printf '%064d\n' 42 > "$out/session.key"
+chmod 600 "$out/session.key"
 common=(--width 96 --height 54 --time-scale 1 --connect-timeout 60 --key-file "$out/session.key")
 
 if [ "$mode" = bad-inputs ]; then

@@ -9,6 +9,7 @@ rm -rf "$out"
 mkdir -p "$out"
 printf '%064d\n' 1 > "$out/a.key"
 printf '%064d\n' 2 > "$out/b.key"
+chmod 600 "$out/a.key" "$out/b.key"
 common=(--scene clap --frames 10 --width 32 --height 18 --resolution-scale 0.05 --connect-timeout 4)
 # Site A from a config file (its key file named relative to the config), B from flags.
 cat > "$out/a.json" <<JSON
