@@ -279,6 +279,19 @@ TEST_CASE("portraits: bad fields, image sizes that disagree, corrupt images") {
   q.camera_from_site(0, 0) = 2.0;
   expect_rejected(portrait_bytes(q, jpeg, alpha, depth), DecodeErrorKind::BadValue, "not a rigid transform");
 
+  // A portrait of another size than the receiver displays: refused before any image is decoded
+  // (a key holder cannot make the receiver decode 4096x4096 images for a 32x18 display).
+  DecodeOptions display;
+  display.portrait_width = 32;
+  display.portrait_height = 18;
+  const DecodeResult other_size = decode_message(portrait_bytes(p, jpeg, alpha, depth), display);
+  REQUIRE_FALSE(other_size.ok());
+  CHECK(other_size.error.kind == DecodeErrorKind::BadValue);
+  CHECK_THAT(other_size.error.message, Catch::Contains("portrait is 16x12, this site displays 32x18 (not decoded)"));
+  display.portrait_width = 16;
+  display.portrait_height = 12;
+  CHECK(decode_message(portrait_bytes(p, jpeg, alpha, depth), display).ok());
+
   // Images of another size than declared.
   const PortraitMessage small = test::test_portrait(16, 11, 3);
   expect_rejected(portrait_bytes(p, jpeg, alpha, encode_float_plane_png(small.depth, 0, 1)), DecodeErrorKind::BadImage,

@@ -178,7 +178,7 @@ uint8_t get_flag(ByteReader& r, const char* what) {
   return v;
 }
 
-Message decode_payload(MessageType type, ByteReader& r) {
+Message decode_payload(MessageType type, ByteReader& r, const DecodeOptions& options) {
   switch (type) {
     case MessageType::Eye: {
       EyeMessage m;
@@ -237,6 +237,10 @@ Message decode_payload(MessageType type, ByteReader& r) {
         for (int col = 0; col < 4; ++col) m.camera_from_site(row, col) = r.get<double>();
       if (!r.ok()) reject(DecodeErrorKind::Truncated, "portrait shorter than its fixed fields");
       if (auto e = check_portrait_fields(m); !e.empty()) reject(DecodeErrorKind::BadValue, e);
+      if (options.portrait_width && (m.width != options.portrait_width || m.height != options.portrait_height))
+        reject(DecodeErrorKind::BadValue, "portrait is " + std::to_string(m.width) + "x" + std::to_string(m.height) +
+                                              ", this site displays " + std::to_string(options.portrait_width) + "x" +
+                                              std::to_string(options.portrait_height) + " (not decoded)");
       const auto jpeg = get_blob(r, "color JPEG");
       const auto alpha = get_blob(r, "alpha PNG");
       const auto depth = get_blob(r, "depth PNG");
@@ -367,7 +371,7 @@ std::optional<MessageHeader> decode_header(std::span<const uint8_t> bytes, Decod
   return h;
 }
 
-DecodeResult decode_message(std::span<const uint8_t> bytes) {
+DecodeResult decode_message(std::span<const uint8_t> bytes, const DecodeOptions& options) {
   DecodeResult result;
   const auto header = decode_header(bytes, &result.error);
   if (!header) return result;
@@ -386,7 +390,7 @@ DecodeResult decode_message(std::span<const uint8_t> bytes) {
   }
   try {
     ByteReader r(bytes.subspan(kHeaderSize));
-    Message message = decode_payload(type, r);
+    Message message = decode_payload(type, r, options);
     if (!r.ok()) reject(DecodeErrorKind::Truncated, name + " payload ends inside a field");
     if (r.left() != 0) reject(DecodeErrorKind::TrailingBytes, std::to_string(r.left()) + " unread bytes in the " + name + " payload");
     result.message = std::move(message);

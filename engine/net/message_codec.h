@@ -58,8 +58,15 @@ struct DecodeResult {
   bool ok() const { return message.has_value(); }
 };
 
+// What the receiving side accepts beyond the format's own limits.
+struct DecodeOptions {
+  // The portrait size the receiver displays (0 x 0: any within kMaxPortraitSide): a portrait of
+  // another declared size is refused before any of its images is decoded.
+  uint32_t portrait_width = 0, portrait_height = 0;
+};
+
 // Exactly one message: the header, then exactly `payload length` bytes.
-DecodeResult decode_message(std::span<const uint8_t> bytes);
+DecodeResult decode_message(std::span<const uint8_t> bytes, const DecodeOptions& options = {});
 
 struct MessageHeader {
   uint16_t version = 0;

@@ -297,7 +297,7 @@ struct Session::Impl {
   }
 
   void decode_and_deliver(std::span<const uint8_t> plaintext) {
-    DecodeResult result = decode_message(plaintext);
+    DecodeResult result = decode_message(plaintext, options.decode);
     if (!result.ok()) return reject(decode_error_kind_name(result.error.kind), result.error.message);
     deliver(std::move(*result.message));
   }

@@ -37,6 +37,7 @@ struct SessionOptions {
   uint16_t port = 0;               // listener: 0 picks a free port (local_port() says which)
   SessionKey key;
   EncodeOptions encode;
+  DecodeOptions decode;  // e.g. the display's size: a portrait of another size is not decoded
   std::chrono::milliseconds heartbeat_period{200};
   std::chrono::milliseconds lost_after{1000};        // nothing received for this long: connection lost
   std::chrono::milliseconds handshake_timeout{2000};

@@ -58,6 +58,8 @@ net::SessionOptions session_options(const SiteRunOptions& options) {
   net::SessionOptions net_options;
   net_options.key = net::load_session_key_file(options.key_file);
   net_options.name = std::string("site ") + site_name(options.site);
+  net_options.decode.portrait_width = options.run.width;
+  net_options.decode.portrait_height = options.run.height;
   if (options.peer.empty()) {
     net_options.role = net::Role::Listener;
     // Port 0 (any free port) is fine for a listener, which parse_host_port refuses for a peer.
