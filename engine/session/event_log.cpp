@@ -16,19 +16,13 @@ void EventLog::write(const std::string& event, uint64_t t_us, nlohmann::json fie
   std::lock_guard lock(mutex_);
   file_ << fields.dump() << "\n";
   file_.flush();
-  events_.push_back(std::move(fields));
-}
-
-std::vector<nlohmann::json> EventLog::events() const {
-  std::lock_guard lock(mutex_);
-  return events_;
+  ++counts_[event];
 }
 
 size_t EventLog::count(const std::string& event) const {
   std::lock_guard lock(mutex_);
-  size_t n = 0;
-  for (const auto& e : events_) n += e.value("event", "") == event ? 1 : 0;
-  return n;
+  const auto found = counts_.find(event);
+  return found == counts_.end() ? 0 : found->second;
 }
 
 std::vector<nlohmann::json> read_events(const std::filesystem::path& path) {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -21,14 +22,15 @@ class EventLog {
 
   // Adds "event", "site" and "t_us" (monotonic microseconds) to `fields` and writes the line.
   void write(const std::string& event, uint64_t t_us, nlohmann::json fields = nlohmann::json::object());
-  std::vector<nlohmann::json> events() const;
+  // Events of this name written so far. Only counts stay in memory, never the events: a long
+  // run (or a peer that provokes events) must not grow the process.
   size_t count(const std::string& event) const;
 
  private:
   mutable std::mutex mutex_;
   std::string site_;
   std::ofstream file_;
-  std::vector<nlohmann::json> events_;
+  std::map<std::string, size_t> counts_;
 };
 
 // Reads an events.jsonl; throws naming the file and line of a line that is not a JSON object.
