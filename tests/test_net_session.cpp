@@ -3,8 +3,15 @@
 // portraits, touch events never dropped, counters as JSON.
 #include <catch2/catch.hpp>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <asio.hpp>
 #include <cstring>
+#include <filesystem>
 #include <set>
 
 #include "net_test_messages.h"
@@ -246,4 +253,63 @@ TEST_CASE("a portrait larger than one read piece (256 KiB) arrives intact") {
 TEST_CASE("sending an invalid message throws on the sender's thread") {
   Link link;
   CHECK_THROWS_AS(link.connector->send(EyeMessage{1, {std::nan(""), 0, 0}, true}), std::invalid_argument);
+}
+
+TEST_CASE("out of descriptors, the listener backs off instead of spinning, and recovers") {
+  test::LogLines log;
+  const SessionKey key = random_session_key();
+  Session listener(test::test_session_options(Role::Listener, key, log, "B"));
+  listener.start();
+  const uint16_t port = listener.local_port();
+
+  // Leave a few descriptors, then fill them with connections the listener cannot accept: each
+  // pending one makes accept() fail with EMFILE until a descriptor frees up.
+  rlimit original{};
+  REQUIRE(::getrlimit(RLIMIT_NOFILE, &original) == 0);
+  size_t open_now = 0;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd")) open_now += entry.is_symlink() ? 1 : 0;
+  rlimit tight = original;
+  tight.rlim_cur = open_now + 8;
+  REQUIRE(::setrlimit(RLIMIT_NOFILE, &tight) == 0);
+  std::vector<int> clients;
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(port);
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  for (int i = 0; i < 40; ++i) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (fd < 0) break;
+    clients.push_back(fd);
+    ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address);
+  }
+  REQUIRE(eventually([&] { return listener.counters().accept_errors > 0; }));
+
+  rusage before{}, after{};
+  ::getrusage(RUSAGE_SELF, &before);
+  const auto start = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  ::getrusage(RUSAGE_SELF, &after);
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  auto seconds = [](const timeval& t) { return double(t.tv_sec) + double(t.tv_usec) * 1e-6; };
+  const double cpu_s = seconds(after.ru_utime) + seconds(after.ru_stime) - seconds(before.ru_utime) - seconds(before.ru_stime);
+  const uint64_t errors = listener.counters().accept_errors;
+  ::setrlimit(RLIMIT_NOFILE, &original);
+  for (const int fd : clients) ::close(fd);
+  INFO("CPU " << cpu_s << " s over " << wall_s << " s, " << errors << " accept errors");
+  CHECK(cpu_s < 0.3 * wall_s);  // the whole test process, the listener's thread included
+  CHECK(errors < 60);           // backed off: tens, not hundreds of thousands
+  size_t accept_lines = 0;
+  {
+    std::lock_guard lock(log.mutex);
+    for (const auto& line : log.lines) accept_lines += line.find("accept failed") != std::string::npos;
+  }
+  CHECK(accept_lines <= 3);  // one line a second at most
+
+  // Descriptors back: a real peer gets in.
+  auto options = test::test_session_options(Role::Connector, key, log, "A");
+  options.port = port;
+  Session connector(options);
+  connector.start();
+  CHECK(connector.wait_connected(std::chrono::seconds(3)));
+  CHECK(listener.counters().to_json()["accept_errors"] == errors);
 }

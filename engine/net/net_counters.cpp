@@ -21,7 +21,8 @@ nlohmann::json NetCounters::to_json() const {
           {"handshakes_ok", handshakes_ok},
           {"handshakes_refused", handshakes_refused},
           {"connections_lost", connections_lost},
-          {"reconnects", reconnects}};
+          {"reconnects", reconnects},
+          {"accept_errors", accept_errors}};
 }
 
 }  // namespace rt::net

@@ -23,6 +23,7 @@ struct NetCounters {
   uint64_t handshakes_ok = 0, handshakes_refused = 0;
   uint64_t connections_lost = 0;
   uint64_t reconnects = 0;  // sessions established after the first
+  uint64_t accept_errors = 0;  // the listener's accept failed (e.g. out of descriptors)
 
   nlohmann::json to_json() const;
 };

@@ -71,7 +71,7 @@ struct Outgoing {
 }  // namespace
 
 struct Session::Impl {
-  explicit Impl(SessionOptions o) : options(std::move(o)), acceptor(io), connect_timer(io), tick_timer(io) {
+  explicit Impl(SessionOptions o) : options(std::move(o)), acceptor(io), connect_timer(io), tick_timer(io), accept_timer(io) {
     ensure_sodium();
     if (!options.log) options.log = [](const std::string& line) { std::cerr << line << "\n"; };
   }
@@ -79,7 +79,13 @@ struct Session::Impl {
   SessionOptions options;
   asio::io_context io;  // first: destroyed last
   tcp::acceptor acceptor;
-  asio::steady_timer connect_timer, tick_timer;
+  asio::steady_timer connect_timer, tick_timer, accept_timer;
+  // Accept errors (no descriptors left, say) persist until something closes: waiting before the
+  // next accept, longer each time, keeps the loop from spinning, and one log line a second says
+  // how many there were.
+  std::chrono::milliseconds accept_backoff{0};
+  uint64_t accept_errors_unlogged = 0;
+  std::chrono::steady_clock::time_point accept_error_logged{};
   std::optional<asio::executor_work_guard<asio::io_context::executor_type>> work;
   std::thread thread;
   bool closing = false;  // network thread only
@@ -451,13 +457,27 @@ struct Session::Impl {
     acceptor.async_accept([this](std::error_code e, tcp::socket socket) {
       if (closing) return;
       if (!e) {
+        accept_backoff = std::chrono::milliseconds(0);
         auto c = std::make_shared<Connection>(io);
         c->socket = std::move(socket);
         begin(c);
-      } else {
-        log("accept failed: " + e.message());
+        accept();
+        return;
       }
-      accept();
+      count([](NetCounters& c) { ++c.accept_errors; });
+      ++accept_errors_unlogged;
+      const auto now = std::chrono::steady_clock::now();
+      if (now - accept_error_logged >= std::chrono::seconds(1)) {
+        log("accept failed: " + e.message() +
+            (accept_errors_unlogged > 1 ? " (" + std::to_string(accept_errors_unlogged) + " times since the last report)" : ""));
+        accept_errors_unlogged = 0;
+        accept_error_logged = now;
+      }
+      accept_backoff = std::clamp(accept_backoff * 2, std::chrono::milliseconds(10), std::chrono::milliseconds(1000));
+      accept_timer.expires_after(accept_backoff);
+      accept_timer.async_wait([this](std::error_code timer_error) {
+        if (!timer_error && !closing) accept();
+      });
     });
   }
 
@@ -489,6 +509,7 @@ struct Session::Impl {
     acceptor.close(ignored);
     connect_timer.cancel();
     tick_timer.cancel();
+    accept_timer.cancel();
     for (auto c : std::vector<ConnectionPtr>(connections.begin(), connections.end())) close(c);
     active.reset();
   }
