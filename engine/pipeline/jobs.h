@@ -50,6 +50,15 @@ struct EvalDualOptions {
   bool plots = true;               // hand_psnr.png and the contact sheets (python3-matplotlib)
 };
 
+struct BenchAccuracyOptions {
+  std::vector<std::string> scenes = {"wave", "clap", "approach"};
+  std::string grid = "small";  // accuracy_grid.h: tiny, small, full
+  uint32_t frame_step = 5;     // every Nth frame of each scene's motion
+  bool frames_given = false;   // RunOptions::frames per scene, else each scene's whole motion
+  uint32_t supersample = 3;    // the simulated color and truth, as eval ibr's --supersample
+  bool plot = true;            // pareto.png (python3-matplotlib)
+};
+
 // Which of a scene's frames an evaluation renders: from `first_frame` every `frame_step`-th,
 // `frames` of them when given, else to the scene's end; shortens scene.frame_count to the last one
 // and returns how many. Throws std::invalid_argument naming `command` for a step of 0 or a first
@@ -71,5 +80,7 @@ int run_simulate(const RunOptions& options, const SimulateOptions& simulate);
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval);
 int run_eval_hand(const RunOptions& options);
 int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval);
+// Exit code 1 when a configuration's outputs were not finite (the others are still measured).
+int run_bench_accuracy(const RunOptions& options, const BenchAccuracyOptions& bench);
 
 }  // namespace rt::pipeline
