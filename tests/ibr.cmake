@@ -26,3 +26,6 @@ add_cli_test(cli_bench_accuracy_bad_grid 105 "--grid: huge not in" ${rt} bench a
 add_cli_test(cli_bench_accuracy_unknown_scene 1 "remotetouch: error: cannot open '[^']*/no-such-scene\\.json'"
              ${rt} bench accuracy --grid tiny --scenes wave,no-such-scene --frames 1 --no-plot
              --out ${CMAKE_BINARY_DIR}/test-out/bench-accuracy-unknown-scene)
+add_cli_test(cli_quality_unknown_preset 105 "--quality: .*no preset 'ultra' \\(known: balanced, best, fast\\)"
+             ${rt} eval ibr --quality ultra)
+add_cli_test(cli_quality_and_budget 108 "--quality excludes --budget-ms" ${rt} eval ibr --quality fast --budget-ms 50)

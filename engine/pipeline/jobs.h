@@ -21,6 +21,7 @@ struct EvalIbrOptions {
   std::vector<std::string> cameras;  // a fixed selection by name; empty = opposite the touching hand
   // The image-based model (--views, --carve, --refine, ...); its fusion is set from `fusion`.
   IbrSettings ibr;
+  nlohmann::json quality;      // what --quality or --budget-ms chose; null: neither
   uint32_t supersample = 3;    // the simulator's color supersampling (scene's own is overridden)
   double resolution_scale = 0; // of the cameras' resolutions; 0 = the scene's own
   bool frames_given = false;   // else the scene's own frame count
@@ -42,6 +43,7 @@ struct EvalDualOptions {
   // image, geometry, dual, dual_no_appearance, dual_no_shape, hard_switch; empty = all.
   std::vector<std::string> variants;
   IbrSettings ibr;                 // the sender's image-based model (the site's defaults)
+  nlohmann::json quality;          // what --quality or --budget-ms chose; null: neither
   HandRendererOptions hand;        // the receiver's geometry hand (the site's defaults)
   bool frames_given = false;       // else the scene's own frame count
   uint32_t first_frame = 0;

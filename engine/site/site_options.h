@@ -28,6 +28,7 @@ struct SiteRunOptions {
   std::filesystem::path replay;
   std::string motor = "auto";  // simulated | usb | auto (the Arduino on USB when attached)
   pipeline::IbrSettings ibr;            // the sender's image-based model (its width and height are the display's)
+  nlohmann::json quality;               // what --quality or --budget-ms chose, for metrics; null: neither
   pipeline::HandRendererOptions hand;   // the receiver's geometry hand
 };
 

@@ -148,6 +148,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"camera_depth", {depth.width, depth.height}},
                            {"average_tolerance_m", settings.splat.average_tolerance_m},
                            {"ibr", ibr_settings_json(settings)},
+                           {"quality", eval.quality},
                            {"frames", frames},
                            {"first_frame", eval.first_frame},
                            {"frame_step", eval.frame_step},
