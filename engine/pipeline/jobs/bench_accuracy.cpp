@@ -144,6 +144,8 @@ nlohmann::json measurement_of(const RunOptions& options, const BenchAccuracyOpti
 int run_bench_accuracy(const RunOptions& options, const BenchAccuracyOptions& bench) {
   const Clock::time_point run_start = Clock::now();
   const std::vector<AccuracyConfig> configs = expand_grid(accuracy_grid(bench.grid));
+  // A misnamed scene fails now, not after the first scenes were simulated.
+  for (const std::string& scene : bench.scenes) sim::load_scene(sim::resolve_scene(scene));
   GpuSession session(options);
   vk::Context& context = session.context();
   std::filesystem::create_directories(options.out);
