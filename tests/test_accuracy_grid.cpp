@@ -42,9 +42,9 @@ TEST_CASE("every grid expands to distinct configurations, the defaults first") {
     std::sort(names.begin(), names.end());
     CHECK(std::adjacent_find(names.begin(), names.end()) == names.end());
   }
-  // The test's grid: the defaults, five knobs alone, and the one product point not among them.
+  // The test's grid: the defaults, each of its knobs alone, and the one product point not among them.
   CHECK(expand_grid(accuracy_grid("tiny")).size() == 7);
-  // small: twelve alone (the defaults among them), and four more from the product of three pairs.
+  // small: each knob alone (the defaults among them), and the product's points with two or more knobs set.
   CHECK(expand_grid(accuracy_grid("small")).size() == 16);
 }
 

@@ -6,7 +6,7 @@ binary=$1 out=$2
 presets=$(dirname "$0")/../../assets/quality/presets.json
 for preset in fast best; do
   rm -rf "$out-$preset"
-  # A tenth of the cameras' resolution over the preset's own, to keep the test short.
+  # A low camera resolution over the preset's own keeps the test short.
   "$binary" demo --quality "$preset" --frames 2 --width 96 --height 54 --resolution-scale 0.1 --out "$out-$preset"
   preset_of() { /usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['quality']['preset'])" "$1"; }
   [ "$(preset_of "$out-$preset/metrics.json")" = "$preset" ] || { echo "demo metrics.json does not name the preset $preset" >&2; exit 1; }
