@@ -19,3 +19,13 @@ add_cli_test(cli_eval_dual_bad_variant 105 "--variants: blend not in" ${rt} eval
 add_cli_test(cli_eval_dual_bad_user 105 "--users: C not in" ${rt} eval dual --users C)
 add_cli_test(cli_eval_dual_past_end 1 "eval dual: --first-frame 100000 is past the scene's 180 frames"
              ${rt} eval dual --scene clap --first-frame 100000)
+# The accuracy-against-time sweep on its tiny grid, its front checked, resumed; --budget-ms and --quality.
+add_test(NAME cli_bench_accuracy_outputs
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/bench_accuracy_outputs.sh $<TARGET_FILE:remotetouch> ${CMAKE_BINARY_DIR}/test-out/bench-accuracy)
+add_cli_test(cli_bench_accuracy_bad_grid 105 "--grid: huge not in" ${rt} bench accuracy --grid huge)
+add_cli_test(cli_bench_accuracy_unknown_scene 1 "remotetouch: error: cannot open '[^']*/no-such-scene\\.json'"
+             ${rt} bench accuracy --grid tiny --scenes wave,no-such-scene --frames 1 --no-plot
+             --out ${CMAKE_BINARY_DIR}/test-out/bench-accuracy-unknown-scene)
+add_cli_test(cli_quality_unknown_preset 105 "--quality: .*no preset 'ultra' \\(known: balanced, best, fast\\)"
+             ${rt} eval ibr --quality ultra)
+add_cli_test(cli_quality_and_budget 108 "--quality excludes --budget-ms" ${rt} eval ibr --quality fast --budget-ms 50)

@@ -40,6 +40,7 @@ class DemoCommand : public Command {
     command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
     add_inspection_options(*command_, options_.run);  // forwarded to both sites
     ibr_ = add_ibr_options(*command_);
+    quality_.add_to(*command_);
     hand_ = add_hand_options(*command_);
     return command_;
   }
@@ -47,6 +48,10 @@ class DemoCommand : public Command {
   void check() override {
     options_.frames_given = frames_->count() > 0;
     if (disconnect_after_ms_ >= 0) options_.disconnect_after_ms = disconnect_after_ms_;
+    options_.ibr.width = options_.run.width;
+    options_.ibr.height = options_.run.height;
+    options_.quality = quality_.apply(options_.ibr, options_.resolution_scale, command_->count("--resolution-scale") > 0);
+    options_.quality_arguments = quality_.arguments();
     ibr_.apply(options_.ibr);
     hand_.apply(options_.hand);
   }
@@ -58,6 +63,7 @@ class DemoCommand : public Command {
   DemoOptions options_;
   int disconnect_after_ms_ = -1;
   IbrOptions ibr_;
+  QualityOptions quality_;
   HandOptions hand_;
 };
 

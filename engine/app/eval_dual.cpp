@@ -12,7 +12,7 @@ namespace {
 class EvalDualCommand : public Command {
  public:
   CLI::App* add_to(CLI::App& parent) override {
-    CLI::App* command = parent.add_subcommand(
+    CLI::App* command = command_ = parent.add_subcommand(
         "dual", "The receiver's whole chain (portrait, geometry hand, fusion) on the hand and forearm, per touch phase: "
                 "metrics.json, frames.csv, hand_psnr.png, contact sheets");
     command->add_option("--scene", eval_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
@@ -36,6 +36,7 @@ class EvalDualCommand : public Command {
         ->default_str("the scene's");
     command->add_flag("--no-plots", no_plots_, "Skip hand_psnr.png and the contact sheets (they need python3-matplotlib)");
     ibr_ = add_ibr_options(*command);
+    quality_.add_to(*command);
     hand_ = add_hand_options(*command);
     add_run_options(*command, options_, "out/eval-dual");
     frames_ = add_frames_option(*command, options_, 1, "the rest of the scene from --first-frame at --frame-step");
@@ -47,6 +48,9 @@ class EvalDualCommand : public Command {
   void check() override {
     eval_.frames_given = frames_->count() > 0;
     eval_.plots = !no_plots_;
+    eval_.ibr.width = options_.width;
+    eval_.ibr.height = options_.height;
+    eval_.quality = quality_.apply(eval_.ibr, eval_.resolution_scale, command_->count("--resolution-scale") > 0);
     ibr_.apply(eval_.ibr);
     hand_.apply(eval_.hand);
   }
@@ -56,6 +60,8 @@ class EvalDualCommand : public Command {
   RunOptions options_;
   EvalDualOptions eval_;
   IbrOptions ibr_;
+  QualityOptions quality_;
+  CLI::App* command_ = nullptr;
   HandOptions hand_;
   CLI::Option* frames_ = nullptr;
   bool no_plots_ = false;

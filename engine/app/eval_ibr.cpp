@@ -16,7 +16,7 @@ namespace {
 class EvalIbrCommand : public Command {
  public:
   CLI::App* add_to(CLI::App& parent) override {
-    CLI::App* command = parent.add_subcommand(
+    CLI::App* command = command_ = parent.add_subcommand(
         "ibr", "The image-based model (fusion, warping, blending) against ground truth: metrics.json, PNGs, a table");
     command->add_option("--scene", eval_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
     // Its own --fusion: both renders every frame with each and compares them.
@@ -25,6 +25,7 @@ class EvalIbrCommand : public Command {
         ->capture_default_str()
         ->group("Image-based model");
     ibr_ = add_ibr_options(*command, {"fusion"});
+    quality_.add_to(*command);
     command
         ->add_option("--cameras", eval_.cameras,
                      "These cameras (site names, comma-separated) in every frame, instead of the ones opposite the "
@@ -58,6 +59,12 @@ class EvalIbrCommand : public Command {
   void check() override {
     eval_.frames_given = frames_->count() > 0;
     if (eval_.frames_given) check_capture_frame(options_);
+    eval_.ibr.width = options_.width;
+    eval_.ibr.height = options_.height;
+    eval_.quality = quality_.apply(eval_.ibr, eval_.resolution_scale, command_->count("--resolution-scale") > 0);
+    // A chosen configuration's fusion, unless --fusion says otherwise.
+    if (quality_.chosen() && command_->count("--fusion") == 0)
+      eval_.fusion = eval_.ibr.fusion == passes::DepthFusion::Min ? "min" : "avg";
     ibr_.apply(eval_.ibr);
   }
   int run() override { return run_eval_ibr(options_, eval_); }
@@ -66,6 +73,8 @@ class EvalIbrCommand : public Command {
   RunOptions options_;
   EvalIbrOptions eval_;
   IbrOptions ibr_;
+  QualityOptions quality_;
+  CLI::App* command_ = nullptr;
   CLI::Option* frames_ = nullptr;
 };
 

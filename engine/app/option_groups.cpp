@@ -1,5 +1,8 @@
 #include "app/option_groups.h"
 
+#include "config/json.h"
+#include "pipeline/quality.h"
+
 namespace rt::app {
 
 void add_run_options(CLI::App& command, RunOptions& options, const std::string& default_out) {
@@ -48,6 +51,46 @@ void add_size_options(CLI::App& command, RunOptions& options, const std::string&
     width->capture_default_str();
     height->capture_default_str();
   }
+}
+
+void QualityOptions::add_to(CLI::App& command) {
+  preset_ = command
+                .add_option("--quality", preset_name_,
+                            "Image-based model preset from bench accuracy's front (assets/quality/presets.json): fast, "
+                            "balanced, best; the model's options given still apply over it")
+                ->group("Image-based model");
+  budget_ = command
+                .add_option("--budget-ms", budget_ms_,
+                            "The most accurate configuration measured (--budget-results) that takes at most this many "
+                            "GPU ms a frame at this portrait size")
+                ->check(CLI::PositiveNumber)
+                ->excludes(preset_)
+                ->group("Image-based model");
+  command.add_option("--budget-results", results_, "results.csv of bench accuracy for --budget-ms")
+      ->capture_default_str()
+      ->needs(budget_)
+      ->group("Image-based model");
+}
+
+nlohmann::json QualityOptions::apply(pipeline::IbrSettings& ibr, double& resolution_scale,
+                                     bool resolution_scale_given) const {
+  if (!chosen()) return nullptr;
+  pipeline::QualityChoice choice;
+  try {
+    choice = preset_->count() > 0 ? pipeline::quality_preset(preset_name_, ibr)
+                                  : pipeline::quality_within_budget(results_, budget_ms_, ibr);
+  } catch (const std::exception& error) {
+    throw CLI::ValidationError(preset_->count() > 0 ? "--quality" : "--budget-ms", error.what());
+  }
+  ibr = choice.ibr;
+  if (!resolution_scale_given && choice.resolution_scale > 0) resolution_scale = choice.resolution_scale;
+  return choice.description;
+}
+
+std::vector<std::string> QualityOptions::arguments() const {
+  if (preset_->count() > 0) return {"--quality", preset_name_};
+  if (budget_->count() > 0) return {"--budget-ms", config::format_number(budget_ms_), "--budget-results", results_.string()};
+  return {};
 }
 
 IbrOptions add_ibr_options(CLI::App& command, const std::vector<std::string>& skip) {

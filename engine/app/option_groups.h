@@ -6,11 +6,16 @@
 //   size:   --width and --height
 //   image-based model: the knobs of pipeline/ibr_settings.h (--views, --fusion, --carve, ...)
 //   hand:   the knobs of pipeline/hand_settings.h (--hand-min-confidence, ...)
+//   quality: --quality PRESET or --budget-ms M (pipeline/quality.h), under the image-based model's
+//           options given
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "app/options.h"
 #include "config/knobs.h"
@@ -115,6 +120,29 @@ class KnobOptions {
 
 using IbrOptions = KnobOptions<pipeline::IbrSettings>;
 using HandOptions = KnobOptions<pipeline::HandRendererOptions>;
+
+// --quality PRESET, or --budget-ms M with --budget-results FILE: the image-based model's knobs
+// and the cameras' resolution scale from a point of `bench accuracy`'s front. Keep the object
+// alive until after parsing (the options write into it).
+class QualityOptions {
+ public:
+  void add_to(CLI::App& command);
+  bool chosen() const { return preset_->count() > 0 || budget_->count() > 0; }
+  // The choice over `ibr` (whose width and height must be the portrait's) and, unless
+  // --resolution-scale was given, over `resolution_scale`; apply the knobs given afterwards.
+  // Returns what was chosen, for metrics (null without a choice). Throws CLI::ValidationError
+  // saying what is wrong with the preset or the results file.
+  nlohmann::json apply(pipeline::IbrSettings& ibr, double& resolution_scale, bool resolution_scale_given) const;
+  // The words that give a child process the same choice.
+  std::vector<std::string> arguments() const;
+
+ private:
+  std::string preset_name_;
+  double budget_ms_ = 0;
+  std::filesystem::path results_ = "out/bench-accuracy/results.csv";
+  CLI::Option* preset_ = nullptr;
+  CLI::Option* budget_ = nullptr;
+};
 
 // The image-based model's options (all of pipeline::ibr_knobs() but those in `skip`).
 IbrOptions add_ibr_options(CLI::App& command, const std::vector<std::string>& skip = {});

@@ -54,6 +54,7 @@ class SiteCommand : public Command {
         ->capture_default_str();
     add_inspection_options(*command_, options_.run);
     ibr_ = add_ibr_options(*command_);
+    quality_.add_to(*command_);
     hand_ = add_hand_options(*command_);
     return command_;
   }
@@ -81,6 +82,9 @@ class SiteCommand : public Command {
       options_.site = site_ == "B" ? Site::B : Site::A;
     }
     if (given("--frames")) options_.frames_given = true;
+    options_.ibr.width = options_.run.width;
+    options_.ibr.height = options_.run.height;
+    options_.quality = quality_.apply(options_.ibr, options_.resolution_scale, given("--resolution-scale"));
     ibr_.apply(options_.ibr);
     hand_.apply(options_.hand);
     return site::run_site(options_);
@@ -92,6 +96,7 @@ class SiteCommand : public Command {
   std::string site_ = "A";
   std::filesystem::path config_;
   IbrOptions ibr_;
+  QualityOptions quality_;
   HandOptions hand_;
 };
 

@@ -258,6 +258,7 @@ int run_two_site_demo(const DemoOptions& options) {
     const std::filesystem::path& replay = site == "A" ? options.replay_a : options.replay_b;
     if (!replay.empty()) args.insert(args.end(), {"--replay", replay.string()});
     // The image-based model's and the hand's options, as the demo was given them.
+    args.insert(args.end(), options.quality_arguments.begin(), options.quality_arguments.end());
     for (const std::string& arg : config::knob_arguments(pipeline::ibr_knobs(), options.ibr, pipeline::IbrSettings{}))
       args.push_back(arg);
     for (const std::string& arg : config::knob_arguments(pipeline::hand_knobs(), options.hand,
@@ -375,6 +376,7 @@ int run_two_site_demo(const DemoOptions& options) {
   metrics["width"] = options.run.width;
   metrics["height"] = options.run.height;
   metrics["time_scale"] = options.time_scale;
+  metrics["quality"] = options.quality;
   metrics["sites"]["A"] = read_json(out / "site_A" / "metrics.json");
   metrics["sites"]["B"] = read_json(out / "site_B" / "metrics.json");
   // Site A shows B's user: compare with B's ground truth, and the other way round.

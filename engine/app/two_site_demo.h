@@ -23,6 +23,8 @@ struct DemoOptions {
   double loss = 0.0;
   std::filesystem::path replay_a, replay_b;  // a site that plays a recording (site --replay)
   pipeline::IbrSettings ibr;                 // both sites' image-based model (forwarded to each)
+  nlohmann::json quality;                    // what --quality or --budget-ms chose; null: neither
+  std::vector<std::string> quality_arguments;  // the same choice for each site, for its metrics
   pipeline::HandRendererOptions hand;        // both sites' geometry hand
 };
 

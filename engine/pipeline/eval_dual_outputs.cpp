@@ -1,5 +1,7 @@
 #include "pipeline/eval_dual_outputs.h"
 
+#include "pipeline/plot_script.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -219,20 +221,7 @@ void print_summary(const nlohmann::json& report) {
 }
 
 void plot_eval_dual(const std::filesystem::path& dir) {
-  const std::filesystem::path script = config::scripts_dir() / "plot_eval_dual.py";
-  if (!std::filesystem::exists(script)) throw std::runtime_error("eval dual: the plotting script " + script.string() + " is missing");
-  // Debian's interpreter, where python3-matplotlib is installed, before any other on the PATH.
-  const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  auto quoted = [](const std::string& text) {
-    std::string out = "'";
-    for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return out + "'";
-  };
-  const std::string command = python + " " + quoted(script.string()) + " " + quoted(dir.string());
-  if (std::system(command.c_str()) != 0)
-    throw std::runtime_error("eval dual: plotting failed (" + command +
-                             "); it needs Debian's python3-matplotlib (scripts/packages.txt). metrics.json and frames.csv "
-                             "are written; --no-plots skips the plots");
+  run_plot_script("plot_eval_dual.py", dir, "eval dual", "metrics.json and frames.csv are written; --no-plots skips the plots");
 }
 
 }  // namespace rt::pipeline

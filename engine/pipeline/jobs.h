@@ -21,6 +21,7 @@ struct EvalIbrOptions {
   std::vector<std::string> cameras;  // a fixed selection by name; empty = opposite the touching hand
   // The image-based model (--views, --carve, --refine, ...); its fusion is set from `fusion`.
   IbrSettings ibr;
+  nlohmann::json quality;      // what --quality or --budget-ms chose; null: neither
   uint32_t supersample = 3;    // the simulator's color supersampling (scene's own is overridden)
   double resolution_scale = 0; // of the cameras' resolutions; 0 = the scene's own
   bool frames_given = false;   // else the scene's own frame count
@@ -42,12 +43,22 @@ struct EvalDualOptions {
   // image, geometry, dual, dual_no_appearance, dual_no_shape, hard_switch; empty = all.
   std::vector<std::string> variants;
   IbrSettings ibr;                 // the sender's image-based model (the site's defaults)
+  nlohmann::json quality;          // what --quality or --budget-ms chose; null: neither
   HandRendererOptions hand;        // the receiver's geometry hand (the site's defaults)
   bool frames_given = false;       // else the scene's own frame count
   uint32_t first_frame = 0;
   uint32_t frame_step = 1;
   double resolution_scale = 0;     // of the cameras; 0 = the scene's own
   bool plots = true;               // hand_psnr.png and the contact sheets (python3-matplotlib)
+};
+
+struct BenchAccuracyOptions {
+  std::vector<std::string> scenes = {"wave", "clap", "approach"};
+  std::string grid = "small";  // accuracy_grid.h: tiny, small, full
+  uint32_t frame_step = 5;     // every Nth frame of each scene's motion
+  bool frames_given = false;   // RunOptions::frames per scene, else each scene's whole motion
+  uint32_t supersample = 3;    // the simulated color and truth, as eval ibr's --supersample
+  bool plot = true;            // pareto.png (python3-matplotlib)
 };
 
 // Which of a scene's frames an evaluation renders: from `first_frame` every `frame_step`-th,
@@ -71,5 +82,7 @@ int run_simulate(const RunOptions& options, const SimulateOptions& simulate);
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval);
 int run_eval_hand(const RunOptions& options);
 int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval);
+// Exit code 1 when a configuration's outputs were not finite (the others are still measured).
+int run_bench_accuracy(const RunOptions& options, const BenchAccuracyOptions& bench);
 
 }  // namespace rt::pipeline

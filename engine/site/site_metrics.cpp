@@ -42,6 +42,7 @@ nlohmann::json site_metrics(const SiteCommon& common, double elapsed_s) {
   m["time_scale"] = common.options.time_scale;
   m["elapsed_s"] = elapsed_s;
   m["ibr"] = pipeline::ibr_settings_json(common.options.ibr);
+  m["quality"] = common.options.quality;
   m["hand"] = pipeline::hand_settings_json(common.options.hand);
   m["gpu_ms"] = common.gpu_ms();
   m["latency_notes"] =

@@ -32,6 +32,7 @@ struct SiteRunOptions {
   // "leap" / "leap:ws://HOST:PORT/PATH", the Leap service live (devices/tracker/leap_service.h).
   std::string tracker = "scene";
   pipeline::IbrSettings ibr;            // the sender's image-based model (its width and height are the display's)
+  nlohmann::json quality;               // what --quality or --budget-ms chose, for metrics; null: neither
   pipeline::HandRendererOptions hand;   // the receiver's geometry hand
 };
 

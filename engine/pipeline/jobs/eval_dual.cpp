@@ -101,6 +101,7 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
   std::filesystem::create_directories(options.out);
   DualEvalOutputs outputs(options.out);
   nlohmann::json report = {{"scene", eval.scene},
+                           {"quality", eval.quality},
                            {"width", width},
                            {"height", height},
                            {"frames", frames},

@@ -11,6 +11,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include "pipeline/gpu_session.h"
+#include "pipeline/ibr_evaluation.h"
 #include "pipeline/ibr_renderer.h"
 #include "pipeline/site_simulator.h"
 #include "ibr/camera_selection.h"
@@ -24,8 +25,7 @@ namespace {
 struct FusionRun {
   std::string name;
   std::unique_ptr<IbrRenderer> renderer;
-  ibr::PortraitMetrics metrics;
-  std::vector<double> frame_psnr_fg_db;  // each frame's own, to find the frames that fail
+  IbrEvaluation evaluation;
 };
 
 HostImage scaled(const HostImage& image, float scale) {
@@ -74,7 +74,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   for (const std::string& name : {std::string("min"), std::string("avg")}) {
     if (eval.fusion != name && eval.fusion != "both") continue;
     settings.fusion = name == "min" ? passes::DepthFusion::Min : passes::DepthFusion::Average;
-    runs.push_back({name, std::make_unique<IbrRenderer>(context, simulator.renderer().camera_models(), settings), ibr::PortraitMetrics(), {}});
+    runs.push_back({name, std::make_unique<IbrRenderer>(context, simulator.renderer().camera_models(), settings), {}});
   }
 
   const std::filesystem::path images_dir = options.out / "images";
@@ -104,26 +104,22 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
     const auto selection = fixed_selection.empty()
                                ? ibr::select_cameras(positions, ibr::touching_hand(pose.right_hand, pose.left_hand), views)
                                : fixed_selection;
-    const HostImage truth_color = simulator.renderer().target_color();
-    const HostImage truth_depth = simulator.renderer().target_depth_m();
-    const HostImage truth_part = simulator.renderer().target_part();
+    const PortraitTruth truth{simulator.renderer().target_color(), simulator.renderer().target_depth_m(),
+                              simulator.renderer().target_part()};
     const bool save = index % save_every == 0 || index + 1 == frames;
     char stem[32];
     scene_frames.push_back(uint32_t(frame->index));
     std::snprintf(stem, sizeof stem, "%04u", uint32_t(frame->index));
-    if (save) write_image(images_dir / (std::string(stem) + "_truth.png"), truth_color);
+    if (save) write_image(images_dir / (std::string(stem) + "_truth.png"), truth.color);
     for (FusionRun& run : runs) {
-      run.renderer->prepare(frame->cameras, selection, target);
-      session.run_frame(run.renderer->graph(), index);
-      const HostImage portrait = vk::download(context, run.renderer->portrait());
-      const HostImage depth = vk::download(context, run.renderer->portrait_depth());
-      const ibr::PortraitError error = run.metrics.add(portrait, depth, truth_color, truth_depth, truth_part);
-      run.frame_psnr_fg_db.push_back(error.psnr_fg_db);
+      const FrameMeasurement measured =
+          run.evaluation.measure_frame(session, *run.renderer, index, frame->cameras, selection, target, truth);
       if (!save) continue;
       const std::string prefix = std::string(stem) + "_" + run.name;
-      write_image(images_dir / (prefix + "_portrait.png"), as_png(portrait));
-      write_image(images_dir / (prefix + "_color_error_x4.png"), scaled(error.color_error, 4.0f));
-      write_image(images_dir / (prefix + "_depth_error_per_50mm.png"), scaled(error.depth_error_mm, 1.0f / 50.0f));
+      write_image(images_dir / (prefix + "_portrait.png"), as_png(measured.portrait));
+      write_image(images_dir / (prefix + "_color_error_x4.png"), scaled(measured.error.color_error, 4.0f));
+      write_image(images_dir / (prefix + "_depth_error_per_50mm.png"),
+                  scaled(measured.error.depth_error_mm, 1.0f / 50.0f));
     }
     std::fprintf(stderr, "\r  frame %u/%u", index + 1, frames);
   }
@@ -152,6 +148,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"camera_depth", {depth.width, depth.height}},
                            {"average_tolerance_m", settings.splat.average_tolerance_m},
                            {"ibr", ibr_settings_json(settings)},
+                           {"quality", eval.quality},
                            {"frames", frames},
                            {"first_frame", eval.first_frame},
                            {"frame_step", eval.frame_step},
@@ -163,17 +160,11 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   std::printf("\n%-6s %11s %13s %18s %10s %14s %14s\n", "fusion", "psnr_fg_db", "psnr_hand_db", "depth_mae_edge_mm",
               "alpha_iou", "depth_bias_mm", "GPU ms/frame");
   for (FusionRun& run : runs) {
-    nlohmann::json result = run.metrics.to_json();
-    double total_ms = 0;
-    for (const auto& timing : run.renderer->graph().timings()) {
-      result["gpu_ms"][timing.name] = timing.median_ms;
-      total_ms += timing.median_ms;
-    }
-    result["gpu_ms_total"] = total_ms;
-    result["frame_psnr_fg_db"] = run.frame_psnr_fg_db;
-    std::printf("%-6s %11.2f %13.2f %18.2f %10.4f %14.2f %14.2f\n", run.name.c_str(), run.metrics.psnr_fg_db(),
-                run.metrics.psnr_hand_db(), run.metrics.depth_mae_edge_mm(), run.metrics.alpha_iou(),
-                run.metrics.depth_bias_mm(), total_ms);
+    const nlohmann::json result = run.evaluation.to_json(run.renderer->graph());
+    const ibr::PortraitMetrics& metrics = run.evaluation.metrics();
+    std::printf("%-6s %11.2f %13.2f %18.2f %10.4f %14.2f %14.2f\n", run.name.c_str(), metrics.psnr_fg_db(),
+                metrics.psnr_hand_db(), metrics.depth_mae_edge_mm(), metrics.alpha_iou(), metrics.depth_bias_mm(),
+                result["gpu_ms_total"].get<double>());
     report["by_fusion"][run.name] = result;
   }
   std::printf("\nforeground error by region (share of pixels, share of squared error, PSNR dB):\n");
@@ -181,20 +172,21 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
     std::printf("[%s]", run.name.c_str());
     for (size_t r = 0; r < ibr::kErrorRegionCount; ++r) {
       const auto region = ibr::ErrorRegion(r);
-      std::printf("  %s %.1f%% %.1f%% %.2f", ibr::kErrorRegionNames[r], 100 * run.metrics.region_pixel_share(region),
-                  100 * run.metrics.region_error_share(region), run.metrics.region_psnr_db(region));
+      const ibr::PortraitMetrics& metrics = run.evaluation.metrics();
+      std::printf("  %s %.1f%% %.1f%% %.2f", ibr::kErrorRegionNames[r], 100 * metrics.region_pixel_share(region),
+                  100 * metrics.region_error_share(region), metrics.region_psnr_db(region));
     }
     std::printf("\n");
   }
   std::printf("\nworst frames (foreground PSNR dB):\n");
   for (FusionRun& run : runs) {
+    const std::vector<double>& psnr = run.evaluation.frame_psnr_fg_db();
     std::vector<size_t> order;
-    for (size_t f = 0; f < run.frame_psnr_fg_db.size(); ++f)
-      if (std::isfinite(run.frame_psnr_fg_db[f])) order.push_back(f);
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return run.frame_psnr_fg_db[a] < run.frame_psnr_fg_db[b]; });
+    for (size_t f = 0; f < psnr.size(); ++f)
+      if (std::isfinite(psnr[f])) order.push_back(f);
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return psnr[a] < psnr[b]; });
     std::printf("[%s]", run.name.c_str());
-    for (size_t k = 0; k < std::min<size_t>(order.size(), 5); ++k)
-      std::printf("  %04u %.2f", scene_frames[order[k]], run.frame_psnr_fg_db[order[k]]);
+    for (size_t k = 0; k < std::min<size_t>(order.size(), 5); ++k) std::printf("  %04u %.2f", scene_frames[order[k]], psnr[order[k]]);
     std::printf("\n");
   }
   // The first mode's figures at the top level, where scripts look first.
