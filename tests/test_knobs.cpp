@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "app/option_groups.h"
+#include "ibr/lumi_net_model.h"
 #include "site/site_options.h"
 
 using namespace rt;
@@ -127,4 +128,38 @@ TEST_CASE("the options a parent forwards give the child the same settings") {
   CHECK(pipeline::ibr_settings_json(child_ibr)["edge_inset"] == 0.3);
   // The defaults forward nothing.
   CHECK(config::knob_arguments(pipeline::ibr_knobs(), IbrSettings{}, IbrSettings{}).empty());
+}
+
+TEST_CASE("the blending and Lumi-Net's weights file are knobs like the others") {
+  CHECK(IbrSettings{}.blending == pipeline::IbrBlending::Ulr);
+  CHECK(pipeline::ibr_settings_json(IbrSettings{})["blend"] == "ulr");
+  CHECK(pipeline::ibr_settings_json(IbrSettings{})["lumi_weights"] == ibr::default_lumi_net_path().string());
+
+  const auto [ibr, hand] = parse({"--blend", "lumi", "--lumi-weights", "trained/net.bin"});
+  CHECK(ibr.blending == pipeline::IbrBlending::Lumi);
+  CHECK(pipeline::lumi_weights_path(ibr) == "trained/net.bin");
+  CHECK_THROWS_AS(parse({"--blend", "median"}), CLI::ValidationError);
+  CHECK_THROWS_AS(parse({"--lumi-weights", ""}), CLI::ValidationError);
+
+  // Forwarded to a child: both, and only when they differ from the defaults.
+  const std::vector<std::string> args = config::knob_arguments(pipeline::ibr_knobs(), ibr, IbrSettings{});
+  CHECK(args == std::vector<std::string>{"--blend", "lumi", "--lumi-weights", "trained/net.bin"});
+  const auto [child, unused] = parse(args);
+  CHECK(pipeline::ibr_settings_json(child) == pipeline::ibr_settings_json(ibr));
+  IbrSettings named_default;
+  named_default.lumi_weights = ibr::default_lumi_net_path();
+  CHECK(config::knob_arguments(pipeline::ibr_knobs(), named_default, IbrSettings{}).empty());
+
+  // A site config's "ibr" object.
+  IbrSettings from_json;
+  config::read_knobs_json(pipeline::ibr_knobs(), {{"blend", "lumi"}, {"lumi_weights", "w.bin"}}, from_json,
+                          "site.json: 'ibr'");
+  CHECK(from_json.blending == pipeline::IbrBlending::Lumi);
+  CHECK(from_json.lumi_weights == "w.bin");
+  REQUIRE_THROWS_WITH(config::read_knobs_json(pipeline::ibr_knobs(), {{"blend", "lumigraph"}}, from_json, "site.json: 'ibr'"),
+                      Catch::Contains("'blend' must be one of ulr, lumi"));
+  REQUIRE_THROWS_WITH(config::read_knobs_json(pipeline::ibr_knobs(), {{"lumi_weights", 3}}, from_json, "site.json: 'ibr'"),
+                      Catch::Contains("'lumi_weights' must be a non-empty string, is 3"));
+  REQUIRE_THROWS_WITH(config::read_knobs_json(pipeline::ibr_knobs(), {{"lumi_weights", ""}}, from_json, "site.json: 'ibr'"),
+                      Catch::Contains("'lumi_weights' must be a non-empty string"));
 }

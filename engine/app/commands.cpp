@@ -10,6 +10,7 @@ namespace rt::app {
   X("", site)                              \
   X("", compose)                           \
   X("bench", bench_compositing)            \
+  X("bench", bench_lumi)                   \
   X("bench", bench_touch)                  \
   X("bench", bench_simulate)               \
   X("bench", bench_ibr)                    \

@@ -55,23 +55,28 @@ class KnobOptions {
       auto slot = std::make_unique<Slot>();
       slot->knob = &knob;
       const std::string name = "--" + prefix + knob.name;
-      const double value = knob.get(defaults);
+      const std::string value = config::knob_word(knob, defaults);
       switch (knob.kind) {
         case config::KnobKind::Flag: slot->option = command.add_flag(name, slot->flag, knob.help); break;
         case config::KnobKind::Integer:
           slot->option = command.add_option(name, slot->integer, knob.help)
                              ->check(CLI::Range(int64_t(knob.low), int64_t(knob.high)))
-                             ->default_str(config::knob_text(knob, value));
+                             ->default_str(value);
           break;
         case config::KnobKind::Real:
           slot->option = command.add_option(name, slot->real, knob.help)
                              ->check(CLI::Range(knob.low, knob.high))
-                             ->default_str(config::knob_text(knob, value));
+                             ->default_str(value);
           break;
         case config::KnobKind::Choice:
           slot->option = command.add_option(name, slot->choice, knob.help)
                              ->check(CLI::IsMember(knob.choices))
-                             ->default_str(config::knob_text(knob, value));
+                             ->default_str(value);
+          break;
+        case config::KnobKind::Text:
+          slot->option = command.add_option(name, slot->text, knob.help)
+                             ->check(CLI::Validator([](std::string& word) { return word.empty() ? "empty" : ""; }, ""))
+                             ->default_str(value);
           break;
       }
       slot->option->group(group);
@@ -92,6 +97,7 @@ class KnobOptions {
           for (size_t i = 0; i < knob.choices.size(); ++i)
             if (knob.choices[i] == slot->choice) knob.set(settings, double(i));
           break;
+        case config::KnobKind::Text: knob.set_text(settings, slot->text); break;
       }
     }
   }
@@ -113,7 +119,7 @@ class KnobOptions {
     bool flag = false;
     int64_t integer = 0;
     double real = 0;
-    std::string choice;
+    std::string choice, text;
   };
   std::vector<std::unique_ptr<Slot>> slots_;
 };

@@ -10,25 +10,48 @@
 #include <charconv>
 #include <cmath>
 #include <functional>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "config/json.h"
 
 namespace rt::config {
 
-enum class KnobKind { Flag, Integer, Real, Choice };
+enum class KnobKind { Flag, Integer, Real, Choice, Text };
 
-// Every knob's value travels as a double: a flag 0 or 1, an integer, a real, a choice's index.
+// Every knob's value but a Text knob's travels as a double: a flag 0 or 1, an integer, a real, a
+// choice's index. A Text knob (a file name) has get_text and set_text instead of get and set.
 template <class Settings>
 struct Knob {
+  using Get = std::function<double(const Settings&)>;
+  using Set = std::function<void(Settings&, double)>;
+  using GetText = std::function<std::string(const Settings&)>;
+  using SetText = std::function<void(Settings&, const std::string&)>;
+  // A constructor, not an aggregate, so that the tables' rows need not name the text accessors.
+  Knob(std::string name, std::string help, KnobKind kind, double low, double high, std::vector<std::string> choices,
+       Get get, Set set, GetText get_text = {}, SetText set_text = {})
+      : name(std::move(name)),
+        help(std::move(help)),
+        kind(kind),
+        low(low),
+        high(high),
+        choices(std::move(choices)),
+        get(std::move(get)),
+        set(std::move(set)),
+        get_text(std::move(get_text)),
+        set_text(std::move(set_text)) {}
+
   std::string name;  // the option's name without "--", e.g. "best-views"
   std::string help;
   KnobKind kind = KnobKind::Real;
   double low = 0, high = 0;          // Integer and Real: the accepted range, inclusive
   std::vector<std::string> choices;  // Choice: the accepted words
-  std::function<double(const Settings&)> get;
-  std::function<void(Settings&, double)> set;
+  Get get;
+  Set set;
+  GetText get_text;
+  SetText set_text;
 };
 
 template <class Settings>
@@ -50,6 +73,7 @@ std::string knob_text(const Knob<Settings>& knob, double value) {
     case KnobKind::Integer: return std::to_string(std::llround(value));
     case KnobKind::Choice: return knob.choices.at(size_t(value));
     case KnobKind::Real: break;
+    case KnobKind::Text: throw std::logic_error("knob_text: --" + knob.name + " is text, use knob_word");
   }
   // A float setting prints as the float it is ("0.3", not "0.30000001192092896").
   if (double(float(value)) == value) {
@@ -67,9 +91,16 @@ nlohmann::json knob_json_value(const Knob<Settings>& knob, double value) {
     case KnobKind::Integer: return std::llround(value);
     case KnobKind::Choice: return knob.choices.at(size_t(value));
     case KnobKind::Real: break;
+    case KnobKind::Text: throw std::logic_error("knob_json_value: --" + knob.name + " is text");
   }
   if (double(float(value)) == value) return nlohmann::json::parse(knob_text(knob, value));
   return value;
+}
+
+// The knob's value in `settings` as a command-line word, whatever its kind.
+template <class Settings>
+std::string knob_word(const Knob<Settings>& knob, const Settings& settings) {
+  return knob.kind == KnobKind::Text ? knob.get_text(settings) : knob_text(knob, knob.get(settings));
 }
 
 // The range or the choices, for help texts and errors: "in [0, 64]", "one of min, avg".
@@ -84,6 +115,7 @@ std::string knob_accepts(const Knob<Settings>& knob) {
     }
     case KnobKind::Integer: return "an integer in [" + format_number(knob.low) + ", " + format_number(knob.high) + "]";
     case KnobKind::Real: break;
+    case KnobKind::Text: return "a non-empty string";
   }
   return "a number in [" + format_number(knob.low) + ", " + format_number(knob.high) + "]";
 }
@@ -92,7 +124,9 @@ std::string knob_accepts(const Knob<Settings>& knob) {
 template <class Settings>
 nlohmann::json knobs_to_json(const KnobTable<Settings>& table, const Settings& settings) {
   nlohmann::json json = nlohmann::json::object();
-  for (const auto& knob : table) json[knob_json_key(knob.name)] = knob_json_value(knob, knob.get(settings));
+  for (const auto& knob : table)
+    json[knob_json_key(knob.name)] =
+        knob.kind == KnobKind::Text ? nlohmann::json(knob.get_text(settings)) : knob_json_value(knob, knob.get(settings));
   return json;
 }
 
@@ -137,6 +171,10 @@ void read_knobs_json(const KnobTable<Settings>& table, const nlohmann::json& obj
         number = value.template get<double>();
         if (!std::isfinite(number) || number < knob->low || number > knob->high) throw JsonError(wrong);
         break;
+      case KnobKind::Text:
+        if (!value.is_string() || value.template get<std::string>().empty()) throw JsonError(wrong);
+        knob->set_text(settings, value.template get<std::string>());
+        continue;
     }
     knob->set(settings, number);
   }
@@ -149,6 +187,11 @@ std::vector<std::string> knob_arguments(const KnobTable<Settings>& table, const 
                                         const Settings& defaults, const std::string& prefix = "") {
   std::vector<std::string> args;
   for (const auto& knob : table) {
+    if (knob.kind == KnobKind::Text) {
+      const std::string text = knob.get_text(settings);
+      if (text != knob.get_text(defaults)) args.insert(args.end(), {"--" + prefix + knob.name, text});
+      continue;
+    }
     const double value = knob.get(settings);
     if (value == knob.get(defaults)) continue;
     if (knob.kind == KnobKind::Flag) {

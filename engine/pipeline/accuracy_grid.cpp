@@ -84,6 +84,9 @@ void set_axis(AccuracyConfig& config, const std::string& name, const std::string
         knob.set(config.ibr, value);
         return;
       }
+      case config::KnobKind::Text:
+        knob.set_text(config.ibr, word);
+        return;
     }
   }
   std::vector<std::string> names = {"resolution-scale", "portrait-scale"};

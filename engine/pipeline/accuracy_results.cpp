@@ -37,7 +37,8 @@ nlohmann::json knob_cell_json(const config::Knob<IbrSettings>& knob, const std::
     case config::KnobKind::Flag:
       if (cell != "true" && cell != "false") throw std::invalid_argument("not true or false");
       return cell == "true";
-    case config::KnobKind::Choice: return cell;
+    case config::KnobKind::Choice:
+    case config::KnobKind::Text: return cell;
     case config::KnobKind::Integer: return int64_t(std::stoll(cell));
     case config::KnobKind::Real: return std::stod(cell);
   }
@@ -69,7 +70,7 @@ void write_accuracy_csv(const std::filesystem::path& path, const std::vector<Acc
     out << "\n";
     for (const AccuracyRow& row : rows) {
       out << row.options;
-      for (const auto& knob : ibr_knobs()) out << "," << config::knob_text(knob, knob.get(row.ibr));
+      for (const auto& knob : ibr_knobs()) out << "," << config::knob_word(knob, row.ibr);
       out << "," << config::format_number(row.resolution_scale) << "," << row.ibr.width << "," << row.ibr.height << ","
           << row.scenes << "," << row.frames;
       for (double value : {row.psnr_fg_db, row.psnr_hand_db, row.depth_mae_edge_mm, row.alpha_iou, row.gpu_ms,

@@ -55,7 +55,6 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
       refine_(settings_.refine ? std::make_unique<passes::IbrRefinePass>(context, settings_.refinement,
                                                                                  settings_.warp.visibility) : nullptr),
       warp_(context, settings_.warp),
-      blend_(context, settings_.blend),
       scene_(context) {
   if (cameras_.size() < settings_.views)
     throw std::invalid_argument("image-based model: " + std::to_string(settings_.views) + " views asked for, the site has " +
@@ -69,6 +68,11 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   rendered.width *= settings_.supersample;
   rendered.height *= settings_.supersample;
   images_ = std::make_unique<Images>(context, cameras_[0], rendered);
+  if (settings_.blending == IbrBlending::Lumi)
+    lumi_ = std::make_unique<LumiNetBlender>(context, ibr::load_lumi_net(lumi_weights_path(settings_)), rendered.width,
+                                             rendered.height, settings_.views);
+  else
+    blend_ = std::make_unique<passes::IbrBlendPass>(context, settings_.blend);
   portrait_ = std::make_unique<vk::Image>(context, vk::ImageDesc{"portrait", settings_.width, settings_.height});
   portrait_depth_ = std::make_unique<vk::Image>(
       context, vk::ImageDesc{"portrait depth", settings_.width, settings_.height, PixelFormat::R32F});
@@ -95,12 +99,13 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     depth = &i.refined_depth;
   }
   warp_.add_to(*graph_, scene_, *depth, i.color, i.points, i.warped, i.features, views);
-  if (resolve_) {
-    blend_.add_to(*graph_, *depth, i.warped, i.features, *fine_portrait_, *fine_portrait_depth_, views);
-    resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, *portrait_, *portrait_depth_);
-  } else {
-    blend_.add_to(*graph_, *depth, i.warped, i.features, *portrait_, *portrait_depth_, views);
-  }
+  vk::Image& blended = resolve_ ? *fine_portrait_ : *portrait_;
+  vk::Image& blended_depth = resolve_ ? *fine_portrait_depth_ : *portrait_depth_;
+  if (lumi_)
+    lumi_->add_to(*graph_, *depth, i.warped, i.features, blended, blended_depth, views);
+  else
+    blend_->add_to(*graph_, *depth, i.warped, i.features, blended, blended_depth, views);
+  if (resolve_) resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, *portrait_, *portrait_depth_);
 }
 
 IbrRenderer::~IbrRenderer() = default;
@@ -140,6 +145,15 @@ void IbrRenderer::prepare(std::span<const sim::RgbdImage> images, std::span<cons
   }
   vk::upload(context_, images_->color, passes::stack_bands(colors));
   vk::upload(context_, images_->depth_mm, passes::stack_bands(depths));
+}
+
+std::string blending_description(const IbrRenderer& renderer) {
+  const IbrSettings& s = renderer.settings();
+  if (!renderer.lumi_net()) return std::string(blending_name(s.blending)) + " (k = " + std::to_string(s.blend.best_views) + ")";
+  const ibr::LumiNetShape& shape = renderer.lumi_net()->model().shape;
+  return std::string(blending_name(s.blending)) + " (" + lumi_weights_path(s).string() + ", C = " +
+         std::to_string(shape.channels) + ", " + std::to_string(shape.blocks) + " blocks, at 1/" +
+         std::to_string(shape.scale) + ")";
 }
 
 }  // namespace rt::pipeline

@@ -1,14 +1,17 @@
 #pragma once
 // The sender's image-based model (paper 3.1.1) as one frame graph: background removal, depth
 // reprojection with min (or average) fusion and crack filling, optional see-through carving and
-// plane-sweep refinement, warping of each selected view, unstructured lumigraph blending. In: the
+// plane-sweep refinement, warping of each selected view, blending by unstructured lumigraph
+// weights or by Lumi-Net (settings.blending). In: the
 // site's RGBD images and the target view of the remote eye; out: the portrait (RGBA, straight
 // alpha) and its depth.
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "pipeline/ibr_settings.h"
+#include "pipeline/lumi_net.h"
 #include "passes/ibr_blend.h"
 #include "passes/ibr_carve.h"
 #include "passes/ibr_foreground.h"
@@ -43,6 +46,9 @@ class IbrRenderer {
   vk::Image& portrait_depth() { return *portrait_depth_; }
   vk::FrameGraph& graph() { return *graph_; }
   const IbrSettings& settings() const { return settings_; }
+  // With settings.blending Lumi, the network (its tensors, for benchmarks and checks); else null.
+  LumiNetBlender* lumi_net() { return lumi_.get(); }
+  const LumiNetBlender* lumi_net() const { return lumi_.get(); }
 
  private:
   struct Images;
@@ -55,7 +61,8 @@ class IbrRenderer {
   std::unique_ptr<passes::IbrCarvePass> carve_;
   std::unique_ptr<passes::IbrRefinePass> refine_;
   passes::IbrWarpPass warp_;
-  passes::IbrBlendPass blend_;
+  std::unique_ptr<passes::IbrBlendPass> blend_;  // one of these two, as settings.blending says
+  std::unique_ptr<LumiNetBlender> lumi_;
   std::unique_ptr<passes::IbrResolvePass> resolve_;
   passes::IbrSceneBuffer scene_;
   std::unique_ptr<Images> images_;
@@ -64,5 +71,9 @@ class IbrRenderer {
   std::unique_ptr<vk::FrameGraph> graph_;
   std::vector<size_t> uploaded_selection_;  // whose depth rays the ray atlas holds
 };
+
+// The blending that `renderer` runs, for a command's first lines: "ulr (k = 3)" or "lumi (FILE,
+// C = 16, 2 blocks, at 1/2)".
+std::string blending_description(const IbrRenderer& renderer);
 
 }  // namespace rt::pipeline

@@ -1,5 +1,6 @@
 #include "pipeline/ibr_settings.h"
 
+#include "ibr/lumi_net_model.h"
 #include "shared/config.h"
 
 namespace rt::pipeline {
@@ -41,8 +42,21 @@ const config::KnobTable<IbrSettings>& ibr_knobs() {
       {"portrait-supersample", "Portrait rendered at N x N samples per pixel and resolved (partial alpha on edges)",
        KnobKind::Integer, 1, 4, {}, [](const IbrSettings& s) { return double(s.supersample); },
        [](IbrSettings& s, double v) { s.supersample = uint32_t(v); }},
+      {"blend", "Blending of the warped views: ulr (unstructured lumigraph weights), lumi (Lumi-Net, learned weights and alpha)",
+       KnobKind::Choice, 0, 0, {"ulr", "lumi"},
+       [](const IbrSettings& s) { return s.blending == IbrBlending::Ulr ? 0.0 : 1.0; },
+       [](IbrSettings& s, double v) { s.blending = v == 0 ? IbrBlending::Ulr : IbrBlending::Lumi; }},
+      {"lumi-weights", "--blend lumi: the network's weights file (scripts/train-lumi writes it)", KnobKind::Text, 0, 0, {},
+       {}, {}, [](const IbrSettings& s) { return lumi_weights_path(s).string(); },
+       [](IbrSettings& s, const std::string& path) { s.lumi_weights = path; }},
   };
   return table;
+}
+
+const char* blending_name(IbrBlending blending) { return blending == IbrBlending::Lumi ? "lumi" : "ulr"; }
+
+std::filesystem::path lumi_weights_path(const IbrSettings& settings) {
+  return settings.lumi_weights.empty() ? ibr::default_lumi_net_path() : settings.lumi_weights;
 }
 
 nlohmann::json ibr_settings_json(const IbrSettings& settings) { return config::knobs_to_json(ibr_knobs(), settings); }

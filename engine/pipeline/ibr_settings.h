@@ -4,6 +4,7 @@
 // with it, reads a site config's "ibr" object and forwards the options to a child process. A new
 // knob is one field here plus one row in ibr_knobs() (ibr_settings.cpp).
 #include <cstdint>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "config/knobs.h"
@@ -16,6 +17,10 @@
 #include "passes/ibr_warp.h"
 
 namespace rt::pipeline {
+
+// How the warped views become the portrait: unstructured lumigraph weights (passes/ibr_blend.h)
+// or Lumi-Net's learned weights and alpha (pipeline/lumi_net.h).
+enum class IbrBlending { Ulr, Lumi };
 
 struct IbrSettings {
   uint32_t width = 640, height = 360;  // the target view
@@ -34,9 +39,17 @@ struct IbrSettings {
   passes::RefineSettings refinement;
   passes::WarpSettings warp;
   passes::BlendSettings blend;
+  IbrBlending blending = IbrBlending::Ulr;
+  std::filesystem::path lumi_weights;  // Lumi-Net's weights file; empty: the committed one
 };
 
-// views, fusion, carve, refine, best-views, average-tolerance, edge-inset, portrait-supersample.
+// "ulr" or "lumi", as metrics name the blend that ran.
+const char* blending_name(IbrBlending blending);
+// settings.lumi_weights, or the committed weights (ibr::default_lumi_net_path()) when empty.
+std::filesystem::path lumi_weights_path(const IbrSettings& settings);
+
+// views, fusion, carve, refine, best-views, average-tolerance, edge-inset, portrait-supersample,
+// blend, lumi-weights.
 const config::KnobTable<IbrSettings>& ibr_knobs();
 
 // Every knob of `settings` as JSON (keys as in a site config's "ibr" object), for metrics files.

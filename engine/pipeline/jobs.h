@@ -77,6 +77,9 @@ int run_bench_compositing(const RunOptions& options);
 int run_bench_hand(const RunOptions& options);
 // `views_given`: run `base.views` alone, else 2, 4 and 6 views.
 int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views_given);
+// Lumi-Net's kernels (GPU ms) against OpenCV DNN running `onnx` on the same tensors, and the
+// lumigraph blending's GPU ms, at options.width x options.height.
+int run_bench_lumi(const RunOptions& options, const IbrSettings& base, const std::filesystem::path& onnx);
 int run_bench_simulate(const RunOptions& options);
 int run_simulate(const RunOptions& options, const SimulateOptions& simulate);
 int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval);

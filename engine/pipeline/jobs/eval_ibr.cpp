@@ -87,6 +87,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
               eval.scene.c_str(), eval.site.c_str(), options.width, options.height, settings.supersample,
               settings.supersample, views, positions.size(), color.width, color.height, depth.width,
               depth.height, frames, eval.supersample, eval.supersample, context.device_name().c_str());
+  std::printf("blend: %s\n", blending_description(*runs.front().renderer).c_str());
   if (frames == 1 && eval.first_frame > 0) std::printf("scene frame %u\n", eval.first_frame);
   if (frames > 1 && (eval.first_frame > 0 || eval.frame_step > 1))
     std::printf("scene frames %u, %u, ... (every %u)\n", eval.first_frame, eval.first_frame + eval.frame_step, eval.frame_step);
@@ -157,6 +158,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"ground_truth", "the simulator's render of the same target view (no sensor effects), color box-filtered "
                                             "over color_supersampling^2 samples per pixel like the cameras' images"},
                            {"color_error", "RGB in [0, 1], portrait premultiplied by its alpha against the truth"}};
+  report["blend"] = blending_name(settings.blending);
   std::printf("\n%-6s %11s %13s %18s %10s %14s %14s\n", "fusion", "psnr_fg_db", "psnr_hand_db", "depth_mae_edge_mm",
               "alpha_iou", "depth_bias_mm", "GPU ms/frame");
   for (FusionRun& run : runs) {
