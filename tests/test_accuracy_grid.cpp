@@ -46,6 +46,11 @@ TEST_CASE("every grid expands to distinct configurations, the defaults first") {
   CHECK(expand_grid(accuracy_grid("tiny")).size() == 7);
   // small: each knob alone (the defaults among them), and the product's points with two or more knobs set.
   CHECK(expand_grid(accuracy_grid("small")).size() == 16);
+  // full: Lumi-Net's blend is one of its axes, named by its option.
+  bool lumi = false;
+  for (const AccuracyConfig& config : expand_grid(accuracy_grid("full")))
+    lumi = lumi || accuracy_options(config, 640, 360) == "--blend lumi";
+  CHECK(lumi);
 }
 
 TEST_CASE("a configuration is named by the options that set it") {
