@@ -313,3 +313,53 @@ TEST_CASE("out of descriptors, the listener backs off instead of spinning, and r
   CHECK(connector.wait_connected(std::chrono::seconds(3)));
   CHECK(listener.counters().to_json()["accept_errors"] == errors);
 }
+
+TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not flood the log") {
+  test::LogLines log;
+  const SessionKey key = random_session_key();
+  auto listener_options = test::test_session_options(Role::Listener, key, log, "B");
+  listener_options.handshake_timeout = std::chrono::milliseconds(5000);  // strangers would hold their slots
+  Session listener(listener_options);
+  listener.start();
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(listener.local_port());
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  // Forty connections that never say anything, then forty that send garbage at once.
+  std::vector<int> strangers;
+  for (int i = 0; i < 80; ++i) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    REQUIRE(fd >= 0);
+    REQUIRE(::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0);
+    if (i >= 40) {
+      const std::string garbage(200, 'x');
+      CHECK(::write(fd, garbage.data(), garbage.size()) > 0);
+    }
+    strangers.push_back(fd);
+  }
+  REQUIRE(eventually([&] { return listener.counters().handshakes_dropped_for_room > 0; }));
+  auto options = test::test_session_options(Role::Connector, key, log, "A");
+  options.port = listener.local_port();
+  Session connector(options);
+  const auto start = std::chrono::steady_clock::now();
+  connector.start();
+  CHECK(connector.wait_connected(std::chrono::seconds(1)));
+  INFO("connected after " << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s");
+  for (const int fd : strangers) ::close(fd);
+  const NetCounters counters = listener.counters();
+  // The silent ones beyond the cap were dropped for newer ones; the garbage ones were refused (or
+  // dropped, when they came in before their hello was read): none of them is still held.
+  CHECK(counters.handshakes_dropped_for_room >= 40 - 16);
+  CHECK(counters.handshakes_dropped_for_room + counters.handshakes_refused >= 80 - 16);
+  size_t refusal_lines = 0, dropped_lines = 0;
+  {
+    std::lock_guard lock(log.mutex);
+    for (const auto& line : log.lines) {
+      refusal_lines += line.find("refused") != std::string::npos;
+      dropped_lines += line.find("dropped: too many handshakes") != std::string::npos;
+    }
+  }
+  CHECK(refusal_lines <= 3);  // one a second at most, however many strangers
+  CHECK(dropped_lines <= 3);
+  CHECK(counters.to_json()["handshakes_dropped_for_room"] == counters.handshakes_dropped_for_room);
+}

@@ -22,7 +22,8 @@ nlohmann::json NetCounters::to_json() const {
           {"handshakes_refused", handshakes_refused},
           {"connections_lost", connections_lost},
           {"reconnects", reconnects},
-          {"accept_errors", accept_errors}};
+          {"accept_errors", accept_errors},
+          {"handshakes_dropped_for_room", handshakes_dropped_for_room}};
 }
 
 }  // namespace rt::net

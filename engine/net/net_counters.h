@@ -24,6 +24,7 @@ struct NetCounters {
   uint64_t connections_lost = 0;
   uint64_t reconnects = 0;  // sessions established after the first
   uint64_t accept_errors = 0;  // the listener's accept failed (e.g. out of descriptors)
+  uint64_t handshakes_dropped_for_room = 0;  // pending handshakes closed to make room for newer ones
 
   nlohmann::json to_json() const;
 };

@@ -57,9 +57,15 @@ struct Connection {
   std::vector<uint8_t> writing_buffer;
   bool writing = false, closed = false, sent_proof = false;
   uint64_t last_rx_us = 0;
-  std::string peer;
+  uint64_t opened_us = 0;
+  std::string peer, address;  // address: the peer's IP alone, for the per-address cap
 };
 using ConnectionPtr = std::shared_ptr<Connection>;
+
+// Handshakes under way at once: beyond these the oldest is dropped for the newest, so that
+// silent or slow strangers cannot keep the real peer out, nor hold descriptors and memory.
+constexpr size_t kMaxPendingHandshakes = 16;
+constexpr size_t kMaxPendingHandshakesPerAddress = 4;
 
 // What leaves next, chosen under the queue lock.
 struct Outgoing {
@@ -117,6 +123,26 @@ struct Session::Impl {
   bool portrait_stop = false;                            // under `mutex`
 
   void log(const std::string& line) { options.log("[" + options.name + "] " + line); }
+  // At most one line a second per kind of event, with how many were not logged: a peer that
+  // provokes refusals must not flood the log.
+  struct LogLimit {
+    std::chrono::steady_clock::time_point last{};
+    uint64_t suppressed = 0;
+  };
+  std::map<std::string, LogLimit> log_limits;
+  std::mutex log_limits_mutex;  // the portrait decoder's thread rejects too
+  void log_limited(const std::string& kind, const std::string& line) {
+    std::lock_guard lock(log_limits_mutex);
+    LogLimit& limit = log_limits[kind];
+    const auto now = std::chrono::steady_clock::now();
+    if (limit.last != std::chrono::steady_clock::time_point{} && now - limit.last < std::chrono::seconds(1)) {
+      ++limit.suppressed;
+      return;
+    }
+    log(line + (limit.suppressed ? " (and " + std::to_string(limit.suppressed) + " more like it in the last second)" : ""));
+    limit.suppressed = 0;
+    limit.last = now;
+  }
 
   void set_status(ConnectionState state, std::string reason, std::string peer) {
     std::lock_guard lock(mutex);
@@ -133,7 +159,7 @@ struct Session::Impl {
   }
 
   void reject(const std::string& reason_key, const std::string& line) {
-    log("rejected: " + line);
+    log_limited("rejected " + reason_key, "rejected: " + line);
     count([&](NetCounters& c) {
       ++c.rejected;
       ++c.rejected_by_reason[reason_key];
@@ -143,12 +169,32 @@ struct Session::Impl {
 
   // ---- connection lifecycle (network thread) ----
 
+  // Makes room for one more handshake from `address`: the oldest pending one (from that address
+  // when it has too many, else from any) is dropped.
+  void cap_pending_handshakes(const std::string& address) {
+    for (const bool same_address : {true, false}) {
+      std::vector<ConnectionPtr> pending;
+      for (const auto& c : connections)
+        if (c != active && !c->closed && (!same_address || c->address == address)) pending.push_back(c);
+      if (pending.size() < (same_address ? kMaxPendingHandshakesPerAddress : kMaxPendingHandshakes)) continue;
+      const ConnectionPtr oldest =
+          *std::min_element(pending.begin(), pending.end(), [](const auto& a, const auto& b) { return a->opened_us < b->opened_us; });
+      count([](NetCounters& k) { ++k.handshakes_dropped_for_room; });
+      log_limited("handshake dropped", "handshake with " + oldest->peer + " dropped: too many handshakes under way (" +
+                                           std::string(same_address ? "from its address" : "in all") + ")");
+      close(oldest);
+    }
+  }
+
   void begin(const ConnectionPtr& c) {
-    connections.insert(c);
     std::error_code ec;
     c->socket.set_option(tcp::no_delay(true), ec);
     const auto endpoint = c->socket.remote_endpoint(ec);
-    c->peer = ec ? "?" : endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
+    c->address = ec ? "?" : endpoint.address().to_string();
+    c->peer = ec ? "?" : c->address + ":" + std::to_string(endpoint.port());
+    c->opened_us = monotonic_now_us();
+    cap_pending_handshakes(c->address);
+    connections.insert(c);
     c->handshake = std::make_unique<Handshake>(options.key, options.role);
     const auto hello = c->handshake->hello();
     c->handshake_out.emplace_back(hello.begin(), hello.end());
@@ -195,7 +241,7 @@ struct Session::Impl {
   // Connecting, with this reason.
   void refuse(ConnectionPtr c, const std::string& reason, bool definite = true) {
     if (c->closed) return;
-    log("connection with " + c->peer + " refused: " + reason);
+    log_limited("refused", "connection with " + c->peer + " refused: " + reason);
     close(c);
     count([](NetCounters& k) { ++k.handshakes_refused; });
     if (!active) {
