@@ -308,10 +308,12 @@ struct Session::Impl {
 
   // In pieces, each one proof of life: a big portrait on a slow link takes longer than
   // `lost_after`, and the peer is not lost while its bytes keep coming.
+  // Whatever has arrived counts as life, however little: a slow link carrying a big record is
+  // not a dead one.
   void read_body(const ConnectionPtr& c, size_t done) {
     constexpr size_t kPiece = 256 * 1024;
     const size_t piece = std::min(kPiece, c->body_in.size() - done);
-    asio::async_read(c->socket, asio::buffer(c->body_in.data() + done, piece), [this, c, done](std::error_code e, size_t n) {
+    c->socket.async_read_some(asio::buffer(c->body_in.data() + done, piece), [this, c, done](std::error_code e, size_t n) {
       count([&](NetCounters& k) { k.bytes_in += n; });
       if (c->closed) return;
       if (e) return drop(c, e == asio::error::eof ? "the peer closed the connection" : e.message());
