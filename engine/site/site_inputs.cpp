@@ -12,11 +12,6 @@
 #include "sim/tracker_space.h"
 
 namespace rt::site {
-namespace {
-
-std::string size_text(uint32_t width, uint32_t height) { return std::to_string(width) + "x" + std::to_string(height); }
-
-}  // namespace
 
 ReplayPacing::ReplayPacing(std::vector<uint64_t> timestamps_us) {
   if (timestamps_us.empty()) throw std::invalid_argument("a replay needs at least one frame");
@@ -96,22 +91,9 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
 }
 
 sim::RgbdFrame SiteReplay::read(size_t i) {
+  // The source checks each image's header against the recorded size before decoding it.
   source_.seek(i);
-  sim::RgbdFrame frame = *source_.next_frame();
-  for (size_t k = 0; k < cameras_.size(); ++k) {
-    const sim::RgbdImage& image = frame.cameras[k];
-    const CameraIntrinsics& color = cameras_[k].color.intrinsics;
-    const CameraIntrinsics& depth = cameras_[k].depth.intrinsics;
-    if (image.color.width != color.width || image.color.height != color.height)
-      throw std::runtime_error("'" + sim::color_path(dir_, k, frame.index).string() + "' is " +
-                               size_text(image.color.width, image.color.height) + ", the recording's first frame " +
-                               size_text(color.width, color.height));
-    if (image.depth_mm.width != depth.width || image.depth_mm.height != depth.height)
-      throw std::runtime_error("'" + sim::depth_path(dir_, k, frame.index).string() + "' is " +
-                               size_text(image.depth_mm.width, image.depth_mm.height) + ", the recording's first frame " +
-                               size_text(depth.width, depth.height));
-  }
-  return frame;
+  return *source_.next_frame();
 }
 
 std::optional<HostImage> SiteReplay::ground_truth(size_t i) const {
