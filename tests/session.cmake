@@ -71,3 +71,8 @@ foreach(mode session broken-png bad-inputs)
   set_tests_properties(session_site_replay_${mode} PROPERTIES FIXTURES_REQUIRED replay_recording TIMEOUT 300)
 endforeach()
 set_tests_properties(session_site_replay_session session_site_replay_broken-png PROPERTIES RUN_SERIAL TRUE)
+# A site's window on a virtual X server: the screen shows the composite written for its frame,
+# F1 a debug view, S a screenshot, Esc a clean end.
+add_test(NAME session_site_window
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_window.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-window)
+set_tests_properties(session_site_window PROPERTIES TIMEOUT 300 RUN_SERIAL TRUE)

@@ -38,6 +38,14 @@ class DemoCommand : public Command {
     command_->add_option("--loss", options_.loss, "Fault injection: probability of dropping a record")->check(CLI::Range(0.0, 0.9));
     command_->add_option("--replay-a", options_.replay_a, "Site A plays this recording instead of the scene (site --replay)");
     command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
+    command_->add_option("--display", options_.display,
+                         "Each site's window: window (shown, and the frames written for the report), headless, both, "
+                         "or auto: a window where a display is present")
+        ->check(CLI::IsMember({"window", "headless", "both", "auto"}))
+        ->capture_default_str();
+    command_->add_option("--present-mode", options_.present_mode, "fifo, or mailbox where the device offers it")
+        ->check(CLI::IsMember({"fifo", "mailbox"}))
+        ->capture_default_str();
     add_inspection_options(*command_, options_.run);  // forwarded to both sites
     ibr_ = add_ibr_options(*command_);
     quality_.add_to(*command_);

@@ -52,6 +52,17 @@ class SiteCommand : public Command {
           }
         })
         ->capture_default_str();
+    command_->add_option("--display", options_.display,
+                         "window (on this machine's display), headless (PNG and MP4 files), both, or auto: a window "
+                         "where a display is present (DISPLAY or WAYLAND_DISPLAY set), headless otherwise")
+        ->check(CLI::IsMember({"window", "headless", "both", "auto"}))
+        ->capture_default_str();
+    command_->add_option("--monitor", options_.monitor, "Full screen on this monitor (0 = the first); else windowed")
+        ->check(CLI::Range(0, 64));
+    command_->add_option("--present-mode", options_.present_mode,
+                         "fifo (waits for the screen's refresh), or mailbox where the device offers it (FIFO otherwise)")
+        ->check(CLI::IsMember({"fifo", "mailbox"}))
+        ->capture_default_str();
     add_inspection_options(*command_, options_.run);
     ibr_ = add_ibr_options(*command_);
     quality_.add_to(*command_);
@@ -78,6 +89,9 @@ class SiteCommand : public Command {
       if (given("--replay")) options_.replay = flags.replay;
       if (given("--motor")) options_.motor = flags.motor;
       if (given("--tracker")) options_.tracker = flags.tracker;
+      if (given("--display")) options_.display = flags.display;
+      if (given("--monitor")) options_.monitor = flags.monitor;
+      if (given("--present-mode")) options_.present_mode = flags.present_mode;
     } else {
       options_.site = site_ == "B" ? Site::B : Site::A;
     }

@@ -26,6 +26,7 @@
 #include "pipeline/ibr_settings.h"
 #include "net/secure_channel.h"
 #include "session/event_log.h"
+#include "site/site_options.h"
 #include "site/displayed_truth.h"
 #include "time/monotonic_clock.h"
 
@@ -255,6 +256,8 @@ int run_two_site_demo(const DemoOptions& options) {
     if (options.run.validation) args.push_back("--validation");
     if (options.run.profile) args.push_back("--profile");
     if (options.run.capture_frame >= 0) args.insert(args.end(), {"--capture-frame", std::to_string(options.run.capture_frame)});
+    const bool window = site::parse_display_mode(options.display, site::display_present()) != site::DisplayMode::Headless;
+    args.insert(args.end(), {"--display", window ? "both" : "headless", "--present-mode", options.present_mode});
     const std::filesystem::path& replay = site == "A" ? options.replay_a : options.replay_b;
     if (!replay.empty()) args.insert(args.end(), {"--replay", replay.string()});
     // The image-based model's and the hand's options, as the demo was given them.

@@ -22,6 +22,10 @@ struct DemoOptions {
   int delay_ms = 0, jitter_ms = 0;
   double loss = 0.0;
   std::filesystem::path replay_a, replay_b;  // a site that plays a recording (site --replay)
+  // Each site's window (site --display): the demo's report reads the frames, so a window always
+  // comes with them (both); auto is a window where a display is present.
+  std::string display = "auto";
+  std::string present_mode = "fifo";
   pipeline::IbrSettings ibr;                 // both sites' image-based model (forwarded to each)
   nlohmann::json quality;                    // what --quality or --budget-ms chose; null: neither
   std::vector<std::string> quality_arguments;  // the same choice for each site, for its metrics

@@ -22,6 +22,8 @@ GpuSession::GpuSession(const RunOptions& options)
   context_options.device_name = options.device;
   context_options.validation = options.validation;
   context_options.pipeline_cache_path = default_pipeline_cache_path();
+  context_options.surface_instance_extensions = options.surface_instance_extensions;
+  context_options.presentation = options.presentation;
   context_ = std::make_unique<vk::Context>(vk::apply_environment(context_options));
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace rt::pipeline {
 
@@ -17,6 +18,10 @@ struct RunOptions {
   uint32_t width = 0;
   uint32_t height = 0;
   bool dump_passes = false;  // write every pass output of the last frame as EXR and PNG
+  // A window on the device's screen: the instance extensions its surface needs, and a device that
+  // can present (vk::ContextOptions).
+  std::vector<std::string> surface_instance_extensions;
+  bool presentation = false;
 };
 
 }  // namespace rt::pipeline

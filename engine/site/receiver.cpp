@@ -10,6 +10,7 @@
 #include "config/assets.h"
 #include "pipeline/hand_renderer.h"
 #include "pipeline/receiver_compositor.h"
+#include "site/site_window.h"
 #include "time/monotonic_clock.h"
 
 namespace rt::site {
@@ -52,6 +53,7 @@ void Receiver::display_loop() {
   std::unique_ptr<pipeline::ReceiverCompositor> compositor;
   std::unique_ptr<pipeline::HandRenderer> hand;
   std::unique_ptr<vk::Image> portrait_depth;  // for appearance adaption; the color is the compositor's
+  std::unique_ptr<SiteWindowDisplay> window;   // --display window or both
   vk::FrameGraph graph(*common_.context, "receiver frame");
   vk::FrameGraph hand_graph(*common_.context, "geometry hand");
   float hand_distance_m = NAN;
@@ -64,11 +66,17 @@ void Receiver::display_loop() {
     hand->add_to(hand_graph);
     portrait_depth = std::make_unique<vk::Image>(
         *common_.context, vk::ImageDesc{"adaption portrait depth", common_.width, common_.height, PixelFormat::R32F});
+    if (common_.window)
+      window = std::make_unique<SiteWindowDisplay>(
+          common_, ReceiverImages{compositor->portrait, compositor->hand_mask, compositor->hand_alpha, compositor->hand_color,
+                                  compositor->display});
   }
   vk::Image& portrait = compositor->portrait;
-  cv::VideoWriter video(common_.out / "site.mp4", cv::VideoWriter::fourcc('m', 'p', '4', 'v'), common_.scene.fps,
-                        cv::Size(int(common_.width), int(common_.height)));
-  if (!video.isOpened()) common_.events->write("warning", monotonic_now_us(), {{"message", "OpenCV cannot write site.mp4 here"}});
+  cv::VideoWriter video;
+  if (common_.write_frames)
+    video.open(common_.out / "site.mp4", cv::VideoWriter::fourcc('m', 'p', '4', 'v'), common_.scene.fps,
+               cv::Size(int(common_.width), int(common_.height)));
+  if (common_.write_frames && !video.isOpened()) common_.events->write("warning", monotonic_now_us(), {{"message", "OpenCV cannot write site.mp4 here"}});
   std::ofstream frames_log(common_.out / "frames.jsonl");
   std::optional<uint64_t> last_video_frame;
   const HostImage no_portrait(common_.width, common_.height, PixelFormat::RGBA32F);
@@ -77,7 +85,7 @@ void Receiver::display_loop() {
   // A displayed frame: PNG, `video_repeat` frames of the MP4, a line of frames.jsonl.
   auto write_frame = [&](const cv::Mat& bgr, nlohmann::json entry, uint64_t video_repeat) {
     const uint64_t display_index = frames_displayed_++;
-    cv::imwrite((common_.out / "frames" / frame_name(display_index)).string(), bgr);
+    if (common_.write_frames) cv::imwrite((common_.out / "frames" / frame_name(display_index)).string(), bgr);
     if (video.isOpened())
       for (uint64_t i = 0; i < video_repeat; ++i) video.write(bgr);
     entry["display"] = display_index;
@@ -87,6 +95,10 @@ void Receiver::display_loop() {
   while (true) {
     std::optional<ReceivedPortrait> received = portraits_.wait_take(std::chrono::milliseconds(50));
     if (!received) {
+      if (window && window->take_keys()) {
+        session::UrgentTurn turn(common_.gpu_turn);
+        window->refresh();
+      }
       const uint64_t now = monotonic_now_us();
       const uint64_t quiet_since = std::max<uint64_t>(last_portrait_arrival_us_, common_.end_us);
       // Before the first portrait, the peer may still be starting up on a loaded machine: wait
@@ -110,7 +122,14 @@ void Receiver::display_loop() {
         cv::Mat bgr = to_bgr8(frame);
         label_link_lost(bgr, common_.net->status().reason);
         ++link_lost_frames_;
+        const uint64_t display_index = frames_displayed_;
         write_frame(bgr, {{"portrait_frame", nullptr}, {"t_us", now}, {"link_lost", true}}, 1);
+        if (window) {  // the notice is drawn on the CPU: the screen shows it as the file does
+          window->take_keys();
+          session::UrgentTurn turn(common_.gpu_turn);
+          vk::upload(*common_.context, compositor->display, from_bgr8(bgr));
+          window->show_frame(display_index);
+        }
         last_shown_us = now;
       }
       continue;
@@ -152,7 +171,11 @@ void Receiver::display_loop() {
       hand_distance_m = with_hand ? float(hand->hand_distance_m()) : NAN;
       const uint64_t start = monotonic_now_us();
       graph.run();
-      shown = vk::download(*common_.context, compositor->display);
+      if (window) {
+        window->take_keys();
+        window->show_frame(frames_displayed_);
+      }
+      if (common_.write_frames) shown = vk::download(*common_.context, compositor->display);
       on_screen = monotonic_now_us();
       receiver_wall_.add(double(on_screen - start) / 1000.0);
       // Appearance adaption (Eq. 3) compares this portrait with the hand posed for its moment in its
@@ -191,7 +214,7 @@ void Receiver::display_loop() {
     last_video_frame = message.frame_index;
     const char* hand_pose = !with_hand ? (at.stale() ? "no skeleton near" : drawn ? "not posed" : "no hand")
                             : at.interpolated[drawn_index] ? "interpolated" : "held";
-    write_frame(to_bgr8(shown),
+    write_frame(common_.write_frames ? to_bgr8(shown) : cv::Mat(),
                 {{"portrait_frame", message.frame_index},
                  {"t_us", on_screen},
                  {"hand_pose", hand_pose},
@@ -210,6 +233,10 @@ void Receiver::display_loop() {
       common_.events->write("warning", monotonic_now_us(),
                             {{"message", "appearance adaption never fitted: " + appearance_status_.describe()}});
   }
+  if (window) {
+    std::lock_guard lock(appearance_mutex_);
+    window_metrics_ = window->metrics();
+  }
   common_.record_gpu_ms("receiver", graph);
   common_.record_gpu_ms("hand", hand_graph);
   if (hand->appearance_graph()) common_.record_gpu_ms("appearance", *hand->appearance_graph());
@@ -220,6 +247,10 @@ void Receiver::add_metrics(nlohmann::json& m, double wall_s) const {
   {
     std::lock_guard lock(appearance_mutex_);
     m["appearance"] = appearance_status_.to_json();
+  }
+  {
+    std::lock_guard lock(appearance_mutex_);
+    if (!window_metrics_.is_null()) m["window"] = window_metrics_;
   }
   m["stage_wall_ms"]["hand_render_and_readback"] = hand_wall_.to_json();
   m["stage_wall_ms"]["receiver_render_and_readback"] = receiver_wall_.to_json();

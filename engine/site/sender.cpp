@@ -165,6 +165,8 @@ void Sender::capture_loop() {
   captured_.close();
 }
 
+const vk::FrameGraph& Sender::ibr_graph() const { return ibr_->graph(); }
+
 void Sender::ibr_loop() {
   while (true) {
     std::optional<CapturedFrame> captured = captured_.wait_take(std::chrono::milliseconds(50));

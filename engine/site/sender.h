@@ -46,6 +46,8 @@ class Sender {
   // The remote viewer's eye, in this site's frame (from the network).
   void set_remote_eye(const Eigen::Vector3d& eye);
   uint64_t last_scene_frame() const { return last_scene_frame_; }
+  // The image-based model's graph: its images are the window's debug views.
+  const vk::FrameGraph& ibr_graph() const;
   void add_metrics(nlohmann::json& metrics, double wall_s) const;
 
  private:

@@ -21,6 +21,10 @@
 #include "vulkan/context.h"
 #include "vulkan/frame_graph.h"
 
+namespace rt::display {
+class GlfwWindow;
+}
+
 namespace rt::site {
 
 struct SiteCommon {
@@ -36,6 +40,9 @@ struct SiteCommon {
   net::Session* net = nullptr;
   SiteCapture* capture = nullptr;  // --capture-frame: the sender's and the receiver's iteration
   HostImage background;  // what the display shows behind the remote user
+  display::GlfwWindow* window = nullptr;       // --display window or both; polled by the run's main thread
+  bool write_frames = true;                    // PNG and MP4 (--display headless or both)
+  const vk::FrameGraph* sender_graph = nullptr;  // the image-based model's, for the window's debug views
 
   // The scene clock: scene time = (now - epoch) * time_scale from the moment the sites connect.
   uint64_t epoch_us = 0, end_us = 0;

@@ -1,4 +1,5 @@
 // `remotetouch site --config FILE`: the JSON fields that set a site's options.
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -22,6 +23,20 @@ std::optional<std::string> leap_tracker_url(const std::string& tracker) {
   throw std::invalid_argument("'" + tracker + "' is not a tracker: scene, leap, or leap:ws://HOST:PORT/PATH");
 }
 
+DisplayMode parse_display_mode(const std::string& display, bool display_present) {
+  if (display == "window") return DisplayMode::Window;
+  if (display == "headless") return DisplayMode::Headless;
+  if (display == "both") return DisplayMode::Both;
+  if (display == "auto") return display_present ? DisplayMode::Window : DisplayMode::Headless;
+  throw std::invalid_argument("'" + display + "' is not a display: window, headless, both or auto");
+}
+
+bool display_present() {
+  for (const char* name : {"DISPLAY", "WAYLAND_DISPLAY"})
+    if (const char* value = std::getenv(name); value && *value) return true;
+  return false;
+}
+
 void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options) {
   std::ifstream file(config);
   if (!file) throw std::runtime_error("cannot read the site config " + config.string());
@@ -43,7 +58,8 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   for (const auto& [key, value] : json.items())
     if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
         key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" &&
-        key != "motor" && key != "tracker" && key != "ibr" && key != "hand")
+        key != "motor" &&  key != "tracker" && key != "display" && key != "monitor" &&
+        key != "present_mode" && key != "ibr" && key != "hand")
       throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
   std::string site = site_name(options.site), key_file;
   string_field("scene", options.scene);
@@ -67,6 +83,16 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   }
   if (options.motor != "simulated" && options.motor != "usb" && options.motor != "auto")
     throw std::runtime_error(config.string() + ": 'motor' must be \"simulated\", \"usb\" or \"auto\"");
+  string_field("display", options.display);
+  string_field("present_mode", options.present_mode);
+  try {
+    parse_display_mode(options.display, false);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(config.string() + ": 'display': " + error.what());
+  }
+  if (options.present_mode != "fifo" && options.present_mode != "mailbox")
+    throw std::runtime_error(config.string() + ": 'present_mode' must be \"fifo\" or \"mailbox\"");
+  number_field("monitor", options.monitor, -1, 64);
   number_field("time_scale", options.time_scale, 1e-3, 10.0);
   number_field("resolution_scale", options.resolution_scale, 0.0, 1.0);
   number_field("width", options.run.width, 16, 4096);

@@ -46,6 +46,17 @@ cv::Mat to_bgr8(const HostImage& image) {
   return bgr;
 }
 
+HostImage from_bgr8(const cv::Mat& bgr) {
+  HostImage image(uint32_t(bgr.cols), uint32_t(bgr.rows), PixelFormat::RGBA8);
+  for (uint32_t y = 0; y < image.height; ++y)
+    for (uint32_t x = 0; x < image.width; ++x) {
+      const cv::Vec3b& pixel = bgr.at<cv::Vec3b>(int(y), int(x));
+      for (uint32_t c = 0; c < 3; ++c) image.at(x, y, c) = float(pixel[2 - c]) / 255.0f;
+      image.at(x, y, 3) = 1.0f;
+    }
+  return image;
+}
+
 Camera portrait_camera(const net::PortraitMessage& p) {
   Camera camera;
   camera.name = "portrait target view";

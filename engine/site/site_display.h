@@ -27,6 +27,7 @@ std::string frame_name(uint64_t index);  // frame_NNNN.png
 HostImage truth_over_background(const HostImage& truth, const HostImage& background);
 
 cv::Mat to_bgr8(const HostImage& image);
+HostImage from_bgr8(const cv::Mat& bgr);  // rgba8, alpha 1
 
 // The target view a portrait was rendered for, as its message describes it (the sender's frame).
 Camera portrait_camera(const net::PortraitMessage& portrait);

@@ -31,6 +31,11 @@ struct SiteRunOptions {
   // The hand tracker: "scene" (simulated from the scene, or the replay's tracker.jsonl), or
   // "leap" / "leap:ws://HOST:PORT/PATH", the Leap service live (devices/tracker/leap_service.h).
   std::string tracker = "scene";
+  // Where the composite goes: "window" (a window on this machine's display), "headless" (PNG and
+  // MP4 files), "both", or "auto": a window where a display is present, headless otherwise.
+  std::string display = "auto";
+  int monitor = -1;                    // full screen on this monitor; -1 = windowed
+  std::string present_mode = "fifo";   // fifo | mailbox (where the device offers it)
   pipeline::IbrSettings ibr;            // the sender's image-based model (its width and height are the display's)
   nlohmann::json quality;               // what --quality or --budget-ms chose, for metrics; null: neither
   pipeline::HandRendererOptions hand;   // the receiver's geometry hand
@@ -44,6 +49,12 @@ struct SiteRunOptions {
 // The Leap service's URL that a --tracker value names, or none for "scene". Throws
 // std::invalid_argument saying what is wrong with any other value.
 std::optional<std::string> leap_tracker_url(const std::string& tracker);
+
+enum class DisplayMode { Window, Headless, Both };
+// "auto" is a window where a display is present (display_present: DISPLAY or WAYLAND_DISPLAY
+// set). Throws std::invalid_argument naming the choices for any other value.
+DisplayMode parse_display_mode(const std::string& display, bool display_present);
+bool display_present();
 
 void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options);
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "display/glfw_window.h"
 #include "pipeline/demo_layers.h"
 #include "pipeline/gpu_session.h"
 #include "site/receiver.h"
@@ -90,8 +91,12 @@ class SiteRun {
   // Connection changes into the event log and progress lines for the demo's parent, until the
   // display ends.
   void monitor(const std::atomic<bool>& display_finished);
+  // Polls the window's events (main thread); true once Esc or the window's close asked to quit.
+  bool window_quit();
 
   pipeline::GpuSession gpu_;
+  DisplayMode display_mode_;
+  std::unique_ptr<display::GlfwWindow> window_;  // made, polled and closed on this (the main) thread
   std::unique_ptr<SiteCapture> capture_;
   session::EventLog events_;
   SiteCommon common_;
@@ -117,6 +122,15 @@ SiteRun::SiteRun(const SiteRunOptions& options)
   common_.height = options.run.height;
   common_.out = options.run.out;
   common_.context = &gpu_.context();
+  display_mode_ = parse_display_mode(options.display, display_present());
+  if (display_mode_ != DisplayMode::Headless) {
+    window_ = std::make_unique<display::GlfwWindow>(display::WindowOptions{
+        .title = "RemoteTouch site " + common_.name, .width = options.run.width, .height = options.run.height,
+        .monitor = options.monitor});
+    common_.window = window_.get();
+    std::cerr << "site " << common_.name << ": window: " << window_->description() << "\n";
+  }
+  common_.write_frames = display_mode_ != DisplayMode::Window;
   capture_ = std::make_unique<SiteCapture>(gpu_, options.run.capture_frame, common_.name);
   common_.capture = capture_.get();
   common_.events = &events_;
@@ -152,6 +166,7 @@ SiteRun::SiteRun(const SiteRunOptions& options)
   // The sender first: a replay replaces the scene's site, which the receiver then shows.
   sender_ = std::make_unique<Sender>(common_, *touch_);
   receiver_ = std::make_unique<Receiver>(common_);
+  common_.sender_graph = &sender_->ibr_graph();
   net_->set_handler([this](const net::Message& message) { on_message(message); });
 }
 
@@ -219,6 +234,12 @@ void SiteRun::on_touch(const TouchEvent& event) {
                  {"touch_to_motor_ms", std::isfinite(met_to_motor_ms) ? nlohmann::json(met_to_motor_ms) : nlohmann::json()}});
 }
 
+bool SiteRun::window_quit() {
+  if (!window_) return false;
+  window_->poll();
+  return window_->quit_requested();
+}
+
 void SiteRun::monitor(const std::atomic<bool>& display_finished) {
   net::ConnectionState state = net::ConnectionState::Connected;
   uint64_t last_progress = UINT64_MAX;
@@ -227,10 +248,12 @@ void SiteRun::monitor(const std::atomic<bool>& display_finished) {
   while (!display_finished) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const uint64_t now = monotonic_now_us();
-    if (g_stop_signal && !stop_noted) {
+    const bool quit = window_quit();
+    if ((g_stop_signal || quit) && !stop_noted) {
       stop_noted = true;
-      std::cerr << "site " << common_.name << ": " << signal_name(g_stop_signal) << ": stopping\n";
-      events_.write("stopped", now, {{"signal", signal_name(g_stop_signal)}});
+      const std::string by = g_stop_signal ? signal_name(g_stop_signal) : "the window (Esc)";
+      std::cerr << "site " << common_.name << ": " << by << ": stopping\n";
+      events_.write("stopped", now, g_stop_signal ? nlohmann::json{{"signal", by}} : nlohmann::json{{"by", "window"}});
       common_.stopping = true;
       common_.sender_done = true;
       sender_->stop();
@@ -262,7 +285,13 @@ int SiteRun::run() {
   // Waited for in slices, so that a stop signal ends the wait too.
   const uint64_t give_up_us = monotonic_now_us() + uint64_t(options.connect_timeout_s * 1e6);
   bool connected = false;
-  while (!(connected = net_->wait_connected(std::chrono::milliseconds(100))) && !g_stop_signal && monotonic_now_us() < give_up_us) {
+  while (!(connected = net_->wait_connected(std::chrono::milliseconds(100))) && !g_stop_signal && !window_quit() &&
+         monotonic_now_us() < give_up_us) {
+  }
+  if (!connected && window_quit()) {
+    std::cerr << "site " << common_.name << ": window closed before the other site connected\n";
+    events_.write("stopped", monotonic_now_us(), {{"by", "window"}, {"phase", "waiting_for_peer"}});
+    return 0;
   }
   if (!connected && g_stop_signal) {
     std::cerr << "site " << common_.name << ": " << signal_name(g_stop_signal) << " before the other site connected\n";
@@ -328,7 +357,10 @@ int SiteRun::run() {
   m["latency_ms"]["touch_detected_to_motor_command"] = detect_to_motor_.to_json();
   m["fps"]["touch_loop"] = double(touch_->ticks()) / std::max(elapsed_s, 1e-6);
   if (options.run.capture_frame >= 0) m["capture"] = capture_->to_json();
-  m["stopped_by"] = g_stop_signal ? nlohmann::json(signal_name(g_stop_signal)) : nlohmann::json();
+  m["stopped_by"] = g_stop_signal                            ? nlohmann::json(signal_name(g_stop_signal))
+                    : window_ && window_->quit_requested() ? nlohmann::json("window")
+                                                           : nlohmann::json();
+  m["display"] = display_mode_ == DisplayMode::Window ? "window" : display_mode_ == DisplayMode::Both ? "both" : "headless";
   net_->stop();
   std::ofstream(common_.out / "metrics.json") << m.dump(2) << "\n";
   capture_->report();
@@ -346,8 +378,16 @@ int SiteRun::run() {
 
 }  // namespace
 
-int run_site(const SiteRunOptions& options) {
-  if (options.key_file.empty()) throw std::invalid_argument("a site needs --key-file (64 hex digits, the same at both sites)");
+int run_site(const SiteRunOptions& given) {
+  if (given.key_file.empty()) throw std::invalid_argument("a site needs --key-file (64 hex digits, the same at both sites)");
+  SiteRunOptions options = given;
+  const DisplayMode display = parse_display_mode(options.display, display_present());
+  if (display != DisplayMode::Headless) {
+    // The window's surface needs these from the instance, and the device must present.
+    options.run.surface_instance_extensions = display::GlfwWindow::surface_instance_extensions();
+    options.run.presentation = true;
+  }
+  if (display == DisplayMode::Window) options.write_truth = false;  // no files to compare it with
   install_stop_handlers();
   SiteRun site(options);
   return site.run();

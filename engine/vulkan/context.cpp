@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -131,6 +132,7 @@ ContextOptions apply_environment(ContextOptions options) {
 Context::Context(const ContextOptions& options)
     : pipeline_cache_path_(options.pipeline_cache_path),
       print_device_(options.print_device),
+      presentation_(options.presentation),
       error_counter_(options.error_counter) {
   try {
     create_instance(options);
@@ -155,6 +157,11 @@ void Context::create_instance(const ContextOptions& options) {
   std::vector<const char*> extensions;
   const bool debug_utils = has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
   if (debug_utils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  for (const std::string& name : options.surface_instance_extensions) {
+    if (!has_instance_extension(name.c_str()))
+      throw std::runtime_error("the Vulkan loader offers no " + name + ", which a window needs: use --display headless");
+    extensions.push_back(name.c_str());
+  }
 
   auto app = vk_struct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
   app.pApplicationName = "remotetouch";
@@ -238,7 +245,20 @@ void Context::create_device() {
   features12.hostQueryReset = VK_TRUE;
   auto features = vk_struct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12);
 
-  const std::vector<const char*> extensions = device_extensions(properties_.apiVersion);
+  std::vector<const char*> extensions = device_extensions(properties_.apiVersion);
+  if (presentation_) {
+    uint32_t count = 0;
+    vkEnumerateDeviceExtensionProperties(physical_device_, nullptr, &count, nullptr);
+    std::vector<VkExtensionProperties> offered(count);
+    vkEnumerateDeviceExtensionProperties(physical_device_, nullptr, &count, offered.data());
+    const bool has_swapchain = std::any_of(offered.begin(), offered.end(), [](const VkExtensionProperties& e) {
+      return std::strcmp(e.extensionName, VK_KHR_SWAPCHAIN_EXTENSION_NAME) == 0;
+    });
+    if (!has_swapchain)
+      throw std::runtime_error(std::string(properties_.deviceName) + " cannot present to a window (no " +
+                               VK_KHR_SWAPCHAIN_EXTENSION_NAME + "): use --display headless");
+    extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  }
   auto info = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &features);
   info.queueCreateInfoCount = 1;
   info.pQueueCreateInfos = &queue_info;
@@ -341,6 +361,11 @@ void Context::release() {
     vkDestroyInstance(instance_, nullptr);
     instance_ = VK_NULL_HANDLE;
   }
+}
+
+VkResult Context::present(const VkPresentInfoKHR& info) {
+  std::lock_guard lock(mutex_);
+  return vkQueuePresentKHR(queue_, &info);
 }
 
 uint64_t Context::submit(VkCommandBuffer commands) {

@@ -24,6 +24,10 @@ struct ContextOptions {
   // Also counts validation errors here; it may outlive the context, so that errors raised while
   // the device is destroyed (leaked objects) are seen too.
   std::atomic<uint32_t>* error_counter = nullptr;
+  // For a window: the instance extensions its surface needs (from GLFW), and VK_KHR_swapchain on
+  // the device. Empty and false for headless runs, which then work where no display exists.
+  std::vector<std::string> surface_instance_extensions;
+  bool presentation = false;
 };
 
 // Reads REMOTETOUCH_VALIDATION=1, REMOTETOUCH_SYNC_VALIDATION=1 and REMOTETOUCH_DEVICE=NAME
@@ -55,6 +59,8 @@ class Context {
 
   // Submits on the queue and returns the timeline value that signals its completion.
   uint64_t submit(VkCommandBuffer commands);
+  // Presents on the queue, ordered with the submissions (the queue is externally synchronized).
+  VkResult present(const VkPresentInfoKHR& info);
   void wait(uint64_t timeline_value);
   void wait_idle();
   // Records with `record`, submits and waits: for uploads, readbacks and tests.
@@ -103,6 +109,7 @@ class Context {
   VkPipelineCache pipeline_cache_ = VK_NULL_HANDLE;
   std::string pipeline_cache_path_;
   bool print_device_ = true;
+  bool presentation_ = false;
 
   PFN_vkSetDebugUtilsObjectNameEXT set_object_name_ = nullptr;
   PFN_vkCmdBeginDebugUtilsLabelEXT begin_label_ = nullptr;

@@ -162,6 +162,20 @@ struct IbrBlendParams {
   RT_UINT view_count;  // bands filled in the atlases
 };
 
+// The window's debug views (shaders/display_view.comp): which band of the source image shows,
+// how its values map to gray or color, fitted into the window with its aspect kept.
+#define RT_VIEW_COLOR 0u    // rgb as it is
+#define RT_VIEW_DEPTH 1u    // metres in [low, high] to white..black; 0 or less: no depth
+#define RT_VIEW_CHANNEL 2u  // one channel in [low, high] to black..white
+struct DisplayViewParams {
+  RT_UINT mode;
+  RT_UINT channel;
+  RT_UINT band_y0;      // the source rows shown: [band_y0, band_y0 + band_height)
+  RT_UINT band_height;
+  float low;
+  float high;
+};
+
 #ifdef __cplusplus
 }  // namespace rt::shader_abi
 #endif
