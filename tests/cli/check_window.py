@@ -48,8 +48,8 @@ def close(a, b):
 out = Path(sys.argv[1])
 events = [json.loads(line) for line in (out / "A" / "events.jsonl").read_text().splitlines()]
 shots = [e for e in events if e["event"] == "screenshot"]
-assert len(shots) == 2, shots
-first, second = shots
+assert len(shots) == 3, shots
+first, second, resized = shots
 assert first["view"] == "composite" and second["view"] == "fused depth", (first["view"], second["view"])
 assert first["display"] is not None, "the first screenshot names no displayed frame"
 
@@ -66,11 +66,18 @@ differs = 1.0 - close(depth_shot, frame)
 print(f"F1 (fused depth) differs from the composite on {differs:.3f} of pixels")
 assert differs > 0.2, "F1 did not change the view"
 
+assert resized["view"] == "composite" and (resized["width"], resized["height"]) == (200, 120), resized
+bars = read_png(out / "A" / "screenshots" / resized["file"])
+# 96x54 into 200x120 keeps its aspect at 200x112: four rows of black above and below.
+assert (bars[:4] == 0).all() and (bars[-4:] == 0).all() and bars[4:-4].mean() > 20, "no bars, or no picture between them"
+print("resized to 200x120: the picture keeps its aspect between black bars")
+
 m = json.loads((out / "A" / "metrics.json").read_text())
 w = m["window"]
 print("site A window:", json.dumps(w))
 assert m["stopped_by"] == "window" and m["display"] == "both"
-assert w["presented"] >= 3 and w["screenshots"] == 2 and w["present_mode"] == "FIFO"
+assert w["presented"] >= 3 and w["screenshots"] == 3 and w["present_mode"] == "FIFO"
+assert w["swapchains_made"] >= 2, "the resize made no new swapchain"
 assert w["frames_held_by_pause"] >= 1, "the pause held no frame"
 assert "fused depth" in w["views_seen"]
 print("the window showed the composite, its debug view and quit on Esc")

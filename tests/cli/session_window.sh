@@ -2,8 +2,9 @@
 # A site with a window (`site --display both`) on a virtual X server (Xvfb; lavapipe presents to
 # X11): it plays a short clap against a headless site B. P holds the picture, S writes a
 # screenshot, and the window as the X server shows it (xwd) matches the composite the site wrote
-# for the frame on screen; F1 shows the fused depth instead; Esc ends the site cleanly, its
-# metrics written.
+# for the frame on screen; F1 shows the fused depth instead; a resized window gets a new
+# swapchain and the picture keeps its aspect; Esc ends the site cleanly, its metrics written, and
+# the validation layer saw no error.
 #   session_window.sh BINARY OUT
 set -euo pipefail
 binary=$1 out=$2
@@ -25,7 +26,7 @@ for _ in $(seq 1 100); do [ -s "$out/display" ] && break; sleep 0.1; done
 export DISPLAY=":$(head -n1 "$out/display")"
 
 # A slow scene clock: the keys below land while site A is still playing.
-"$binary" site --site A --listen 127.0.0.1:0 --display both --time-scale 0.25 "${common[@]}" --out "$out/A" \
+"$binary" site --site A --listen 127.0.0.1:0 --display both --validation --time-scale 0.25 "${common[@]}" --out "$out/A" \
   > "$out/a.out" 2> "$out/a.err" &
 a=$!
 pids+=($a)
@@ -59,6 +60,13 @@ xwd -silent -id "$window" -out "$out/window.xwd"
 press F1
 press s
 wait_screenshots 2
+# Back to the composite, going on, in a window of another shape: a new swapchain, bars added.
+press F8
+press p
+xdotool windowsize --sync "$window" 200 120 2> /dev/null || xdotool windowsize "$window" 200 120
+sleep 1.5
+press s
+wait_screenshots 3
 press Escape
 set +e
 wait "$a"; a_status=$?
