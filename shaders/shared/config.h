@@ -176,6 +176,16 @@ struct DisplayViewParams {
   float high;
 };
 
+// The benchmarks' roofline kernels (shaders/buffer_copy.comp, shaders/fma_peak.comp).
+struct BufferCopyParams {
+  RT_UINT count;  // uvec4 elements to copy
+};
+#define RT_FMA_CHAINS 8  // independent vec4 chains per invocation: enough to hide FMA latency
+struct FmaPeakParams {
+  RT_UINT invocations;
+  RT_UINT iterations;  // per chain; each is one vec4 fused multiply-add (8 FLOPs)
+};
+
 #ifdef __cplusplus
 }  // namespace rt::shader_abi
 #endif

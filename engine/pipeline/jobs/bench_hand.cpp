@@ -1,6 +1,6 @@
 // `remotetouch bench hand`: GPU ms of the geometry hand's passes (skinning, rasterization, and
-// the appearance adaption graph) at 720p and 1440p, next to a copy of the hand color image as
-// the bandwidth roofline, from the frame graphs' timestamps.
+// the appearance adaption graph) at 720p and 1440p, from the frame graphs' timestamps, each as a
+// fraction of the roofline measured in the same run (pipeline/roofline.h).
 #include "pipeline/jobs.h"
 
 #include <cstdio>
@@ -10,8 +10,8 @@
 #include "config/assets.h"
 #include "pipeline/gpu_session.h"
 #include "pipeline/hand_renderer.h"
+#include "pipeline/roofline.h"
 #include "geometry/target_view.h"
-#include "passes/copy.h"
 #include "sim/hand_model.h"
 
 namespace rt::pipeline {
@@ -20,29 +20,17 @@ namespace {
 
 constexpr uint32_t kWarmUpFrames = 2;
 
-nlohmann::json print_timings(const std::string& title, const std::vector<vk::PassTiming>& timings, double copy_rate) {
-  std::printf("%s\n%-22s %10s %10s %10s %12s\n", title.c_str(), "pass", "GPU ms", "MB moved", "GB/s", "of copy GB/s");
-  nlohmann::json result;
-  for (const auto& timing : timings) {
-    const double rate = timing.gigabytes_per_second();
-    const double fraction = copy_rate > 0 ? rate / copy_rate : 0.0;
-    std::printf("%-22s %10.3f %10.2f %10.2f %11.0f%%\n", timing.name.c_str(), timing.median_ms, double(timing.bytes_moved) / 1e6,
-                rate, 100.0 * fraction);
-    result[timing.name] = {{"gpu_ms_median", timing.median_ms}, {"bytes_moved", timing.bytes_moved}, {"gb_per_s", rate},
-                           {"fraction_of_copy", fraction}};
-  }
-  return result;
+nlohmann::json print_timings(const std::string& title, const std::vector<vk::PassTiming>& timings, const Roofline& roofline) {
+  std::printf("%s\n%s", title.c_str(), format_profile(timings, roofline).c_str());
+  return timings_against_roofline(timings, roofline);
 }
 
-nlohmann::json bench_hand_at(GpuSession& session, uint32_t width, uint32_t height, uint32_t frames) {
+nlohmann::json bench_hand_at(GpuSession& session, const Roofline& roofline, uint32_t width, uint32_t height, uint32_t frames) {
   vk::Context& context = session.context();
   const Camera camera = target_view_camera(Eigen::Vector3d(0.0, 0.05, -0.7), Screen{}, width, height);
   HandRenderer renderer(context, config::assets_dir() / "hand", width, height);
-  vk::Image copied(context, {"copied hand color", width, height, PixelFormat::RGBA32F});
-  const passes::CopyPass copy_pass(context);
   vk::FrameGraph graph(context, "bench hand " + std::to_string(width) + "x" + std::to_string(height));
   renderer.add_to(graph);
-  copy_pass.add_to(graph, renderer.color(), copied);
 
   // A right hand 45 cm from the screen, slightly curled, facing the viewer; the portrait for the
   // appearance graph is the hand render itself (its cost does not depend on the colors).
@@ -64,15 +52,12 @@ nlohmann::json bench_hand_at(GpuSession& session, uint32_t width, uint32_t heigh
     session.run_frame(graph, frame);
     renderer.adapt_appearance_from(portrait_color, portrait_depth);
   }
-  double copy_rate = 0.0;
-  for (const auto& timing : graph.timings())
-    if (timing.name == "copy") copy_rate = timing.gigabytes_per_second();
   nlohmann::json result{{"width", width}, {"height", height}, {"frames", frames}};
   std::printf("\nhand at %ux%u on %s, median of %u frames\n", width, height, context.device_name().c_str(), frames);
-  result["passes"] = print_timings("per frame:", graph.timings(), copy_rate);
+  result["passes"] = print_timings("per frame:", graph.timings(), roofline);
   if (renderer.appearance_graph())
     result["appearance_passes"] = print_timings("appearance adaption (while the hand is beyond d_max):",
-                                                renderer.appearance_graph()->timings(), copy_rate);
+                                                renderer.appearance_graph()->timings(), roofline);
   return result;
 }
 
@@ -82,10 +67,14 @@ int run_bench_hand(const RunOptions& options) {
   GpuSession session(options);
   std::vector<std::pair<uint32_t, uint32_t>> sizes = {{1280, 720}, {2560, 1440}};
   if (options.width > 0) sizes = {{options.width, options.height}};
+  const Roofline roofline = measure_roofline(session.context());
+  std::printf("%s", roofline.describe().c_str());
   nlohmann::json report;
   report["device"] = session.context().device_name();
   report["timing"] = "GPU timestamps around each pass; bytes moved = sizes of the resources read plus written";
-  for (const auto& [width, height] : sizes) report["runs"].push_back(bench_hand_at(session, width, height, options.frames));
+  report["roofline"] = roofline.to_json();
+  for (const auto& [width, height] : sizes)
+    report["runs"].push_back(bench_hand_at(session, roofline, width, height, options.frames));
   std::filesystem::create_directories(options.out);
   std::ofstream(options.out / "bench_hand.json") << report.dump(2) << "\n";
   std::cout << "\nwritten to " << (options.out / "bench_hand.json").string() << "\n";

@@ -1,7 +1,7 @@
 // `remotetouch bench ibr`: per-pass GPU ms of the image-based model for 2, 4 and 6 views (or
 // --views N alone; the other image-based-model options apply to every run) at
-// 640x360, 1280x720 and 2560x1440, from the frame graph's timestamps, next to a copy pass of a
-// target-sized RGBA32F image in the same graph (the bandwidth roofline of the same run). The
+// 640x360, 1280x720 and 2560x1440, from the frame graph's timestamps, each pass as a fraction of
+// the roofline measured in the same run (pipeline/roofline.h). The
 // input is one frame of the clap scene rendered by the simulator at the site's full resolution.
 #include "pipeline/jobs.h"
 
@@ -14,7 +14,7 @@
 #include "pipeline/site_simulator.h"
 #include "geometry/target_view.h"
 #include "ibr/camera_selection.h"
-#include "passes/copy.h"
+#include "pipeline/roofline.h"
 
 namespace rt::pipeline {
 
@@ -50,6 +50,9 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
                                          std::to_string(cameras[0].depth.intrinsics.width) + "x" +
                                          std::to_string(cameras[0].depth.intrinsics.height)}};
   report["ibr"] = ibr_settings_json(base);  // views: each run's own
+  const Roofline roofline = measure_roofline(context);
+  report["roofline"] = roofline.to_json();
+  std::printf("%s", roofline.describe().c_str());
   std::printf("bench ibr on %s: %s; median GPU ms of %u frames per pass\n", context.device_name().c_str(),
               report["input"].get<std::string>().c_str(), options.frames);
   for (const auto& [width, height] : sizes)
@@ -62,9 +65,6 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
       const Camera target = target_view_camera(eye, scene.at(Site::A).site.screen, width, height);
       const auto selection = ibr::select_cameras(positions, ibr::TouchingHand::Right, views);
       renderer.prepare(frame.cameras, selection, target);
-      vk::Image copied(context, {"copied portrait", width, height, PixelFormat::RGBA32F});
-      const passes::CopyPass copy(context);
-      copy.add_to(renderer.graph(), renderer.portrait(), copied);
       std::vector<double> wall_ms;
       for (uint32_t i = 0; i < kWarmUpFrames + options.frames; ++i) {
         if (i == kWarmUpFrames) renderer.graph().reset_timings();
@@ -75,18 +75,17 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
       }
       std::sort(wall_ms.begin(), wall_ms.end());
       const auto timings = renderer.graph().timings();
-      double ibr_ms = 0, copy_ms = 0;
+      double ibr_ms = 0;
       nlohmann::json run = {{"width", width}, {"height", height}, {"views", views}};
       for (const auto& timing : timings) {
         run["gpu_ms"][timing.name] = timing.median_ms;
-        (timing.name == "copy" ? copy_ms : ibr_ms) += timing.median_ms;
+        ibr_ms += timing.median_ms;
       }
+      run["passes"] = timings_against_roofline(timings, roofline);
       run["gpu_ms_image_based_model"] = ibr_ms;
       run["wall_ms_per_frame"] = wall_ms[wall_ms.size() / 2];
-      run["copy_ratio"] = copy_ms > 0 ? ibr_ms / copy_ms : 0.0;
-      std::printf("\n%ux%u, %u views: image-based model %.2f GPU ms (%.1fx the copy pass), frame wall %.1f ms\n%s",
-                  width, height, views, ibr_ms, run["copy_ratio"].get<double>(), run["wall_ms_per_frame"].get<double>(),
-                  vk::format_profile(timings).c_str());
+      std::printf("\n%ux%u, %u views: image-based model %.2f GPU ms, frame wall %.1f ms\n%s", width, height, views, ibr_ms,
+                  run["wall_ms_per_frame"].get<double>(), format_profile(timings, roofline).c_str());
       report["runs"].push_back(run);
     }
   std::filesystem::create_directories(options.out);
