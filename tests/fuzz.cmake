@@ -32,7 +32,7 @@ target_include_directories(fuzz_corpus_check PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}
 target_compile_definitions(fuzz_corpus_check PRIVATE RT_FUZZ_ASSETS_DIR="${CMAKE_SOURCE_DIR}/assets")
 target_link_libraries(fuzz_corpus_check PRIVATE remotetouch_site remotetouch_cpu remotetouch_tracker)
 
-set(REMOTETOUCH_FUZZ_SECONDS 20 CACHE STRING "How long each fuzz ctest (net_fuzz_decoder, fuzz_TARGET) fuzzes")
+set(REMOTETOUCH_FUZZ_SECONDS 18 CACHE STRING "How long each fuzz ctest (net_fuzz_decoder, fuzz_TARGET) fuzzes")
 find_program(REMOTETOUCH_CLANGXX NAMES clang++-14 clang++)
 set(REMOTETOUCH_FUZZ_BUILD_DIR ${CMAKE_BINARY_DIR}/fuzz/build CACHE PATH "Where the clang build of the fuzzers lives")
 set(fuzz_build ${REMOTETOUCH_FUZZ_BUILD_DIR})
