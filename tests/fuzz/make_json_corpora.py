@@ -40,6 +40,9 @@ for name, change in [("unknown_field", {"peers": "127.0.0.1:7000"}), ("site_c", 
                      ("hand_not_object", {"hand": [1, 2]}), ("number_overflow", None)]:
     text = dump({**full, **change}) if change else '{"width": 1E999}\n'
     write("site_config", f"broken_{name}.json", text)
+# The small twin of a crash (test_knobs.cpp has the deep one): a knob's refused value was dumped
+# recursively into the error, and nested a hundred thousand deep it overflowed the stack.
+write("site_config", "broken_nested_knob_value.json", '{"ibr": {"views": ' + "[" * 1000 + "]" * 1000 + "}}\n")
 write("site_config", "broken_not_json.json", '{"scene": "clap",\n')
 write("site_config", "broken_array.json", '["scene", "clap"]\n')
 
