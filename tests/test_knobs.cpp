@@ -106,6 +106,23 @@ TEST_CASE("a config's ibr and hand objects are read, and checked") {
                       Catch::Contains(bad.string() + ": 'ibr': unknown field 'no_such_knob'"));
 }
 
+// Regression (tests/fuzz/corpus/site_config/broken_nested_knob_value.json is its small twin): the
+// error for a wrong value dumped the value, recursively, and a site config whose knob held an
+// array nested a million deep overflowed the stack instead of being refused.
+TEST_CASE("a knob's value nested a million deep is refused, not a stack overflow") {
+  const size_t depth = 1'000'000;
+  const nlohmann::json object = nlohmann::json::parse("{\"views\": " + std::string(depth, '[') + std::string(depth, ']') + "}");
+  IbrSettings ibr;
+  REQUIRE_THROWS_WITH(config::read_knobs_json(pipeline::ibr_knobs(), object, ibr, "site.json: 'ibr'"),
+                      Catch::Contains("field 'views' must be an integer in [1, 6], is an array"));
+  const auto path = std::filesystem::temp_directory_path() / "remotetouch_test_knobs" / "nested.json";
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path) << R"({"hand": {"min_confidence": )" << std::string(depth, '[') << std::string(depth, ']') << "}}";
+  site::SiteRunOptions options;
+  REQUIRE_THROWS_WITH(site::apply_site_config(path, options),
+                      Catch::Contains("'min_confidence' must be a number in [0, 1], is an array"));
+}
+
 TEST_CASE("the options a parent forwards give the child the same settings") {
   IbrSettings ibr;
   ibr.refine = true;

@@ -146,7 +146,10 @@ void read_knobs_json(const KnobTable<Settings>& table, const nlohmann::json& obj
       for (const auto& candidate : table) list += (list.empty() ? "" : ", ") + knob_json_key(candidate.name);
       throw JsonError(where + ": unknown field '" + key + "' (known: " + list + ")");
     }
-    const std::string wrong = where + ": field '" + key + "' must be " + knob_accepts(*knob) + ", is " + value.dump();
+    // An array or object is named by its type, not dumped: dump() recurses, so a value nested a
+    // hundred thousand deep (found by tests/fuzz/fuzz_site_config.cpp) overflowed the stack.
+    const std::string shown = value.is_structured() ? std::string("an ") + value.type_name() : value.dump();
+    const std::string wrong = where + ": field '" + key + "' must be " + knob_accepts(*knob) + ", is " + shown;
     double number = 0;
     switch (knob->kind) {
       case KnobKind::Flag:
