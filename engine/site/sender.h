@@ -82,6 +82,7 @@ class Sender {
   // Wall time of each stage's GPU turn (upload, graph run, download), next to the frame graph's
   // per-pass timestamps.
   session::LatencyStats simulator_wall_, ibr_wall_;
+  EyeErrorStats eye_error_;  // per captured frame of the simulator
 };
 
 }  // namespace rt::site
