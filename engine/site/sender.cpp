@@ -79,6 +79,24 @@ Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(t
         common_.events->write("eye_source", monotonic_now_us(), {{"source", source}});
       },
       depth_cameras);
+  if (simulator_) look_for_eyes_before_the_call();
+}
+
+void Sender::look_for_eyes_before_the_call() {
+  // The paper's viewpoint is computed once, as the call starts, from a viewer sitting still. The
+  // simulated user sits at the scene's first pose until the scene clock starts (at connection),
+  // then moves at once; on a slow device the capture during the call spans seconds of scene time
+  // per 15 frames, with the user leaning in. So the cameras watch the waiting user first, as a
+  // real site's cameras run before its call connects. A bounded wait: max_frames frame sets.
+  std::lock_guard turn(common_.gpu_turn);
+  simulator_->seek(0);
+  std::optional<sim::RgbdFrame> waiting = simulator_->next_frame();
+  simulator_->seek(0);
+  if (!waiting) return;
+  for (int tries = 0; !eye_finder_->decided() && tries < 20000; ++tries) {
+    if (eye_finder_->wants_frame()) eye_finder_->offer(monotonic_now_us(), waiting->cameras);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
 }
 
 void Sender::set_remote_eye(const Eigen::Vector3d& eye) {

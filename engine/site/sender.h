@@ -56,6 +56,7 @@ class Sender {
     sim::RgbdFrame frame;
   };
   std::optional<HostImage> ground_truth(uint64_t index, bool& told_no_truth);
+  void look_for_eyes_before_the_call();
 
   SiteCommon& common_;
   TouchLoop& touch_;

@@ -196,9 +196,10 @@ void EyeErrorStats::add(const Eigen::Vector3d& used, const Eigen::Vector3d& trut
 nlohmann::json EyeErrorStats::to_json() const {
   std::lock_guard lock(mutex_);
   if (errors_mm_.empty())
-    return {{"frames", 0}, {"median_mm", nullptr}, {"p95_mm", nullptr}, {"max_mm", nullptr}, {"mean_offset_mm", nullptr}};
+    return {{"frames", 0}, {"first_frame_mm", nullptr}, {"median_mm", nullptr}, {"p95_mm", nullptr}, {"max_mm", nullptr}, {"mean_offset_mm", nullptr}};
   const Eigen::Vector3d mean = offset_sum_mm_ / double(errors_mm_.size());
   return {{"frames", errors_mm_.size()},
+          {"first_frame_mm", errors_mm_.front()},
           {"median_mm", session::percentile(errors_mm_, 0.5)},
           {"p95_mm", session::percentile(errors_mm_, 0.95)},
           {"max_mm", *std::max_element(errors_mm_.begin(), errors_mm_.end())},

@@ -110,8 +110,8 @@ class ViewerEyeFinder {
 class EyeErrorStats {
  public:
   void add(const Eigen::Vector3d& used, const Eigen::Vector3d& truth);
-  // {"frames", "median_mm", "p95_mm", "max_mm", "mean_offset_mm" (used - true, site axes)};
-  // nulls when empty.
+  // {"frames", "first_frame_mm" (the call's first frame, before the user moves), "median_mm",
+  // "p95_mm", "max_mm", "mean_offset_mm" (used - true, site axes)}; nulls when empty.
   nlohmann::json to_json() const;
 
  private:
