@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "passes/common/reference_raster.h"
+#include "passes/hand_raster.h"
 
 #include "person_raster.frag.h"
 #include "person_raster.vert.h"
@@ -56,15 +57,20 @@ RasterViewParams raster_view(const Camera& camera, double near_m, double far_m) 
 
 PersonRasterPass::PersonRasterPass(vk::Context& context)
     : kernel_(context, "person_raster", person_raster_vert_spirv, person_raster_frag_spirv,
-              {{PixelFormat::RGBA8, PixelFormat::R32F, PixelFormat::R32F}, true}) {}
+              {{PixelFormat::RGBA8, PixelFormat::R32F, PixelFormat::R32F}, true}),
+      blank_face_(context, {"blank face texture", 1, 1, PixelFormat::RGBA32F}),
+      sampler_(context, "face texture sampler") {
+  vk::upload(context, blank_face_, HostImage(1, 1, PixelFormat::RGBA32F, 0.0f));
+}
 
 void PersonRasterPass::add_to(vk::FrameGraph& graph, vk::Buffer& mesh, std::function<uint32_t()> vertex_count,
                               std::function<RasterViewParams()> view, const RasterTargets& targets,
-                              const std::string& pass_name) const {
+                              const std::string& pass_name, vk::Image* face_texture) const {
+  vk::Image* face = face_texture ? face_texture : &blank_face_;
   graph.add_graphics_pass({
       .name = pass_name,
       .kernel = &kernel_,
-      .bindings = {{"Mesh", &mesh}},
+      .bindings = {{"Mesh", &mesh}, {"face_texture", face, &sampler_}},
       .color = {{targets.color, {0, 0, 0, 0}}, {targets.depth_m, {0, 0, 0, 0}}, {targets.part, {0, 0, 0, 0}}},
       .depth = targets.depth_buffer,
       .vertex_count = std::move(vertex_count),
@@ -73,7 +79,7 @@ void PersonRasterPass::add_to(vk::FrameGraph& graph, vk::Buffer& mesh, std::func
 }
 
 RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const RasterViewParams& view, uint32_t width,
-                                        uint32_t height) {
+                                        uint32_t height, const HostImage* face_texture) {
   RasterReference out{HostImage(width, height, PixelFormat::RGBA8), HostImage(width, height, PixelFormat::R32F),
                       HostImage(width, height, PixelFormat::R32F), HostImage(width, height, PixelFormat::R32F)};
   Eigen::Matrix4d clip_from_site;
@@ -134,8 +140,12 @@ RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const 
           const double shade = 0.35 + 0.65 * std::abs(unit.dot(light));
           const double period = at[12];
           const bool stripe = period > 0 && at[1] / period - std::floor(at[1] / period) >= 0.5;
+          Eigen::Vector4f face(1, 1, 1, 0);
+          if (period < 0 && face_texture) face = sample_bilinear(*face_texture, float(at[9]), float(at[10]));
+          const double face_weight = face[3] * std::clamp(at[11], 0.0, 1.0);
           for (int channel = 0; channel < 3; ++channel) {
-            const double albedo = stripe ? at[9 + channel] : at[6 + channel];
+            double albedo = stripe ? at[9 + channel] : at[6 + channel];
+            if (period < 0) albedo = at[6 + channel] * (1 - face_weight + face_weight * face[channel]);
             out.color.at(uint32_t(x), uint32_t(y), uint32_t(channel)) =
                 float(std::round(std::clamp(albedo * shade, 0.0, 1.0) * 255.0) / 255.0);
           }

@@ -9,7 +9,7 @@ layout(push_constant) uniform Push { RasterViewParams view; };
 layout(location = 0) out vec3 site_position;
 layout(location = 1) out vec3 normal;
 layout(location = 2) out vec4 albedo;
-layout(location = 3) out vec4 stripe;  // rgb: stripe albedo, w: period (0 = plain)
+layout(location = 3) out vec4 stripe;  // rgb: stripe albedo, w: period (0 = plain, < 0 = the face: person_raster.frag)
 layout(location = 4) out float camera_z;
 layout(location = 5) flat out float part;
 

@@ -5,6 +5,10 @@ set(rt $<TARGET_FILE:remotetouch>)
 set(session_demo ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_demo.sh)
 add_test(NAME session_demo_clap COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-clap clap 115 1)
 add_test(NAME session_demo_miss COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-miss miss 115 0)
+# A scene asking for the seat: no eye search, the seat's head position from the start.
+add_test(NAME session_demo_seat
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_seat.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-seat
+                 ${CMAKE_CURRENT_SOURCE_DIR}/data/clap-seat.json)
 add_test(NAME session_demo_wave COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-wave wave 90 0)
 # The link cut mid-run (before the touch) through the fault proxy: the connector reconnects, the
 # run finishes, the clap still gives one touch per site.
@@ -27,7 +31,7 @@ add_test(NAME session_site_wrong_key
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_wrong_key.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-wrong-key)
 add_cli_test(session_site_bad_config 1 "remotetouch: error: .*site_config_bad\\.json: unknown field 'peers'"
              ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
-set_tests_properties(session_demo_clap session_demo_miss session_demo_wave session_demo_disconnect session_demo_outage session_demo_lossy
+set_tests_properties(session_demo_clap session_demo_miss session_demo_seat session_demo_wave session_demo_disconnect session_demo_outage session_demo_lossy
                      session_site_wrong_key
                      PROPERTIES TIMEOUT 300
                      # Two site processes each on a real-time scene clock, sharing the CPU with a CPU

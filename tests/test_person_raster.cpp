@@ -2,7 +2,9 @@
 // triangle soups of odd sizes and on the hard cases (behind the camera, across the near plane,
 // degenerate triangles). Tolerances: away from triangle edges the part mask is exact, color
 // within one 8-bit step plus float shading differences (2/255), linear depth within 1e-5
-// relative; within one pixel of an edge the GPU's tie-breaking rule may differ.
+// relative; within one pixel of an edge the GPU's tie-breaking rule may differ. The face texture
+// (head vertices, negative stripe period) is compared the same way: it is float and bilinear on
+// both sides, so it adds no more than rounding.
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -53,14 +55,16 @@ struct GpuRaster {
   HostImage color, depth_m, part;
 };
 
-GpuRaster run_gpu(const std::vector<MeshVertex>& mesh, const Camera& camera) {
+GpuRaster run_gpu(const std::vector<MeshVertex>& mesh, const Camera& camera, const HostImage* face = nullptr) {
   const passes::PersonRasterPass pass(test::gpu());
   test::PassHarness gpu("person_raster");
   const uint32_t w = camera.intrinsics.width, h = camera.intrinsics.height;
   const auto view = passes::raster_view(camera, 0.1, 10.0);
+  vk::Image* face_texture = face ? &gpu.input("face texture", *face) : nullptr;
   pass.add_to(gpu.graph(), gpu.input_buffer("test mesh", mesh), [&] { return uint32_t(mesh.size()); }, [view] { return view; },
               {&gpu.output("color", w, h, PixelFormat::RGBA8), &gpu.output("depth m", w, h, PixelFormat::R32F),
-               &gpu.output("part", w, h, PixelFormat::R32F), &gpu.scratch("depth buffer", w, h, PixelFormat::D32F)});
+               &gpu.output("part", w, h, PixelFormat::R32F), &gpu.scratch("depth buffer", w, h, PixelFormat::D32F)},
+              "person_raster", face_texture);
   const test::PassOutputs out = gpu.run();
   return {out.image("color"), out.image("depth m"), out.image("part")};
 }
@@ -105,6 +109,41 @@ TEST_CASE("person_raster: random triangle soups of odd sizes", "[person_raster][
     const auto view = passes::raster_view(camera, 0.1, 10.0);
     const size_t compared = require_matches(run_gpu(mesh, camera), passes::person_raster_reference(mesh, view, width, height));
     CHECK(compared > size_t(width * height / 20));  // the comparison is not vacuous
+  }
+}
+
+TEST_CASE("person_raster: the face texture on head vertices", "[person_raster][gpu]") {
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f), uv(-0.3f, 1.3f), facing(-0.5f, 1.5f);
+  // An odd-sized texture: the photo's color relative to the skin (0.3 to 1.8) and its alpha.
+  HostImage face(13, 9, PixelFormat::RGBA32F);
+  for (float& texel : face.texels) texel = unit(rng);
+  for (uint32_t y = 0; y < face.height; ++y)
+    for (uint32_t x = 0; x < face.width; ++x)
+      for (uint32_t c = 0; c < 3; ++c) face.at(x, y, c) = 0.3f + 1.5f * face.at(x, y, c);
+  for (const auto& [width, height] : std::vector<std::pair<uint32_t, uint32_t>>{{97, 61}, {33, 17}}) {
+    INFO(width << "x" << height);
+    const Camera camera = test_camera(width, height);
+    auto mesh = random_soup(rng, 12, 1.2, 3.0);
+    // Every other triangle is head: texture coordinates beyond [0, 1] too (clamped to the edge),
+    // and facing beyond [0, 1] (clamped).
+    for (size_t i = 0; i < mesh.size(); ++i)
+      if ((i / 3) % 2 == 0) {
+        mesh[i].normal_stripe[3] = -1.0f;
+        mesh[i].stripe_color = {uv(rng), uv(rng), facing(rng), 1.0f};
+      }
+    const auto view = passes::raster_view(camera, 0.1, 10.0);
+    const size_t compared =
+        require_matches(run_gpu(mesh, camera, &face), passes::person_raster_reference(mesh, view, width, height, &face));
+    CHECK(compared > size_t(width * height / 20));
+    // Without a texture the head is its plain albedo, on both sides.
+    const auto plain = passes::person_raster_reference(mesh, view, width, height);
+    require_matches(run_gpu(mesh, camera), plain);
+    size_t differs = 0;
+    const auto textured = passes::person_raster_reference(mesh, view, width, height, &face);
+    for (size_t i = 0; i < plain.color.texels.size(); ++i) differs += std::abs(plain.color.texels[i] - textured.color.texels[i]) > 0.02f;
+    CHECK(differs > 10);  // the texture shows
   }
 }
 

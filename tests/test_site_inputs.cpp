@@ -3,7 +3,6 @@
 // seat, the motor choice, and a recording's checks before a site connects.
 #include <catch2/catch.hpp>
 
-#include <opencv2/core.hpp>
 
 #include <deque>
 #include <filesystem>
@@ -23,7 +22,6 @@
 #include "sim/recording.h"
 #include "support/gpu_test.h"
 #include "support/hands.h"
-#include "viewer/eye_locator.h"
 
 using namespace rt;
 using Catch::Contains;
@@ -255,31 +253,6 @@ TEST_CASE("eye finder: a thread over offered frames, deciding once", "[site_inpu
   CHECK_THAT(finder.source(), Catch::StartsWith("seat (no face found in 15 frames: "));
   std::lock_guard lock(decided_mutex);
   CHECK(decided == std::vector<std::string>{finder.source()});
-}
-
-TEST_CASE("the simulated scene's users have no face: the detector finds none, the seat stands", "[site_inputs][eye][gpu]") {
-  test::NoValidationErrors no_errors;
-  // Clap at its own resolution scale (0.5: 640x360 color), where a face would be ~60 px wide.
-  const sim::Scene scene = sim::load_scene(sim::resolve_scene("clap"));
-  pipeline::SiteSimulator simulator(test::gpu(), scene, Site::A);
-  const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
-  REQUIRE(frame);
-  std::vector<Camera> cameras;
-  std::vector<cv::Mat> images;
-  for (size_t k = 0; k < simulator.renderer().camera_count(); ++k) {
-    cameras.push_back(simulator.renderer().camera(k).color);
-    const HostImage& color = frame->cameras[k].color;
-    REQUIRE(color.width == cameras.back().intrinsics.width);
-    cv::Mat bgr(int(color.height), int(color.width), CV_8UC3);
-    for (uint32_t y = 0; y < color.height; ++y)
-      for (uint32_t x = 0; x < color.width; ++x)
-        for (int c = 0; c < 3; ++c) bgr.at<cv::Vec3b>(int(y), int(x))[2 - c] = uint8_t(std::lround(color.at(x, y, uint32_t(c)) * 255));
-    images.push_back(bgr);
-  }
-  EyeDetector detector;
-  const EyePair pair = locate_viewer_eyes(detector, cameras, images);
-  INFO(pair.message);
-  CHECK(pair.failure == ViewerFailure::EyesNotFound);
 }
 
 TEST_CASE("motor choice: the board when attached, else the simulated motor, saying which", "[site_inputs][motor]") {

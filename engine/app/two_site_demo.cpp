@@ -216,6 +216,18 @@ void print_summary(const nlohmann::json& metrics) {
     return a["state"].get<std::string>() + (a["frames_fitted"].is_number() ? " (" + cell(a["frames_fitted"], "%.0f") + ")" : "");
   };
   row("appearance adaption (frames fitted)", appearance(a), appearance(b));
+  // Where each site's eye came from, and how far it is from its user's true eye.
+  auto eye_source = [](const nlohmann::json& site) {
+    const nlohmann::json::json_pointer path("/viewpoint/source");
+    return site.contains(path) ? site["viewpoint"]["source"].get<std::string>() : std::string("-");
+  };
+  auto eye_error = [](const nlohmann::json& site) {
+    const nlohmann::json::json_pointer path("/viewpoint/error_against_true_eye");
+    if (!site.contains(path) || site[path].is_null()) return std::string("-");
+    return cell(site[path]["median_mm"]) + " / " + cell(site[path]["p95_mm"]);
+  };
+  row("eye source", eye_source(a), eye_source(b));
+  row("eye error vs true eye mm (median / p95)", eye_error(a), eye_error(b));
   // What the remote user sees of the hand and forearm, per touch phase.
   for (const char* phase : evaluation::kTouchPhaseNames) {
     const nlohmann::json::json_pointer path("/hand_arm/" + std::string(phase));

@@ -50,12 +50,17 @@ constexpr double kNearM = 0.01, kFarM = 10.0;
 }  // namespace
 
 RgbdRenderer::RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view,
-                           uint32_t color_supersampling)
+                           uint32_t color_supersampling, const std::optional<HostImage>& face_texture)
     : context_(context),
       cameras_(std::move(cameras)),
       target_view_(std::move(target_view)),
       raster_(context),
       resolve_(context, color_supersampling) {
+  if (face_texture) {
+    face_texture_ = std::make_unique<vk::Image>(
+        context, vk::ImageDesc{"face texture", face_texture->width, face_texture->height, PixelFormat::RGBA32F});
+    vk::upload(context, *face_texture_, *face_texture);
+  }
   for (const auto& spec : cameras_) {
     // A color effect that is off costs nothing: without one there is no color_sensor pass.
     const passes::ColorSensorModel& model = spec.color_model;
@@ -83,6 +88,7 @@ void RgbdRenderer::build_graph(size_t mesh_capacity) {
     add_sampled_view(spec.color, images.color, "color " + spec.name);
     if (color_sensors_[i])
       color_sensors_[i]->add_to(*graph_, images.color.view.color, images.sensed_color, "color_sensor " + spec.name);
+    // Depth does not see the face's colors: the depth views draw plain heads.
     raster_.add_to(*graph_, *mesh_, count, [depth_view] { return depth_view; }, images.depth_view.targets(),
                    "raster depth " + spec.name);
     // Each camera draws its own noise: mix the camera's index into the frame's seed.
@@ -99,7 +105,8 @@ void RgbdRenderer::add_sampled_view(const Camera& camera, SampledView& sampled, 
   if (sampled.fine) drawn.intrinsics = scaled_intrinsics(camera.intrinsics, resolve_.factor());
   const auto view = passes::raster_view(drawn, kNearM, kFarM);
   View& target = sampled.fine ? *sampled.fine : sampled.view;
-  raster_.add_to(*graph_, *mesh_, count, [view] { return view; }, target.targets(), "raster " + name);
+  raster_.add_to(*graph_, *mesh_, count, [view] { return view; }, target.targets(), "raster " + name,
+                 face_texture_.get());
   if (sampled.fine)
     resolve_.add_to(*graph_, sampled.fine->resolve_images(), sampled.view.resolve_images(), "resolve " + name);
 }

@@ -30,9 +30,10 @@ class RgbdRenderer {
  public:
   // color_supersampling (odd): color views and the target view render at that many times the
   // resolution per axis and resolve to it (box-filtered color, centre-sampled depth and part),
-  // as a sensor integrates over its pixels; 1 renders point samples.
+  // as a sensor integrates over its pixels; 1 renders point samples. `face_texture` (rgba32f,
+  // sim::load_face_texture) is printed on the heads of the meshes; none leaves them plain skin.
   RgbdRenderer(vk::Context& context, std::vector<RgbdCameraSpec> cameras, std::optional<Camera> target_view = {},
-               uint32_t color_supersampling = 1);
+               uint32_t color_supersampling = 1, const std::optional<HostImage>& face_texture = {});
   ~RgbdRenderer();
 
   // Uploads the mesh and renders every view; `seed` drives the sensor noise of this frame.
@@ -67,6 +68,7 @@ class RgbdRenderer {
   std::optional<Camera> target_view_;
   passes::PersonRasterPass raster_;
   passes::SupersampleResolvePass resolve_;
+  std::unique_ptr<vk::Image> face_texture_;  // null: plain heads
   std::vector<std::unique_ptr<passes::ColorSensorPass>> color_sensors_;
   std::vector<std::unique_ptr<passes::DepthSensorPass>> depth_sensors_;
   std::vector<std::unique_ptr<CameraImages>> images_;

@@ -1,19 +1,33 @@
 #include "pipeline/site_simulator.h"
 
 #include <cmath>
+#include <iostream>
 #include <stdexcept>
 
 #include "geometry/target_view.h"
+#include "sim/face.h"
 #include "sim/person_mesh.h"
 
 namespace rt::pipeline {
 namespace {
 
+// The face photograph for the users' heads, read once per process; without it the heads are
+// plain skin (and the sites fall back to the seat's eye), which is said once.
+const std::optional<HostImage>& face_texture() {
+  static const std::optional<HostImage> texture = [] {
+    std::string why;
+    std::optional<HostImage> loaded = sim::load_face_texture(why);
+    if (!loaded) std::cerr << "simulator: the users have no face: " << why << "\n";
+    return loaded;
+  }();
+  return texture;
+}
+
 std::optional<Camera> ground_truth_view(const sim::Scene& scene, Site site, uint32_t width, uint32_t height) {
   if (width == 0 || height == 0) return std::nullopt;
-  // The remote viewer's eye: the other site's seated head, mapped into this site's frame.
+  // The remote viewer's eye (sim::truth_viewer_eye), mapped into this site's frame.
   const Site remote = other_site(site);
-  const Eigen::Vector3d eye = map_point(remote, site, scene.at(remote).site.seat.head_centre_m);
+  const Eigen::Vector3d eye = map_point(remote, site, sim::truth_viewer_eye(scene, remote));
   return target_view_camera(eye, scene.at(site).site.screen, width, height);
 }
 
@@ -69,7 +83,8 @@ SiteSimulator::SiteSimulator(vk::Context& context, const sim::Scene& scene, Site
                     specs.push_back(camera_spec(camera, scene.effects, scene.resolution_scale));
                   return specs;
                 }(),
-                ground_truth_view(scene, site, target_width, target_height), scene.color_supersampling),
+                ground_truth_view(scene, site, target_width, target_height), scene.color_supersampling,
+                face_texture()),
       timing_random_(scene.seed * 2 + (site == Site::A ? 0 : 1)) {}
 
 std::optional<sim::RgbdFrame> SiteSimulator::next_frame() {

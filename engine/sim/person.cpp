@@ -76,6 +76,7 @@ PersonPose pose_person(const BodyGeometry& body, const BodyKey& key, uint64_t ti
   pose.pelvis = body.pelvis;
   pose.neck_base = body.pelvis + lean * (body.neck_base_rest - body.pelvis);
   pose.head_centre = body.pelvis + lean * (body.head_rest - body.pelvis);
+  pose.head_rotation = lean;
   pose.head_radius_m = body.head_radius_m;
   pose.shoulder_width_m = body.shoulder_width_m;
   pose.torso_depth_m = body.torso_depth_m;

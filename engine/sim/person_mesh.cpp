@@ -5,6 +5,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "sim/face.h"
+
 namespace rt::sim {
 namespace {
 
@@ -97,13 +99,32 @@ void append_forearm(std::vector<MeshVertex>& mesh, const ArmPose& arm, const Eig
                  skin_rgb, skin_rgb, 0.0f, detail);
 }
 
+void append_head(std::vector<MeshVertex>& mesh, const PersonPose& pose, const Eigen::Vector3f& skin_rgb,
+                 const MeshDetail& detail) {
+  const HeadShape shape = head_shape(pose.head_radius_m);
+  const Eigen::Matrix3d& rotation = pose.head_rotation;
+  const Eigen::Vector3d up = rotation * Eigen::Vector3d(0, shape.half_length_m, 0);
+  const size_t first = mesh.size();
+  append_capsule(mesh, pose.head_centre - up, pose.head_centre + up, shape.width_radius_m, shape.depth_radius_m,
+                 rotation * Eigen::Vector3d::UnitX(), float(RT_PART_BODY), skin_rgb, skin_rgb, 0.0f, detail);
+  // The face's texture coordinates are a linear function of the position, so interpolating them
+  // over a triangle prints the photo exactly as the planar projection would.
+  for (size_t i = first; i < mesh.size(); ++i) {
+    MeshVertex& v = mesh[i];
+    const Eigen::Vector3d site(v.position_part[0], v.position_part[1], v.position_part[2]);
+    const Eigen::Vector3d head = rotation.transpose() * (site - pose.head_centre);
+    const Eigen::Vector2d uv = face_uv(head);
+    v.stripe_color = {float(uv.x()), float(uv.y()), float(face_facing(head, shape)), 1.0f};
+    v.normal_stripe[3] = kFaceTexturePeriod;
+  }
+}
+
 std::vector<MeshVertex> person_mesh(const PersonPose& pose, const UserAppearance& user, const MeshDetail& detail) {
   const float body = float(RT_PART_BODY);
   const Eigen::Vector3f& skin = user.skin_rgb;
   const float stripes = float(2.0 * user.stripe_width_m);  // one shirt and one stripe color per period
   std::vector<MeshVertex> mesh;
-  append_capsule(mesh, pose.head_centre - Eigen::Vector3d(0, 0.02, 0), pose.head_centre + Eigen::Vector3d(0, 0.02, 0),
-                 pose.head_radius_m * 0.85, pose.head_radius_m, Eigen::Vector3d::UnitX(), body, skin, skin, 0.0f, detail);
+  append_head(mesh, pose, skin, detail);
   append_capsule(mesh, pose.neck_base, pose.neck_base + (pose.head_centre - pose.neck_base) * 0.6, 0.05, 0.05,
                  Eigen::Vector3d::UnitX(), body, skin, skin, 0.0f, detail);
   append_capsule(mesh, pose.pelvis, pose.neck_base, pose.shoulder_width_m / 2, pose.torso_depth_m / 2,

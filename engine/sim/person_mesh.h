@@ -1,6 +1,7 @@
 #pragma once
 // Triangle meshes of a simulated user, for the person_raster pass: a head, neck, torso and arms
-// (part BODY; striped shirt, skin-colored head and forearms) and the hands (part HAND), each
+// (part BODY; striped shirt, skin-colored head and forearms, the face photograph on the front of
+// the head: sim/face.h) and the hands (part HAND), each
 // bone a capsule whose axis runs exactly through the tracked joints, so that the rendered hand
 // and the tracker's skeleton agree.
 #include <vector>
@@ -16,6 +17,10 @@ using shader_abi::MeshVertex;
 // simulated tracker reports twice it as the arm's width.
 inline constexpr double kForearmRadiusM = 0.035;
 inline constexpr double kArmWidthM = 2 * kForearmRadiusM;
+
+// A stripe period below zero marks the head's vertices: their stripe color is then (u, v,
+// facing) on the face texture, which person_raster samples (person_raster.frag).
+inline constexpr float kFaceTexturePeriod = -1.0f;
 
 struct MeshDetail {
   int segments = 16;  // around a capsule or sphere
@@ -35,6 +40,11 @@ void append_hand(std::vector<MeshVertex>& mesh, const HandSkeleton& hand, double
 // The simulated forearm: a skin-colored capsule of kForearmRadiusM from the elbow to the wrist.
 void append_forearm(std::vector<MeshVertex>& mesh, const ArmPose& arm, const Eigen::Vector3f& skin_rgb,
                     const MeshDetail& detail = {});
+
+// The head: a capsule (sim::head_shape) turned with pose.head_rotation, its vertices carrying
+// their place on the face texture.
+void append_head(std::vector<MeshVertex>& mesh, const PersonPose& pose, const Eigen::Vector3f& skin_rgb,
+                 const MeshDetail& detail = {});
 
 // The whole user; throws if the pose holds a non-finite point.
 std::vector<MeshVertex> person_mesh(const PersonPose& pose, const UserAppearance& user, const MeshDetail& detail = {});

@@ -16,6 +16,9 @@ struct ArmPose {
 
 struct PersonPose {
   Eigen::Vector3d head_centre = Eigen::Vector3d::Zero();
+  // Site from head (sim/face.h): identity for a user sitting upright, facing the screen; the
+  // head leans with the torso, so the face and the eyes on it do too.
+  Eigen::Matrix3d head_rotation = Eigen::Matrix3d::Identity();
   double head_radius_m = 0.1;
   // The torso runs from the pelvis to the neck base; it is shoulder_width_m wide (x) and
   // torso_depth_m deep (along the screen's normal when upright).

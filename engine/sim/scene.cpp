@@ -4,6 +4,7 @@
 
 #include "config/assets.h"
 #include "config/json.h"
+#include "sim/face.h"
 
 namespace rt::sim {
 
@@ -69,7 +70,7 @@ nlohmann::json appearance_to_json(const UserAppearance& user) {
 Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir, const std::string& where) {
   reject_unknown_fields(json,
                         {"name", "description", "frames", "fps", "resolution_scale", "color_supersampling", "seed",
-                         "sites", "effects"},
+                         "viewpoint", "sites", "effects"},
                         where);
   Scene scene;
   scene.name = config::require_string(json, "name", where);
@@ -83,6 +84,12 @@ Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& b
     if (scene.color_supersampling % 2 == 0)
       throw config::JsonError(where + ": color_supersampling must be odd (1, 3, 5 or 7), got " +
                               std::to_string(scene.color_supersampling));
+  }
+  if (json.contains("viewpoint")) {
+    const std::string viewpoint = config::require_string(json, "viewpoint", where);
+    if (viewpoint == "cameras") scene.viewpoint = ViewpointSource::Cameras;
+    else if (viewpoint == "seat") scene.viewpoint = ViewpointSource::Seat;
+    else throw config::JsonError(where + ": viewpoint must be \"cameras\" or \"seat\", got \"" + viewpoint + "\"");
   }
 
   const nlohmann::json& sites = require_object(json, "sites", where);
@@ -98,6 +105,11 @@ Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& b
     for (const RgbdCamera& camera : setup.site.cameras) camera_names.push_back(camera.name);
   if (json.contains("effects")) scene.effects = effects_from_json(json["effects"], where + " effects", camera_names);
   return scene;
+}
+
+Eigen::Vector3d truth_viewer_eye(const Scene& scene, Site remote) {
+  const Eigen::Vector3d& seat = scene.at(remote).site.seat.head_centre_m;
+  return scene.viewpoint == ViewpointSource::Seat ? seat : true_eyes_seated(seat).midpoint();
 }
 
 Scene load_scene(const std::filesystem::path& path) {

@@ -24,6 +24,11 @@ struct SiteSetup {
   MotionSpec motion;
 };
 
+// Where each site takes its user's eye, the viewpoint it sends to the other site: found in its
+// cameras (the paper's viewpoint computation: eyes detected, triangulated), or the seat's head
+// position from the site description, which a site without a face to find falls back to anyway.
+enum class ViewpointSource { Cameras, Seat };
+
 struct Scene {
   std::string name;
   uint32_t frame_count = 1;
@@ -33,6 +38,7 @@ struct Scene {
   // box-filtered (odd; 1 = point samples), as a sensor integrates over its pixels.
   uint32_t color_supersampling = 1;
   uint64_t seed = 0;              // every random effect draws from streams derived from it
+  ViewpointSource viewpoint = ViewpointSource::Cameras;
   std::array<SiteSetup, 2> sites;  // indexed by rt::Site: A, B
   Effects effects;                 // applied at both sites
 
@@ -42,12 +48,18 @@ struct Scene {
 
 // JSON:
 // {"name": "clap", "frames": 150, "fps": 30, "resolution_scale": 0.5, "seed": 7,
+//  "viewpoint": "cameras" (the default) or "seat",
 //  "sites": {"A": {"site": "../sites/default.json",
 //                  "user": {"skin_rgb": [r,g,b], "shirt_rgb": [..], "shirt_stripe_rgb": [..],
 //                           "stripe_width_m": 0.03, "hand_scale": 1.0},
 //                  "motion": {"name": "clap", "touch_target_m": [0.08, 0.05], ...}},
 //            "B": {...}},
 //  "effects": {"tracker_jitter": {"sigma_mm": 1.5}, ...}}     (optional; empty = no effects)
+// The remote viewer's eye that a site's ground truth is seen from, in the remote site's frame:
+// the remote user's true eyes when seated upright (sim/face.h) where the scene's sites find the
+// eyes in their cameras, else the remote seat's head position, the eye the remote site then sends.
+Eigen::Vector3d truth_viewer_eye(const Scene& scene, Site remote);
+
 // Errors start with `where` and name the field; a missing or bad site file is named.
 Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir, const std::string& where);
 Scene load_scene(const std::filesystem::path& path);

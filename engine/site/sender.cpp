@@ -9,6 +9,7 @@
 #include "image/image_io.h"
 #include "site/site_display.h"
 #include "site/site_metrics.h"
+#include "sim/face.h"
 #include "sim/tracker_sim.h"
 #include "sim/tracker_space.h"
 #include "time/monotonic_clock.h"
@@ -63,14 +64,39 @@ Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(t
   ibr_ = std::make_unique<pipeline::IbrRenderer>(*common_.context, cameras, settings);
   for (const auto& camera : common_.site().cameras) camera_positions_.push_back(camera.color_camera().position_in_site());
 
-  // The eye sent to the peer: the seat's head position until the cameras find the viewer's eyes.
-  std::vector<Camera> color_cameras;
-  for (const auto& camera : cameras) color_cameras.push_back(camera.color);
+  // The eye sent to the peer: the seat's head position until the cameras find the viewer's eyes
+  // (or for good, where the scene asks for the seat).
+  std::vector<Camera> color_cameras, depth_cameras;
+  for (const auto& camera : cameras) {
+    color_cameras.push_back(camera.color);
+    depth_cameras.push_back(camera.depth);
+  }
+  EyeSearchOptions eye_options;
+  if (common_.scene.viewpoint == sim::ViewpointSource::Seat) eye_options.use_seat_because = "the scene asks for the seat";
   eye_finder_ = std::make_unique<ViewerEyeFinder>(
-      color_cameras, common_.site().seat.head_centre_m, EyeSearchOptions{}, [this](const std::string& source) {
+      color_cameras, common_.site().seat.head_centre_m, eye_options, [this](const std::string& source) {
         std::cerr << "site " << common_.name << ": eye: " << source << "\n";
         common_.events->write("eye_source", monotonic_now_us(), {{"source", source}});
-      });
+      },
+      depth_cameras);
+  if (simulator_) look_for_eyes_before_the_call();
+}
+
+void Sender::look_for_eyes_before_the_call() {
+  // The paper's viewpoint is computed once, as the call starts, from a viewer sitting still. The
+  // simulated user sits at the scene's first pose until the scene clock starts (at connection),
+  // then moves at once; on a slow device the capture during the call spans seconds of scene time
+  // per 15 frames, with the user leaning in. So the cameras watch the waiting user first, as a
+  // real site's cameras run before its call connects. A bounded wait: max_frames frame sets.
+  std::lock_guard turn(common_.gpu_turn);
+  simulator_->seek(0);
+  std::optional<sim::RgbdFrame> waiting = simulator_->next_frame();
+  simulator_->seek(0);
+  if (!waiting) return;
+  for (int tries = 0; !eye_finder_->decided() && tries < 20000; ++tries) {
+    if (eye_finder_->wants_frame()) eye_finder_->offer(monotonic_now_us(), waiting->cameras);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
 }
 
 void Sender::set_remote_eye(const Eigen::Vector3d& eye) {
@@ -81,7 +107,8 @@ void Sender::set_remote_eye(const Eigen::Vector3d& eye) {
 void Sender::stop() { captured_.close(); }
 
 std::optional<HostImage> Sender::ground_truth(uint64_t index, bool& told_no_truth) {
-  // The recording's ground truth is the view from the seat of the scene it was made in.
+  // The recording's ground truth is the view from the remote eye of the scene it was made in
+  // (sim::truth_viewer_eye).
   std::optional<HostImage> recorded = replay_->ground_truth(index);
   if (recorded && recorded->width == common_.width && recorded->height == common_.height && recorded->channels() == 4)
     return recorded;
@@ -141,6 +168,8 @@ void Sender::capture_loop() {
       if (!frame) break;
       captured.frame = std::move(*frame);
       captured.scene_time_s = double(index) / fps;
+      // The eye this site sends now, against where its user's eyes truly are in this frame.
+      eye_error_.add(eye_finder_->eye(), sim::true_eyes(simulator_->last_pose()).midpoint());
       if (write_truth) {
         truth = simulator_->renderer().target_color();
         limb = limb_truth_->measure(simulator_->last_pose(), common_.scene.at(common_.options.site).user, truth,
@@ -266,6 +295,10 @@ void Sender::add_metrics(nlohmann::json& m, double wall_s) const {
   m["inputs"] = replay_ ? "replay of " + replay_->dir().string() : std::string("simulated scene");
   m["eye_source"] = eye_finder_->source();
   m["eye"] = {eye_finder_->eye().x(), eye_finder_->eye().y(), eye_finder_->eye().z()};
+  m["viewpoint"] = eye_finder_->to_json();
+  m["viewpoint"]["scene_asks_for"] = common_.scene.viewpoint == sim::ViewpointSource::Seat ? "seat" : "cameras";
+  // A recording holds no true eye to measure against.
+  m["viewpoint"]["error_against_true_eye"] = simulator_ ? eye_error_.to_json() : nlohmann::json();
   if (simulator_) m["gpu_ms"]["simulator"] = timings_json(simulator_->renderer().graph());
   m["gpu_ms"]["ibr"] = timings_json(ibr_->graph());
   m["stage_wall_ms"]["simulator_render_and_readback"] = simulator_wall_.to_json();

@@ -58,6 +58,7 @@ class Sender {
     sim::RgbdFrame frame;
   };
   std::optional<HostImage> ground_truth(uint64_t index, bool& told_no_truth);
+  void look_for_eyes_before_the_call();
 
   SiteCommon& common_;
   TouchLoop& touch_;
@@ -84,6 +85,7 @@ class Sender {
   // Wall time of each stage's GPU turn (upload, graph run, download), next to the frame graph's
   // per-pass timestamps.
   session::LatencyStats simulator_wall_, ibr_wall_;
+  EyeErrorStats eye_error_;  // per captured frame of the simulator
 };
 
 }  // namespace rt::site

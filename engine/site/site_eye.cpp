@@ -7,8 +7,9 @@
 #include <cstdio>
 #include <exception>
 
+#include "session/latency_stats.h"
 #include "viewer/eye_detector.h"
-#include "viewer/eye_locator.h"
+#include "viewer/eye_depth.h"
 
 namespace rt::site {
 namespace {
@@ -33,6 +34,7 @@ EyeSearch::EyeSearch(const EyeSearchOptions& options) : options_(options), estim
     throw std::invalid_argument("eye search: max_frames (" + std::to_string(options_.max_frames) +
                                 ") must be at least the frames the estimate needs (" +
                                 std::to_string(options_.viewpoint.frames_needed) + ")");
+  if (!options_.use_seat_because.empty()) give_up(options_.use_seat_because);
 }
 
 EyeSearch::State EyeSearch::add(uint64_t timestamp_us, const EyePair& frame) {
@@ -79,8 +81,9 @@ std::string EyeSearch::source() const {
 }
 
 ViewerEyeFinder::ViewerEyeFinder(std::vector<Camera> cameras, const Eigen::Vector3d& seat_eye,
-                                 const EyeSearchOptions& options, std::function<void(const std::string&)> on_decided)
-    : cameras_(std::move(cameras)), seat_eye_(seat_eye), on_decided_(std::move(on_decided)), search_(options) {
+                                 const EyeSearchOptions& options, std::function<void(const std::string&)> on_decided,
+                                 std::vector<Camera> depth_cameras)
+    : cameras_(std::move(cameras)), depth_cameras_(std::move(depth_cameras)), seat_eye_(seat_eye), on_decided_(std::move(on_decided)), search_(options) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -95,8 +98,11 @@ bool ViewerEyeFinder::wants_frame() const {
 }
 
 void ViewerEyeFinder::offer(uint64_t timestamp_us, const std::vector<sim::RgbdImage>& images) {
-  Offered offered{timestamp_us, {}};
-  for (const sim::RgbdImage& image : images) offered.color.push_back(image.color);
+  Offered offered{timestamp_us, {}, {}};
+  for (const sim::RgbdImage& image : images) {
+    offered.color.push_back(image.color);
+    if (!depth_cameras_.empty()) offered.depth_mm.push_back(image.depth_mm);
+  }
   {
     std::lock_guard lock(mutex_);
     if (search_.state() != EyeSearch::State::Searching) return;
@@ -120,6 +126,18 @@ bool ViewerEyeFinder::decided() const {
   return search_.state() != EyeSearch::State::Searching;
 }
 
+nlohmann::json ViewerEyeFinder::to_json() const {
+  std::lock_guard lock(mutex_);
+  const Eigen::Vector3d eye = search_.eye_or(seat_eye_);
+  const size_t frames = search_.frames(), with_eyes = search_.frames_with_eyes();
+  return {{"source", search_.state() == EyeSearch::State::Found ? "cameras" : "seat"},
+          {"describe", search_.source()},
+          {"position_m", {eye.x(), eye.y(), eye.z()}},
+          {"frames_examined", frames},
+          {"frames_with_eyes", with_eyes},
+          {"fraction_with_eyes", frames ? nlohmann::json(double(with_eyes) / double(frames)) : nlohmann::json()}};
+}
+
 void ViewerEyeFinder::run() {
   auto decide = [&](auto&& change) {
     std::string source;
@@ -132,6 +150,10 @@ void ViewerEyeFinder::run() {
     }
     if (on_decided_) on_decided_(source);
   };
+  if (decided()) {  // told to use the seat: no detector, no frames
+    if (on_decided_) on_decided_(source());
+    return;
+  }
   std::unique_ptr<EyeDetector> detector;
   try {
     detector = std::make_unique<EyeDetector>();
@@ -159,10 +181,29 @@ void ViewerEyeFinder::run() {
       const bool fits = color.width == cameras_[k].intrinsics.width && color.height == cameras_[k].intrinsics.height;
       images.push_back(fits ? bgr8(color) : cv::Mat());
     }
-    const EyePair pair = locate_viewer_eyes(*detector, cameras_, images);
+    const EyePair pair = locate_viewer_eyes_rgbd(*detector, cameras_, images, depth_cameras_, offered->depth_mm);
     decide([&] { search_.add(offered->timestamp_us, pair); });
     if (decided()) return;
   }
+}
+
+void EyeErrorStats::add(const Eigen::Vector3d& used, const Eigen::Vector3d& truth) {
+  std::lock_guard lock(mutex_);
+  errors_mm_.push_back((used - truth).norm() * 1000.0);
+  offset_sum_mm_ += (used - truth) * 1000.0;
+}
+
+nlohmann::json EyeErrorStats::to_json() const {
+  std::lock_guard lock(mutex_);
+  if (errors_mm_.empty())
+    return {{"frames", 0}, {"first_frame_mm", nullptr}, {"median_mm", nullptr}, {"p95_mm", nullptr}, {"max_mm", nullptr}, {"mean_offset_mm", nullptr}};
+  const Eigen::Vector3d mean = offset_sum_mm_ / double(errors_mm_.size());
+  return {{"frames", errors_mm_.size()},
+          {"first_frame_mm", errors_mm_.front()},
+          {"median_mm", session::percentile(errors_mm_, 0.5)},
+          {"p95_mm", session::percentile(errors_mm_, 0.95)},
+          {"max_mm", *std::max_element(errors_mm_.begin(), errors_mm_.end())},
+          {"mean_offset_mm", {mean.x(), mean.y(), mean.z()}}};
 }
 
 }  // namespace rt::site
