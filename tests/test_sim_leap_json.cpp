@@ -216,6 +216,10 @@ TEST_CASE("a digit's missing carp or tip is derived, and a hand that cannot be p
   flat["hands"][0].erase("palmNormal");
   flat["pointables"][4]["mcpPosition"] = flat["pointables"][1]["mcpPosition"];
   require_rejected(flat, "hand " + hand_id, "no 'palmNormal'");
+  nlohmann::json huge = sent;  // finite carps whose mean overflows: the wrist cannot be placed
+  huge["hands"][0].erase("wrist");
+  for (auto& pointable : huge["pointables"]) pointable["carpPosition"] = {1e308, 1e308, 1e308};
+  require_rejected(huge, "hand " + hand_id, "'wrist' comes out infinite or NaN");
 }
 
 TEST_CASE("malformed frames are refused, naming the field", "[sim][leap_json]") {

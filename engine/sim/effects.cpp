@@ -135,7 +135,7 @@ Effects effects_from_json(const nlohmann::json& json, const std::string& where,
   Effects effects;
   for (const auto& [name, parameters] : json.items()) {
     const auto parser = std::find_if(parsers().begin(), parsers().end(),
-                                     [&](const EffectParser& p) { return name == p.name; });
+                                     [&name = name](const EffectParser& p) { return name == p.name; });
     if (parser == parsers().end()) {
       std::string known;
       for (const std::string& n : effect_names()) known += (known.empty() ? "" : ", ") + n;

@@ -132,6 +132,12 @@ void derive_missing_fields(HandEntry& entry, const std::array<bool, kDigitCount>
     entry.palm_normal = normal.normalized();
   }
   hand.palm_normal = *entry.palm_normal;
+  // Huge but finite coordinates can overflow what is derived from them (a mean, a difference).
+  const std::pair<const char*, const Eigen::Vector3d*> derived[] = {
+      {"wrist", &hand.wrist}, {"direction", &hand.direction}, {"palmPosition", &hand.palm_position}, {"palmNormal", &hand.palm_normal}};
+  for (const auto& [name, value] : derived)
+    if (!value->allFinite())
+      throw JsonError(where + ": '" + name + "' comes out infinite or NaN from the coordinates given (too large)");
 }
 
 }  // namespace

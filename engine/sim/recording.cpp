@@ -126,7 +126,7 @@ ReplayRgbdSource::ReplayRgbdSource(const std::filesystem::path& dir) : dir_(dir)
         if (cameras[k].contains("timestamp_us")) config::require_unsigned(cameras[k], "timestamp_us", camera_at);
       }
       frames_.push_back(std::move(frame));
-    } catch (const nlohmann::json::parse_error& error) {
+    } catch (const nlohmann::json::exception& error) {  // also a number too large to read (1E999)
       throw config::JsonError(at + " is not valid JSON: " + error.what());
     }
   }

@@ -38,7 +38,7 @@ struct HandAlphaParams {
 // One vertex of a simulated mesh, pulled from a storage buffer (std430: four vec4).
 struct MeshVertex {
   RT_VEC4 position_part;  // site-frame position (metres); w: RT_PART_* of its triangle
-  RT_VEC4 normal_stripe;  // unit normal; w: stripe period along site y in metres, 0 = plain
+  RT_VEC4 normal_stripe;  // unit normal; w: stripe period along site y in metres, 0 = plain; negative: a head vertex with face-texture coordinates
   RT_VEC4 color;          // albedo, rgb in [0, 1]
   RT_VEC4 stripe_color;   // albedo of every other stripe
 };
