@@ -1,9 +1,13 @@
-// Keys, handshake and sealed records (libsodium), without sockets: right and wrong key, reflected
-// hellos, tampered ciphertext and headers, replayed and missing records.
+// Keys, handshake and sealed records (libsodium), without sockets: right and wrong key, forward
+// secrecy (the traffic keys need an ephemeral secret, not K alone), reflected and tampered hellos,
+// the listener proving nothing before the connector has, tampered ciphertext and headers, records
+// deleted, replayed or reordered.
 #include <catch2/catch.hpp>
 
 #include <sys/stat.h>
 #include <unistd.h>
+
+#include <sodium.h>
 
 #include <filesystem>
 #include <fstream>
@@ -18,13 +22,29 @@ namespace {
 struct Pair {
   Handshake connector, listener;
   Pair(const SessionKey& a, const SessionKey& b) : connector(a, Role::Connector), listener(b, Role::Listener) {}
-  // Both hellos, then both proofs; returns {connector's verdict, listener's verdict}.
+  Pair(const SessionKey& key, const std::array<uint8_t, 32>& connector_nonce, const std::array<uint8_t, 32>& listener_nonce)
+      : connector(key, Role::Connector, connector_nonce), listener(key, Role::Listener, listener_nonce) {}
+  // Both hellos; the connector's proof, checked by the listener; then the listener's proof (or,
+  // having refused, its decoy), checked by the connector. Returns {connector's verdict,
+  // listener's verdict}.
   std::pair<std::optional<std::string>, std::optional<std::string>> run() {
     REQUIRE_FALSE(connector.receive_hello(listener.hello()));
     REQUIRE_FALSE(listener.receive_hello(connector.hello()));
-    return {connector.verify_proof(listener.proof()), listener.verify_proof(connector.proof())};
+    auto at_listener = listener.verify_proof(connector.proof());
+    const auto reply = at_listener ? Handshake::decoy_proof() : listener.proof();
+    return {connector.verify_proof(reply), at_listener};
   }
 };
+
+std::array<uint8_t, 32> hash(const std::array<uint8_t, 32>* key, std::initializer_list<std::span<const uint8_t>> parts) {
+  crypto_generichash_state state;
+  crypto_generichash_init(&state, key ? key->data() : nullptr, key ? 32 : 0, 32);
+  for (auto part : parts) crypto_generichash_update(&state, part.data(), part.size());
+  std::array<uint8_t, 32> out{};
+  crypto_generichash_final(&state, out.data(), 32);
+  return out;
+}
+std::span<const uint8_t> text(const char* label) { return {reinterpret_cast<const uint8_t*>(label), std::strlen(label)}; }
 
 }  // namespace
 
@@ -97,10 +117,77 @@ TEST_CASE("handshake with the same key: both verify and derive crosswise traffic
   CHECK(c.send == l.receive);
   CHECK(c.receive == l.send);
   CHECK(c.send != c.receive);
-  // Fresh nonces: a second handshake with the same key gives other traffic keys.
+  // Fresh nonces and ephemeral keys: a second handshake with the same key gives other traffic keys.
   Pair again(key, key);
   again.run();
   CHECK(again.connector.keys().send != c.send);
+  // Once taken, the secrets are wiped: no more keys, but the handshake stays complete.
+  pair.connector.wipe();
+  CHECK(pair.connector.complete());
+  CHECK_THROWS(pair.connector.keys());
+}
+
+TEST_CASE("forward secrecy: the traffic keys need an ephemeral secret, not K and the transcript alone") {
+  const SessionKey key = random_session_key();
+  std::array<uint8_t, 32> nonce_c{}, nonce_l{};
+  nonce_c.fill(7), nonce_l.fill(9);
+  // The same K and the same nonces twice: other ephemeral keys, so other traffic keys.
+  Pair first(key, nonce_c, nonce_l), second(key, nonce_c, nonce_l);
+  REQUIRE_FALSE(first.run().first);
+  REQUIRE_FALSE(second.run().first);
+  const auto hello_c = first.connector.hello(), hello_l = first.listener.hello();
+  CHECK(std::equal(hello_c.begin() + 8, hello_c.begin() + 40, second.connector.hello().begin() + 8));  // same nonce
+  const TrafficKeys keys = first.connector.keys();
+  CHECK(keys.send != second.connector.keys().send);
+  CHECK(keys.receive != second.connector.keys().receive);
+
+  // Someone who recorded both hellos and later learns K: what version 1 derived from them, and
+  // other ways of hashing K with the whole transcript, are none of the keys.
+  const auto h = Handshake::transcript_hash(hello_c, hello_l);
+  const auto nc = std::span(hello_c).subspan(8, 32), nl = std::span(hello_l).subspan(8, 32);
+  const auto k_and_h = hash(&key.bytes, {text("RemoteTouch/2 secret"), h});
+  const std::vector<std::array<uint8_t, 32>> guesses = {
+      hash(&key.bytes, {text("RemoteTouch/1 key connector->listener"), nc, nl}),
+      hash(&key.bytes, {text("RemoteTouch/1 key listener->connector"), nc, nl}),
+      k_and_h,
+      hash(&k_and_h, {text("RemoteTouch/2 key connector->listener")}),
+      hash(&k_and_h, {text("RemoteTouch/2 key listener->connector")}),
+      hash(&key.bytes, {text("RemoteTouch/2 key connector->listener"), hello_c, hello_l}),
+  };
+  for (const auto& guess : guesses) {
+    CHECK(guess != keys.send);
+    CHECK(guess != keys.receive);
+  }
+  // Playing either side again with K, the recorded nonce and the other side's recorded hello
+  // gives other keys too: the ephemeral secret behind the recorded hello is gone.
+  Handshake replay(key, Role::Connector, nonce_c);
+  REQUIRE_FALSE(replay.receive_hello(hello_l));
+  CHECK(replay.hello() != hello_c);
+  // Its proof is not the recorded one: the recorded listener would refuse it.
+  Handshake recorded_listener_stand_in(key, Role::Listener, nonce_l);
+  REQUIRE_FALSE(recorded_listener_stand_in.receive_hello(hello_c));
+  CHECK(recorded_listener_stand_in.verify_proof(replay.proof()));
+}
+
+TEST_CASE("the listener proves the key only after the connector has") {
+  const SessionKey key = random_session_key();
+  Handshake connector(key, Role::Connector), listener(key, Role::Listener);
+  REQUIRE_FALSE(connector.receive_hello(listener.hello()));
+  REQUIRE_FALSE(listener.receive_hello(connector.hello()));
+  CHECK_THROWS_WITH(listener.proof(), Catch::Contains("only after the connector"));
+  auto wrong = connector.proof();
+  wrong[0] ^= 1;
+  CHECK(listener.verify_proof(wrong));
+  CHECK_THROWS(listener.proof());  // still nothing after a wrong proof
+  // What it sends instead proves nothing: the connector, holding the right key, refuses it.
+  CHECK_THAT(*connector.verify_proof(Handshake::decoy_proof()), Catch::Contains("did not prove knowledge"));
+}
+
+TEST_CASE("a weak session key is refused before any handshake") {
+  SessionKey zero;
+  CHECK(is_weak_session_key(zero));
+  CHECK_FALSE(is_weak_session_key(random_session_key()));
+  CHECK_THROWS_WITH(Handshake(zero, Role::Connector), Catch::Contains("weak session key"));
 }
 
 TEST_CASE("handshake with a wrong key is refused on both sides") {
@@ -113,15 +200,74 @@ TEST_CASE("handshake with a wrong key is refused on both sides") {
   CHECK_THROWS(pair.connector.keys());
 }
 
-TEST_CASE("bad hellos: wrong magic, reflected hello, wrong size") {
+TEST_CASE("bad hellos: wrong magic, another version, reserved byte, reflected, wrong size, weak ephemeral key") {
   const SessionKey key = random_session_key();
+  const auto good = Handshake(key, Role::Connector).hello();
+  auto refusal = [&](std::span<const uint8_t> hello) {
+    Handshake listener(key, Role::Listener);
+    auto error = listener.receive_hello(hello);
+    CHECK_THROWS(listener.proof());  // no proof after a refused hello
+    return error.value_or("accepted");
+  };
+  auto tampered = [&](size_t at, uint8_t value) {
+    auto hello = good;
+    hello[at] = value;
+    return refusal(hello);
+  };
+  CHECK_THAT(tampered(0, 'X'), Catch::Contains("bad hello magic"));
+  CHECK_THAT(tampered(4, 1), Catch::Contains("peer speaks protocol version 1, this build version 2"));
+  CHECK_THAT(tampered(5, 1), Catch::Contains("version 258"));
+  CHECK_THAT(tampered(7, 1), Catch::Contains("reserved byte is 1"));
+  CHECK_THAT(tampered(6, uint8_t(Role::Listener)), Catch::Contains("wrong role"));
+  CHECK_THAT(refusal(std::vector<uint8_t>(12)), Catch::Contains("12 bytes"));
+  {
+    Handshake listener(key, Role::Listener);
+    auto reflected = listener.hello();
+    reflected[6] = uint8_t(Role::Connector);
+    CHECK_THAT(*listener.receive_hello(reflected), Catch::Contains("reflected"));
+  }
+  // The prefix alone says the same, before the rest of a hello is awaited: a version 1 peer's
+  // hello is 40 bytes, not 72.
   Handshake listener(key, Role::Listener);
-  auto hello = Handshake(key, Role::Connector).hello();
-  hello[0] = 'X';
-  CHECK_THAT(*listener.receive_hello(hello), Catch::Contains("bad hello magic"));
-  CHECK_THAT(*listener.receive_hello(listener.hello()), Catch::Contains("wrong role"));
-  CHECK_THAT(*listener.receive_hello(std::vector<uint8_t>(12)), Catch::Contains("12 bytes"));
-  CHECK_THROWS(listener.proof());  // no proof before a valid hello
+  auto old = good;
+  old[4] = 1;
+  CHECK_THAT(*listener.check_hello_prefix(std::span(old).first(kHelloPrefixSize)), Catch::Contains("version 1"));
+  CHECK_FALSE(listener.check_hello_prefix(std::span(good).first(kHelloPrefixSize)));
+  // A low-order ephemeral key (the identity here) would make the shared secret public.
+  auto weak = good;
+  std::fill(weak.begin() + 40, weak.end(), 0);
+  CHECK_THAT(refusal(weak), Catch::Contains("weak (low-order) point"));
+  weak[40] = 1;
+  CHECK_THAT(refusal(weak), Catch::Contains("weak (low-order) point"));
+}
+
+TEST_CASE("the transcript covers every byte of both hellos; tampering in transit fails the handshake on both sides") {
+  const SessionKey key = random_session_key();
+  const auto hello_c = Handshake(key, Role::Connector).hello(), hello_l = Handshake(key, Role::Listener).hello();
+  const auto h = Handshake::transcript_hash(hello_c, hello_l);
+  for (size_t i = 0; i < kHelloSize; ++i) {
+    auto c = hello_c, l = hello_l;
+    c[i] ^= 0x10;
+    l[i] ^= 0x10;
+    CHECK(Handshake::transcript_hash(c, hello_l) != h);
+    CHECK(Handshake::transcript_hash(hello_c, l) != h);
+  }
+  CHECK(Handshake::transcript_hash(hello_l, hello_c) != h);  // order counts
+  // A nonce or ephemeral-key byte changed on the way passes the hello's checks, but the two
+  // sides then hold different transcripts (and shared secrets): neither proof verifies.
+  for (const size_t at : {size_t(8), size_t(39), size_t(40), size_t(71)}) {
+    Handshake connector(key, Role::Connector), listener(key, Role::Listener);
+    auto in_transit = connector.hello();
+    in_transit[at] ^= 0x01;
+    REQUIRE_FALSE(connector.receive_hello(listener.hello()));
+    const auto accepted = listener.receive_hello(in_transit);
+    if (accepted) {  // a flipped bit can land on a low-order point
+      CHECK_THAT(*accepted, Catch::Contains("weak"));
+      continue;
+    }
+    CHECK(listener.verify_proof(connector.proof()));
+    CHECK(connector.verify_proof(Handshake::decoy_proof()));
+  }
 }
 
 TEST_CASE("records: round trip, tampering, replay, gaps, oversize") {
@@ -143,8 +289,8 @@ TEST_CASE("records: round trip, tampering, replay, gaps, oversize") {
   REQUIRE(open(first, &plaintext, &reason) == RecordError::None);
   CHECK(plaintext == message);
 
-  SECTION("the same record again is a replay") {
-    CHECK(open(first, &plaintext, &reason) == RecordError::Replay);
+  SECTION("the same record again is out of sequence (a replay)") {
+    CHECK(open(first, &plaintext, &reason) == RecordError::OutOfSequence);
     CHECK_THAT(reason, Catch::Contains("replayed"));
     CHECK(plaintext.empty());
   }
@@ -165,12 +311,28 @@ TEST_CASE("records: round trip, tampering, replay, gaps, oversize") {
     CHECK(wrong.open(std::span(record).first(kRecordHeaderSize), std::span(record).subspan(kRecordHeaderSize), &plaintext,
                      &reason) == RecordError::AuthFailed);
   }
-  SECTION("a skipped record counts as missing, an older one after it as a replay") {
+  SECTION("counters must be consecutive: a gap (a deleted record) is refused") {
+    std::vector<std::vector<uint8_t>> records;
+    for (int counter = 2; counter <= 10; ++counter) records.push_back(sealer.seal(message));
+    REQUIRE(open(records[0], &plaintext, &reason) == RecordError::None);  // counter 2
+    CHECK(open(records[8], &plaintext, &reason) == RecordError::OutOfSequence);  // counter 10
+    CHECK_THAT(reason, Catch::Contains("record 10 out of sequence after 2 (7 deleted on the way)"));
+    CHECK(plaintext.empty());
+    CHECK(opener.last_counter() == 2);  // nothing accepted
+    REQUIRE(open(records[1], &plaintext, &reason) == RecordError::None);  // 3 is still the next
+  }
+  SECTION("going back is refused") {
     const auto second = sealer.seal(message);
     const auto third = sealer.seal(message);
+    REQUIRE(open(second, &plaintext, &reason) == RecordError::None);
     REQUIRE(open(third, &plaintext, &reason) == RecordError::None);
-    CHECK(opener.records_missing() == 1);
-    CHECK(open(second, &plaintext, &reason) == RecordError::Replay);
+    CHECK(open(second, &plaintext, &reason) == RecordError::OutOfSequence);
+    CHECK_THAT(reason, Catch::Contains("replayed or reordered"));
+  }
+  SECTION("reordered: the later one first is a gap") {
+    const auto second = sealer.seal(message);
+    const auto third = sealer.seal(message);
+    CHECK(open(third, &plaintext, &reason) == RecordError::OutOfSequence);
   }
   SECTION("a length over the limit means the stream is out of step") {
     auto record = sealer.seal(message);

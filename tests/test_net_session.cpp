@@ -363,3 +363,136 @@ TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not f
   CHECK(dropped_lines <= 3);
   CHECK(counters.to_json()["handshakes_dropped_for_room"] == counters.handshakes_dropped_for_room);
 }
+
+TEST_CASE("a session refuses a weak key at construction") {
+  test::LogLines log;
+  CHECK_THROWS_WITH(Session(test::test_session_options(Role::Listener, SessionKey{}, log, "B")),
+                    Catch::Contains("session key is weak") && Catch::Contains("keygen"));
+}
+
+namespace {
+
+// A hand-driven connector: a raw socket speaking the handshake through a Handshake object.
+struct RawConnector {
+  asio::io_context io;
+  asio::ip::tcp::socket socket{io};
+  explicit RawConnector(uint16_t port) { socket.connect({asio::ip::make_address("127.0.0.1"), port}); }
+  // Bytes that arrive within `wait` (none: the peer said nothing more); stops at EOF.
+  std::vector<uint8_t> read_for(std::chrono::milliseconds wait, bool* eof = nullptr) {
+    std::vector<uint8_t> got;
+    const auto deadline = std::chrono::steady_clock::now() + wait;
+    socket.non_blocking(true);
+    while (std::chrono::steady_clock::now() < deadline) {
+      uint8_t buffer[256];
+      std::error_code ec;
+      const size_t n = socket.read_some(asio::buffer(buffer), ec);
+      if (ec == asio::error::would_block) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        continue;
+      }
+      if (ec) {
+        if (eof) *eof = true;
+        break;
+      }
+      got.insert(got.end(), buffer, buffer + n);
+    }
+    socket.non_blocking(false);
+    return got;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("the listener sends nothing that proves the key before it has verified the connector's proof") {
+  test::LogLines log;
+  const SessionKey key = random_session_key();
+  Session listener(test::test_session_options(Role::Listener, key, log, "B"));
+  listener.start();
+  {
+    // Hello for hello, then silence: the listener's hello is all it says (nothing keyed), until
+    // its handshake timeout closes the connection.
+    RawConnector raw(listener.local_port());
+    Handshake connector(key, Role::Connector);
+    asio::write(raw.socket, asio::buffer(connector.hello()));
+    bool eof = false;
+    const auto got = raw.read_for(std::chrono::milliseconds(1500), &eof);
+    CHECK(got.size() == kHelloSize);
+    CHECK(eof);
+    REQUIRE(got.size() >= kHelloSize);
+    CHECK_FALSE(connector.receive_hello(std::span(got).first(kHelloSize)));
+    CHECK(log.contains("handshake timed out"));
+  }
+  {
+    // A wrong proof: what comes back is no proof (the connector holds the right key and refuses
+    // it), then the listener closes.
+    RawConnector raw(listener.local_port());
+    Handshake connector(key, Role::Connector);
+    asio::write(raw.socket, asio::buffer(connector.hello()));
+    std::array<uint8_t, kHelloSize> hello{};
+    asio::read(raw.socket, asio::buffer(hello));
+    REQUIRE_FALSE(connector.receive_hello(hello));
+    auto proof = connector.proof();
+    proof[31] ^= 0x80;
+    asio::write(raw.socket, asio::buffer(proof));
+    bool eof = false;
+    const auto reply = raw.read_for(std::chrono::milliseconds(1000), &eof);
+    CHECK(eof);
+    REQUIRE(reply.size() == kProofSize);
+    CHECK_THAT(*connector.verify_proof(reply), Catch::Contains("did not prove knowledge of the session key"));
+    // (Its log line may be held back: refusals are logged once a second at most.)
+    REQUIRE(eventually([&] { return listener.counters().handshakes_refused == 2; }));
+    CHECK_THAT(listener.status().reason, Catch::Contains("did not prove knowledge of the session key"));
+  }
+  {
+    // The right proof: the listener's proof follows and verifies.
+    RawConnector raw(listener.local_port());
+    Handshake connector(key, Role::Connector);
+    asio::write(raw.socket, asio::buffer(connector.hello()));
+    std::array<uint8_t, kHelloSize> hello{};
+    asio::read(raw.socket, asio::buffer(hello));
+    REQUIRE_FALSE(connector.receive_hello(hello));
+    asio::write(raw.socket, asio::buffer(connector.proof()));
+    std::array<uint8_t, kProofSize> proof{};
+    asio::read(raw.socket, asio::buffer(proof));
+    CHECK_FALSE(connector.verify_proof(proof));
+    CHECK(listener.wait_connected(std::chrono::seconds(2)));
+  }
+  CHECK(listener.counters().handshakes_refused == 2);
+  CHECK(listener.counters().handshakes_ok == 1);
+}
+
+TEST_CASE("a peer of the previous protocol version gets a clear error, both ways") {
+  test::LogLines log;
+  const SessionKey key = random_session_key();
+  // Version 1's hello: "RTHS" | version 1 | role | 0 | nonce[32], 40 bytes.
+  auto v1_hello = [](Role role) {
+    std::vector<uint8_t> hello = {'R', 'T', 'H', 'S', 1, 0, uint8_t(role), 0};
+    hello.resize(40, 0x5a);
+    return hello;
+  };
+  Session listener(test::test_session_options(Role::Listener, key, log, "B"));
+  listener.start();
+  RawConnector old_connector(listener.local_port());
+  asio::write(old_connector.socket, asio::buffer(v1_hello(Role::Connector)));
+  REQUIRE(eventually([&] { return listener.counters().handshakes_refused == 1; }));
+  CHECK(log.contains("[B] connection with 127.0.0.1:"));
+  CHECK(log.contains("refused: handshake: the peer speaks protocol version 1, this build version 2"));
+  CHECK(listener.status().state == ConnectionState::Refused);
+  // What the old peer received starts with a hello it can read as far as the version, and refuse.
+  const auto got = old_connector.read_for(std::chrono::milliseconds(300));
+  REQUIRE(got.size() >= 6);
+  CHECK(got[4] == 2);
+
+  // An old listener: the connector refuses it the same way.
+  asio::io_context io;
+  asio::ip::tcp::acceptor old_listener(io, {asio::ip::make_address("127.0.0.1"), 0});
+  auto options = test::test_session_options(Role::Connector, key, log, "A");
+  options.port = old_listener.local_endpoint().port();
+  Session connector(options);
+  connector.start();
+  asio::ip::tcp::socket accepted(io);
+  old_listener.accept(accepted);
+  asio::write(accepted, asio::buffer(v1_hello(Role::Listener)));
+  REQUIRE(eventually([&] { return connector.status().state == ConnectionState::Refused; }));
+  CHECK_THAT(connector.status().reason, Catch::Contains("peer speaks protocol version 1, this build version 2"));
+}

@@ -35,7 +35,7 @@ class DemoCommand : public Command {
     command_->add_option("--delay-ms", options_.delay_ms, "Fault injection: delay every record")->check(CLI::Range(0, 10000));
     command_->add_option("--jitter-ms", options_.jitter_ms, "Fault injection: extra random delay per record")
         ->check(CLI::Range(0, 10000));
-    command_->add_option("--loss", options_.loss, "Fault injection: probability of dropping a record")->check(CLI::Range(0.0, 0.9));
+    command_->add_option("--loss", options_.loss, "Fault injection: probability that a record is lost, which cuts the link there (as a TCP connection that loses data dies)")->check(CLI::Range(0.0, 0.9));
     command_->add_option("--replay-a", options_.replay_a, "Site A plays this recording instead of the scene (site --replay)");
     command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
     command_->add_option("--display", options_.display,

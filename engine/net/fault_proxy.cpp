@@ -15,6 +15,7 @@ namespace rt::net {
 
 nlohmann::json FaultCounts::to_json() const {
   return {{"connections", connections},   {"records_forwarded", records_forwarded}, {"records_dropped", records_dropped},
+          {"records_deleted", records_deleted},
           {"garbage_injections", garbage_injections}, {"garbage_bytes", garbage_bytes}, {"disconnects", disconnects},
           {"bytes_swallowed", bytes_swallowed}};
 }
@@ -33,7 +34,12 @@ struct Pipe {
   int handshake_stage = 0;  // 0: hello next, 1: proof next, 2: records
   bool raw = false;         // framing lost (garbage from an endpoint): forward bytes as they come
   std::vector<uint8_t> buffer;
-  std::deque<std::pair<Clock::time_point, std::vector<uint8_t>>> queue;
+  struct Item {
+    Clock::time_point release;
+    std::vector<uint8_t> bytes;
+    bool cut = false;  // a lost record: the link is cut here, when it would have arrived
+  };
+  std::deque<Item> queue;
   Clock::time_point last_release{};
   bool writing = false, waiting = false;
 };
@@ -66,6 +72,7 @@ struct FaultProxy::Impl {
   std::mt19937 random;
   bool closing = false;
   bool blackhole = false;
+  std::optional<uint32_t> delete_length;  // delete the next record of this ciphertext length
   uint16_t bound_port = 0;
   mutable std::mutex mutex;
   FaultCounts counts;
@@ -159,12 +166,17 @@ struct FaultProxy::Impl {
       counts.bytes_swallowed += bytes.size();
       return;
     }
-    if (is_record && options.loss > 0 && std::uniform_real_distribution<double>(0, 1)(random) < options.loss) {
+    if (is_record && delete_length && &pipe == &p->up && bytes.size() == kRecordHeaderSize + *delete_length) {
+      delete_length.reset();
       std::lock_guard lock(mutex);
-      ++counts.records_dropped;
+      ++counts.records_deleted;
       return;
     }
-    if (is_record) {
+    // TCP loses nothing it delivers: a lost segment is sent again (a delay), or the connection
+    // dies. Only the second is simulated: a lost record cuts the link where it was lost; what
+    // came before it still arrives.
+    const bool lost = is_record && options.loss > 0 && std::uniform_real_distribution<double>(0, 1)(random) < options.loss;
+    if (is_record && !lost) {
       std::lock_guard lock(mutex);
       ++counts.records_forwarded;
     }
@@ -173,23 +185,31 @@ struct FaultProxy::Impl {
       extra = std::chrono::microseconds(std::uniform_int_distribution<int64_t>(0, options.jitter.count())(random));
     const auto release = std::max(pipe.last_release, Clock::now() + options.delay + extra);
     pipe.last_release = release;
-    pipe.queue.emplace_back(release, std::move(bytes));
+    if (lost) bytes.clear();
+    pipe.queue.push_back({release, std::move(bytes), lost});
     drain(p, pipe);
   }
 
   void drain(const PairPtr& p, Pipe& pipe) {
     if (pipe.writing || pipe.waiting || pipe.queue.empty() || p->closed) return;
-    if (pipe.queue.front().first > Clock::now()) {
+    if (pipe.queue.front().release > Clock::now()) {
       pipe.waiting = true;
-      pipe.timer.expires_at(pipe.queue.front().first);
+      pipe.timer.expires_at(pipe.queue.front().release);
       pipe.timer.async_wait([this, p, &pipe](std::error_code) {
         pipe.waiting = false;
         drain(p, pipe);
       });
       return;
     }
+    if (pipe.queue.front().cut) {
+      {
+        std::lock_guard lock(mutex);
+        ++counts.records_dropped;
+      }
+      return close(p);
+    }
     pipe.writing = true;
-    asio::async_write(pipe.to, asio::buffer(pipe.queue.front().second), [this, p, &pipe](std::error_code e, size_t) {
+    asio::async_write(pipe.to, asio::buffer(pipe.queue.front().bytes), [this, p, &pipe](std::error_code e, size_t) {
       pipe.writing = false;
       if (e || p->closed) return close(p);
       pipe.queue.pop_front();
@@ -269,6 +289,10 @@ void FaultProxy::disconnect_now() {
 
 void FaultProxy::inject_garbage_now(size_t bytes) {
   asio::post(impl_->io, [this, bytes] { impl_->garbage(bytes); });
+}
+
+void FaultProxy::delete_next_record(uint32_t ciphertext_length) {
+  asio::post(impl_->io, [this, ciphertext_length] { impl_->delete_length = ciphertext_length; });
 }
 
 void FaultProxy::set_blackhole(bool on) {

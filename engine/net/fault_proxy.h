@@ -2,9 +2,10 @@
 // A loopback TCP proxy that injects faults between the two sessions, for the tests and the demo's
 // fault options: the connector connects to the proxy, the proxy to the listener. It understands
 // only the framing (the two handshake messages, then record headers), never the contents, so it
-// can delay, jitter and drop whole records the way a lossy network would hurt a real stream,
-// cut the connection, or inject garbage bytes. Costs nothing when not used: sessions talk
-// directly when no proxy is set up.
+// can delay and jitter whole records, lose one the way a lossy network hurts a TCP stream (the
+// connection dies there: TCP never delivers a stream with a hole in it), cut the connection,
+// inject garbage bytes, or delete one record as an attacker in the path would. Costs nothing
+// when not used: sessions talk directly when no proxy is set up.
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -17,7 +18,10 @@ namespace rt::net {
 struct FaultOptions {
   std::chrono::microseconds delay{0};   // every record and handshake message, each direction
   std::chrono::microseconds jitter{0};  // plus uniform 0..jitter per record; order is kept (TCP)
-  double loss = 0.0;                    // probability that a record is dropped (never the handshake)
+  // Probability that a record is lost (never the handshake): the link is cut where it was lost,
+  // both directions, as a TCP connection that could not get it through dies; the connector then
+  // reconnects. Records before it still arrive.
+  double loss = 0.0;
   std::optional<std::chrono::milliseconds> disconnect_after;  // cut the connections once, this long after start()
   std::optional<std::chrono::milliseconds> garbage_after;     // inject garbage once, this long after start()
   size_t garbage_bytes = 64;
@@ -26,7 +30,9 @@ struct FaultOptions {
 
 struct FaultCounts {
   uint64_t connections = 0;
-  uint64_t records_forwarded = 0, records_dropped = 0;
+  uint64_t records_forwarded = 0;
+  uint64_t records_dropped = 0;  // lost, each cutting its link
+  uint64_t records_deleted = 0;  // by delete_next_record
   uint64_t garbage_injections = 0, garbage_bytes = 0;
   uint64_t disconnects = 0;
   uint64_t bytes_swallowed = 0;  // by the blackhole
@@ -51,6 +57,10 @@ class FaultProxy {
   // While on, every byte in both directions is swallowed, handshakes too: a link that has gone
   // silent without closing, which only the sessions' heartbeat timeouts can notice.
   void set_blackhole(bool on);
+  // Deletes the next connector-to-listener record of this ciphertext length and forwards the
+  // rest, as an attacker in the path could (the sizes tell message types apart): the receiver's
+  // counters must notice the gap.
+  void delete_next_record(uint32_t ciphertext_length);
   FaultCounts counts() const;
 
  private:

@@ -17,7 +17,7 @@ nlohmann::json NetCounters::to_json() const {
           {"rejected", rejected},
           {"rejected_by_reason", rejected_by_reason},
           {"last_rejection", last_rejection},
-          {"records_missing", records_missing},
+          {"records_out_of_sequence", records_out_of_sequence},
           {"handshakes_ok", handshakes_ok},
           {"handshakes_refused", handshakes_refused},
           {"connections_lost", connections_lost},

@@ -19,7 +19,9 @@ struct NetCounters {
   uint64_t rejected = 0;                              // messages and records refused
   std::map<std::string, uint64_t> rejected_by_reason;  // decode_error_kind_name / record_error_name
   std::string last_rejection;                          // the log line of the latest one
-  uint64_t records_missing = 0;                        // counter gaps: records lost on the way
+  // Authentic records whose counter was not the next one (deleted, replayed or reordered on the
+  // way; TCP itself loses nothing): each ended its connection. Also in rejected_by_reason.
+  uint64_t records_out_of_sequence = 0;
   uint64_t handshakes_ok = 0, handshakes_refused = 0;
   uint64_t connections_lost = 0;
   uint64_t reconnects = 0;  // sessions established after the first

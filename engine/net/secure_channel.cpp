@@ -17,16 +17,22 @@ namespace rt::net {
 namespace {
 
 constexpr uint8_t kHelloMagic[4] = {'R', 'T', 'H', 'S'};
-constexpr uint16_t kHandshakeVersion = 1;
+// Hello: magic 0..3 | version 4..5 | role 6 | reserved 7 | nonce 8..39 | ephemeral public key 40..71.
+constexpr size_t kNonceAt = 8, kEphemeralAt = 40;
+static_assert(kEphemeralAt + 32 == kHelloSize);
 
-// BLAKE2b-256 keyed with `key` over the concatenation of `parts`.
-std::array<uint8_t, 32> keyed_hash(const std::array<uint8_t, 32>& key, std::initializer_list<std::span<const uint8_t>> parts) {
+// BLAKE2b-256 over the concatenation of `parts`, keyed with `key` (unkeyed when it is null).
+std::array<uint8_t, 32> hash_of(const std::array<uint8_t, 32>* key, std::initializer_list<std::span<const uint8_t>> parts) {
   crypto_generichash_state state;
-  crypto_generichash_init(&state, key.data(), key.size(), 32);
+  crypto_generichash_init(&state, key ? key->data() : nullptr, key ? key->size() : 0, 32);
   for (auto part : parts) crypto_generichash_update(&state, part.data(), part.size());
   std::array<uint8_t, 32> out{};
   crypto_generichash_final(&state, out.data(), out.size());
+  sodium_memzero(&state, sizeof state);
   return out;
+}
+std::array<uint8_t, 32> keyed_hash(const std::array<uint8_t, 32>& key, std::initializer_list<std::span<const uint8_t>> parts) {
+  return hash_of(&key, parts);
 }
 
 std::span<const uint8_t> text(const char* label) { return {reinterpret_cast<const uint8_t*>(label), std::strlen(label)}; }
@@ -108,7 +114,7 @@ SessionKey load_session_key_file(const std::filesystem::path& path) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(path.string() + ": " + e.what());
   }
-  if (std::all_of(key.bytes.begin(), key.bytes.end(), [&](uint8_t b) { return b == key.bytes[0]; }))
+  if (is_weak_session_key(key))
     throw std::invalid_argument(name + " holds a weak key (every byte the same): make one with remotetouch keygen FILE");
   if (info.st_mode & (S_IRWXG | S_IRWXO)) {
     char mode[8];
@@ -148,6 +154,10 @@ SessionKey random_session_key() {
   return key;
 }
 
+bool is_weak_session_key(const SessionKey& key) {
+  return std::all_of(key.bytes.begin(), key.bytes.end(), [&](uint8_t b) { return b == key.bytes[0]; });
+}
+
 std::string to_hex(const SessionKey& key) {
   char out[65];
   sodium_bin2hex(out, sizeof out, key.bytes.data(), key.bytes.size());
@@ -158,51 +168,106 @@ const char* role_name(Role role) { return role == Role::Connector ? "connector" 
 
 Handshake::Handshake(const SessionKey& key, Role role) : key_(key.bytes), role_(role) {
   ensure_sodium();
+  if (is_weak_session_key(key)) throw std::invalid_argument("handshake: a weak session key (every byte the same)");
   randombytes_buf(own_nonce_.data(), own_nonce_.size());
+  randombytes_buf(ephemeral_secret_.data(), ephemeral_secret_.size());
+  crypto_scalarmult_base(ephemeral_public_.data(), ephemeral_secret_.data());
 }
 
-Handshake::~Handshake() { sodium_memzero(key_.data(), key_.size()); }
+Handshake::Handshake(const SessionKey& key, Role role, const std::array<uint8_t, 32>& nonce) : Handshake(key, role) {
+  own_nonce_ = nonce;
+}
+
+Handshake::~Handshake() {
+  sodium_memzero(ephemeral_secret_.data(), ephemeral_secret_.size());
+  wipe();
+}
+
+void Handshake::wipe() {
+  sodium_memzero(key_.data(), key_.size());
+  sodium_memzero(secret_.data(), secret_.size());
+  wiped_ = true;
+}
 
 std::array<uint8_t, kHelloSize> Handshake::hello() const {
   std::array<uint8_t, kHelloSize> out{};
   std::memcpy(out.data(), kHelloMagic, 4);
   std::memcpy(out.data() + 4, &kHandshakeVersion, 2);
   out[6] = uint8_t(role_);
-  std::memcpy(out.data() + 8, own_nonce_.data(), 32);
+  out[7] = 0;
+  std::memcpy(out.data() + kNonceAt, own_nonce_.data(), 32);
+  std::memcpy(out.data() + kEphemeralAt, ephemeral_public_.data(), 32);
   return out;
 }
 
-std::optional<std::string> Handshake::receive_hello(std::span<const uint8_t> hello) {
-  if (hello.size() != kHelloSize) return "handshake: hello of " + std::to_string(hello.size()) + " bytes, expected 40";
-  if (std::memcmp(hello.data(), kHelloMagic, 4) != 0) return std::string("handshake: the peer does not speak RemoteTouch (bad hello magic)");
+std::optional<std::string> Handshake::check_hello_prefix(std::span<const uint8_t> prefix) const {
+  if (prefix.size() < kHelloPrefixSize) return std::string("handshake: hello too short");
+  if (std::memcmp(prefix.data(), kHelloMagic, 4) != 0) return std::string("handshake: the peer does not speak RemoteTouch (bad hello magic)");
   uint16_t version = 0;
-  std::memcpy(&version, hello.data() + 4, 2);
+  std::memcpy(&version, prefix.data() + 4, 2);
   if (version != kHandshakeVersion)
-    return "handshake: peer speaks version " + std::to_string(version) + ", this build " + std::to_string(kHandshakeVersion);
+    return "handshake: the peer speaks protocol version " + std::to_string(version) + ", this build version " +
+           std::to_string(kHandshakeVersion) + " (run the same release at both sites)";
   const Role expected = role_ == Role::Connector ? Role::Listener : Role::Connector;
-  if (hello[6] != uint8_t(expected) || hello[7] != 0)
-    return std::string("handshake: peer claims the wrong role (a reflected hello?)");
-  std::memcpy(peer_nonce_.data(), hello.data() + 8, 32);
-  if (sodium_memcmp(peer_nonce_.data(), own_nonce_.data(), 32) == 0)
-    return std::string("handshake: peer echoed our nonce (a reflected hello)");
+  if (prefix[6] != uint8_t(expected)) return std::string("handshake: peer claims the wrong role (a reflected hello?)");
+  if (prefix[7] != 0)
+    return "handshake: the hello's reserved byte is " + std::to_string(prefix[7]) + ", not 0 (tampered with, or a newer peer)";
+  return std::nullopt;
+}
+
+std::array<uint8_t, 32> Handshake::transcript_hash(std::span<const uint8_t> connector_hello,
+                                                    std::span<const uint8_t> listener_hello) {
+  return hash_of(nullptr, {text("RemoteTouch/2 transcript"), connector_hello, listener_hello});
+}
+
+std::optional<std::string> Handshake::receive_hello(std::span<const uint8_t> hello) {
+  if (hello_seen_ || wiped_) return std::string("handshake: a second hello");
+  hello_seen_ = true;
+  // The ephemeral secret serves this one exchange: wiped on every way out.
+  struct Wipe {
+    std::array<uint8_t, 32>& bytes;
+    ~Wipe() { sodium_memzero(bytes.data(), bytes.size()); }
+  } wipe_secret{ephemeral_secret_};
+  if (hello.size() != kHelloSize)
+    return "handshake: hello of " + std::to_string(hello.size()) + " bytes, expected " + std::to_string(kHelloSize);
+  if (auto error = check_hello_prefix(hello)) return error;
+  if (sodium_memcmp(hello.data() + kNonceAt, own_nonce_.data(), 32) == 0 ||
+      sodium_memcmp(hello.data() + kEphemeralAt, ephemeral_public_.data(), 32) == 0)
+    return std::string("handshake: peer echoed our nonce or key (a reflected hello)");
+  std::array<uint8_t, 32> dh{};
+  Wipe wipe_dh{dh};
+  // Fails for a low-order public key (the shared secret would be all zero, known to anyone).
+  if (crypto_scalarmult(dh.data(), ephemeral_secret_.data(), hello.data() + kEphemeralAt) != 0)
+    return std::string("handshake: the peer's ephemeral key is a weak (low-order) point");
+  const auto own = this->hello();
+  const auto h = role_ == Role::Connector ? transcript_hash(own, hello) : transcript_hash(hello, own);
+  secret_ = keyed_hash(key_, {text("RemoteTouch/2 secret"), h, dh});
   have_peer_ = true;
   return std::nullopt;
 }
 
 std::array<uint8_t, kProofSize> Handshake::proof_of(Role role) const {
   const uint8_t role_byte = uint8_t(role);
-  const auto& connector = role_ == Role::Connector ? own_nonce_ : peer_nonce_;
-  const auto& listener = role_ == Role::Connector ? peer_nonce_ : own_nonce_;
-  return keyed_hash(key_, {text("RemoteTouch/1 proof"), {&role_byte, 1}, connector, listener});
+  return keyed_hash(secret_, {text("RemoteTouch/2 proof"), {&role_byte, 1}});
 }
 
 std::array<uint8_t, kProofSize> Handshake::proof() const {
-  if (!have_peer_) throw std::logic_error("handshake: proof before the peer's hello");
+  if (!have_peer_ || wiped_) throw std::logic_error("handshake: proof before the peer's hello");
+  if (role_ == Role::Listener && !verified_)
+    throw std::logic_error("handshake: the listener proves the key only after the connector has");
   return proof_of(role_);
 }
 
+std::array<uint8_t, kProofSize> Handshake::decoy_proof() {
+  ensure_sodium();
+  std::array<uint8_t, kProofSize> out{};
+  randombytes_buf(out.data(), out.size());
+  return out;
+}
+
 std::optional<std::string> Handshake::verify_proof(std::span<const uint8_t> proof) {
-  if (!have_peer_) return std::string("handshake: proof before hello");
+  if (!have_peer_ || wiped_) return std::string("handshake: proof before hello");
+  if (verified_) return std::string("handshake: a second proof");
   if (proof.size() != kProofSize) return std::string("handshake: proof of the wrong size");
   const auto expected = proof_of(role_ == Role::Connector ? Role::Listener : Role::Connector);
   if (sodium_memcmp(expected.data(), proof.data(), kProofSize) != 0)
@@ -213,10 +278,9 @@ std::optional<std::string> Handshake::verify_proof(std::span<const uint8_t> proo
 
 TrafficKeys Handshake::keys() const {
   if (!verified_) throw std::logic_error("handshake: keys before the peer's proof was verified");
-  const auto& connector = role_ == Role::Connector ? own_nonce_ : peer_nonce_;
-  const auto& listener = role_ == Role::Connector ? peer_nonce_ : own_nonce_;
-  const auto to_listener = keyed_hash(key_, {text("RemoteTouch/1 key connector->listener"), connector, listener});
-  const auto to_connector = keyed_hash(key_, {text("RemoteTouch/1 key listener->connector"), connector, listener});
+  if (wiped_) throw std::logic_error("handshake: keys after the secrets were wiped");
+  const auto to_listener = keyed_hash(secret_, {text("RemoteTouch/2 key connector->listener")});
+  const auto to_connector = keyed_hash(secret_, {text("RemoteTouch/2 key listener->connector")});
   TrafficKeys keys;
   keys.send = role_ == Role::Connector ? to_listener : to_connector;
   keys.receive = role_ == Role::Connector ? to_connector : to_listener;
@@ -242,7 +306,7 @@ const char* record_error_name(RecordError error) {
     case RecordError::None: return "none";
     case RecordError::Oversize: return "record_oversize";
     case RecordError::AuthFailed: return "auth_failed";
-    case RecordError::Replay: return "replay";
+    case RecordError::OutOfSequence: return "out_of_sequence";
   }
   return "unknown";
 }
@@ -275,12 +339,12 @@ RecordError RecordOpener::open(std::span<const uint8_t> header, std::span<const 
     *reason = "record " + std::to_string(h.counter) + " failed authentication (tampered, forged or out of step)";
     return RecordError::AuthFailed;
   }
-  if (h.counter <= last_) {
+  if (h.counter != last_ + 1) {
     plaintext->clear();
-    *reason = "record " + std::to_string(h.counter) + " replayed or reordered (last accepted " + std::to_string(last_) + ")";
-    return RecordError::Replay;
+    *reason = "record " + std::to_string(h.counter) + " out of sequence after " + std::to_string(last_) + " (" +
+              (h.counter > last_ ? std::to_string(h.counter - last_ - 1) + " deleted on the way" : "replayed or reordered") + ")";
+    return RecordError::OutOfSequence;
   }
-  missing_ += h.counter - last_ - 1;
   last_ = h.counter;
   return RecordError::None;
 }

@@ -1,5 +1,7 @@
 #include "net/session.h"
 
+#include <sodium.h>
+
 #include <asio.hpp>
 #include <algorithm>
 #include <condition_variable>
@@ -55,7 +57,10 @@ struct Connection {
   std::vector<uint8_t> body_in;
   std::deque<std::vector<uint8_t>> handshake_out;
   std::vector<uint8_t> writing_buffer;
-  bool writing = false, closed = false, sent_proof = false;
+  bool writing = false, closed = false;
+  // Refused, but a decoy proof is still being written: closed once it is out (or on the
+  // handshake timer), so that the connector learns of the refusal as a wrong proof.
+  bool refused = false;
   uint64_t last_rx_us = 0;
   uint64_t opened_us = 0;
   std::string peer, address;  // address: the peer's IP alone, for the per-address cap
@@ -79,6 +84,8 @@ struct Outgoing {
 struct Session::Impl {
   explicit Impl(SessionOptions o) : options(std::move(o)), acceptor(io), connect_timer(io), tick_timer(io), accept_timer(io) {
     ensure_sodium();
+    if (is_weak_session_key(options.key))
+      throw std::invalid_argument("session key is weak (every byte the same, e.g. all zero): make one with remotetouch keygen FILE");
     if (!options.log) options.log = [](const std::string& line) { std::cerr << line << "\n"; };
   }
 
@@ -201,28 +208,55 @@ struct Session::Impl {
     pump(c);
     c->handshake_timer.expires_after(options.handshake_timeout);
     c->handshake_timer.async_wait([this, c](std::error_code e) {
-      if (!e && !c->closed && !c->handshake->complete()) refuse(c, "handshake timed out", false);
+      if (e || c->closed) return;
+      if (c->refused) return close(c);  // the decoy never went out
+      if (!c->handshake->complete()) refuse(c, "handshake timed out", false);
     });
-    asio::async_read(c->socket, asio::buffer(c->hello_in), [this, c](std::error_code e, size_t n) {
+    // The hello's first bytes alone first: a peer of another version gets a clear error, not a
+    // wait for the rest of a hello that may be shorter than ours.
+    asio::async_read(c->socket, asio::buffer(c->hello_in.data(), kHelloPrefixSize), [this, c](std::error_code e, size_t n) {
       count([&](NetCounters& k) { k.bytes_in += n; });
-      if (c->closed) return;
+      if (c->closed || c->refused) return;
       if (e) return refuse(c, "peer closed during the handshake (" + e.message() + ")", false);
-      if (auto error = c->handshake->receive_hello(c->hello_in)) return refuse(c, *error);
+      if (auto error = c->handshake->check_hello_prefix(std::span(c->hello_in).first(kHelloPrefixSize))) return refuse(c, *error);
+      asio::async_read(c->socket, asio::buffer(c->hello_in.data() + kHelloPrefixSize, kHelloSize - kHelloPrefixSize),
+                       [this, c](std::error_code e2, size_t n2) {
+                         count([&](NetCounters& k) { k.bytes_in += n2; });
+                         if (c->closed || c->refused) return;
+                         if (e2) return refuse(c, "peer closed during the handshake (" + e2.message() + ")", false);
+                         if (auto error = c->handshake->receive_hello(c->hello_in)) return refuse(c, *error);
+                         on_hello(c);
+                       });
+    });
+  }
+
+  // The connector proves the key first; the listener proves it only to a connector that has.
+  void on_hello(const ConnectionPtr& c) {
+    if (options.role == Role::Connector) {
       const auto proof = c->handshake->proof();
       c->handshake_out.emplace_back(proof.begin(), proof.end());
-      c->sent_proof = true;
       pump(c);
-      asio::async_read(c->socket, asio::buffer(c->proof_in), [this, c](std::error_code e2, size_t n2) {
-        count([&](NetCounters& k) { k.bytes_in += n2; });
-        if (c->closed) return;
-        if (e2)
-          return refuse(c,
-                        "handshake refused: the peer closed before proving the session key (" + e2.message() +
-                            "; wrong key on one side?)",
-                        false);
-        if (auto error = c->handshake->verify_proof(c->proof_in)) return refuse(c, *error);
-        activate(c);
-      });
+    }
+    asio::async_read(c->socket, asio::buffer(c->proof_in), [this, c](std::error_code e, size_t n) {
+      count([&](NetCounters& k) { k.bytes_in += n; });
+      if (c->closed || c->refused) return;
+      if (e)
+        return refuse(c,
+                      "handshake refused: the peer closed before proving the session key (" + e.message() +
+                          "; wrong key on one side?)",
+                      false);
+      if (auto error = c->handshake->verify_proof(c->proof_in)) {
+        if (options.role == Role::Listener) {
+          const auto decoy = Handshake::decoy_proof();
+          c->handshake_out.emplace_back(decoy.begin(), decoy.end());
+        }
+        return refuse(c, *error);
+      }
+      if (options.role == Role::Listener) {
+        const auto proof = c->handshake->proof();
+        c->handshake_out.emplace_back(proof.begin(), proof.end());
+      }
+      activate(c);
     });
   }
 
@@ -239,10 +273,15 @@ struct Session::Impl {
   // `definite`: the peer said something unacceptable (wrong key, not our protocol): status
   // Refused. Otherwise (timeout, closed) the remote is just not there: status stays Lost or
   // Connecting, with this reason.
+  // Handshake bytes still queued (a listener's decoy proof) go out before the socket closes.
   void refuse(ConnectionPtr c, const std::string& reason, bool definite = true) {
-    if (c->closed) return;
+    if (c->closed || c->refused) return;
     log_limited("refused", "connection with " + c->peer + " refused: " + reason);
-    close(c);
+    c->refused = true;
+    if (c->handshake_out.empty() && !c->writing)
+      close(c);
+    else
+      pump(c);
     count([](NetCounters& k) { ++k.handshakes_refused; });
     if (!active) {
       ConnectionState state = ConnectionState::Refused;
@@ -257,9 +296,11 @@ struct Session::Impl {
 
   void activate(const ConnectionPtr& c) {
     c->handshake_timer.cancel();
-    const TrafficKeys keys = c->handshake->keys();
+    TrafficKeys keys = c->handshake->keys();
+    c->handshake->wipe();
     c->sealer.emplace(keys.send);
     c->opener.emplace(keys.receive, kMaxMessageSize);
+    sodium_memzero(&keys, sizeof keys);
     c->last_rx_us = monotonic_now_us();
     if (active) {
       log("a new authenticated connection from " + c->peer + " replaces the one with " + active->peer);
@@ -327,15 +368,15 @@ struct Session::Impl {
   void on_record(const ConnectionPtr& c) {
     std::vector<uint8_t> plaintext;
     std::string reason;
-    const uint64_t missing_before = c->opener->records_missing();
+    // Every record error ends the connection: a forged or corrupted record, and an authentic one
+    // out of sequence (TCP loses nothing: a gap means one was deleted on the way, perhaps a
+    // touch event picked out by its size). The connector then builds a new one.
     const RecordError error = c->opener->open(c->header_in, c->body_in, &plaintext, &reason);
-    if (error == RecordError::Replay) return reject(record_error_name(error), reason);
     if (error != RecordError::None) {
+      if (error == RecordError::OutOfSequence) count([](NetCounters& k) { ++k.records_out_of_sequence; });
       reject(record_error_name(error), reason);
       return drop(c, reason);
     }
-    if (const uint64_t gap = c->opener->records_missing() - missing_before)
-      count([&](NetCounters& k) { k.records_missing += gap; });
     DecodeError header_error;
     const auto header = decode_header(plaintext, &header_error);
     if (header && header->type == uint16_t(MessageType::Portrait)) {
@@ -424,6 +465,8 @@ struct Session::Impl {
     if (!c->handshake_out.empty()) {
       c->writing_buffer = std::move(c->handshake_out.front());
       c->handshake_out.pop_front();
+    } else if (c->refused) {
+      return close(c);
     } else if (c == active) {
       auto next = next_outgoing();
       if (!next) return;
@@ -443,6 +486,7 @@ struct Session::Impl {
         if (!e && touch_id && !out_touch.empty() && out_touch.front().first == touch_id) out_touch.pop_front();
       }
       if (c->closed) return;
+      if (e && c->refused) return close(c);
       if (e) return c == active ? drop(c, "write failed: " + e.message()) : refuse(c, "write failed: " + e.message(), false);
       pump(c);
     });
