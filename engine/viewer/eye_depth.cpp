@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "viewer/eye_locator.h"
+
 namespace rt {
 
 std::optional<Eigen::Vector3d> surface_along_ray(const Camera& color, const Camera& depth, const HostImage& depth_mm,
@@ -30,19 +32,8 @@ EyePair locate_viewer_eyes_rgbd(EyeDetector& detector, std::span<const Camera> c
     throw std::invalid_argument("locate_viewer_eyes_rgbd: " + std::to_string(images.size()) + " images and " +
                                 std::to_string(depth_images.size()) + " depth images for " + std::to_string(cameras.size()) +
                                 " cameras; pass one of each per camera (empty for none), or no depth at all");
-  std::vector<ViewEyes> views;
   std::string misses;
-  for (size_t i = 0; i < cameras.size(); ++i) {
-    if (images[i].empty()) continue;
-    const EyeDetection detection = detector.detect(images[i]);
-    std::optional<EyePixels> labelled;
-    if (detection.found()) labelled = assign_viewer_sides(cameras[i], detection.image_left_eye, detection.image_right_eye);
-    if (labelled) {
-      views.push_back({i, *labelled});
-    } else {
-      misses += "; camera '" + cameras[i].name + "': " + (detection.found() ? "the eyes cannot be told apart" : detection.message);
-    }
-  }
+  const std::vector<ViewEyes> views = detect_eyes_in_views(detector, cameras, images, misses);
   if (views.size() >= 2) return triangulate_eye_pair(cameras, views, limits);
   EyePair pair;
   for (const ViewEyes& view : views) pair.cameras_seeing_eyes.push_back(view.camera_index);

@@ -4,13 +4,9 @@
 
 namespace rt {
 
-EyePair locate_viewer_eyes(EyeDetector& detector, std::span<const Camera> cameras, std::span<const cv::Mat> images,
-                           const EyePairLimits& limits) {
-  if (images.size() != cameras.size())
-    throw std::invalid_argument("locate_viewer_eyes: " + std::to_string(images.size()) + " images for " +
-                                std::to_string(cameras.size()) + " cameras; pass one image per camera (empty for none)");
+std::vector<ViewEyes> detect_eyes_in_views(EyeDetector& detector, std::span<const Camera> cameras,
+                                           std::span<const cv::Mat> images, std::string& misses) {
   std::vector<ViewEyes> views;
-  std::string misses;
   for (size_t i = 0; i < cameras.size(); ++i) {
     if (images[i].empty()) continue;
     const EyeDetection detection = detector.detect(images[i]);
@@ -23,6 +19,16 @@ EyePair locate_viewer_eyes(EyeDetector& detector, std::span<const Camera> camera
       misses += "; camera '" + cameras[i].name + "': " + why;
     }
   }
+  return views;
+}
+
+EyePair locate_viewer_eyes(EyeDetector& detector, std::span<const Camera> cameras, std::span<const cv::Mat> images,
+                           const EyePairLimits& limits) {
+  if (images.size() != cameras.size())
+    throw std::invalid_argument("locate_viewer_eyes: " + std::to_string(images.size()) + " images for " +
+                                std::to_string(cameras.size()) + " cameras; pass one image per camera (empty for none)");
+  std::string misses;
+  const std::vector<ViewEyes> views = detect_eyes_in_views(detector, cameras, images, misses);
   if (views.size() < 2) {
     EyePair pair;
     pair.failure = views.empty() ? ViewerFailure::EyesNotFound : ViewerFailure::TooFewViews;

@@ -5,12 +5,19 @@
 #include <opencv2/core.hpp>
 
 #include <span>
+#include <string>
+#include <vector>
 
 #include "geometry/camera.h"
 #include "viewer/eye_detector.h"
 #include "viewer/eye_pair.h"
 
 namespace rt {
+
+// The views whose image shows both eyes, labelled by the viewer's side; `misses` gathers why each
+// other view does not take part ("; camera 'NAME': why").
+std::vector<ViewEyes> detect_eyes_in_views(EyeDetector& detector, std::span<const Camera> cameras,
+                                           std::span<const cv::Mat> images, std::string& misses);
 
 // `images[i]` is camera i's color image, distorted as the camera delivers it. A wrong count of
 // images is a programming error and throws std::invalid_argument.
