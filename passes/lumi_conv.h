@@ -1,13 +1,15 @@
 #pragma once
 // Pass: one convolution layer of Lumi-Net with its bias and optional ReLU fused
 // (shaders/lumi_conv.comp): 3x3 or 1x1, zero padding, the same weights for every view.
-//   in:  source tensor (views, in_channels, height, width), parameter buffer (the layer's weights
-//        in PyTorch's order (out, in, ky, kx), then its bias, from a float offset)
+//   in:  source tensor (views, in_channels, height, width), the layer's weights (LumiConvWeights:
+//        uniform buffers made by upload_weights from PyTorch's order (out, in, ky, kx), then the bias)
 //   out: result tensor (views, out_channels, height, width)
 // Channel counts and the kernel size are specialization constants: one kernel per layer shape.
+// One dispatch per group of RT_LUMI_CONV_GROUP output channels, each from its own uniform buffer.
 #include <cstddef>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "passes/common/lumi_tensor.h"
 #include "vulkan/frame_graph.h"
@@ -23,18 +25,34 @@ struct LumiConvShape {
   size_t parameter_count() const { return size_t(out_channels) * in_channels * kernel_size * kernel_size + out_channels; }
 };
 
+// A layer's weights on the device: one uniform buffer per group of output channels.
+struct LumiConvWeights {
+  std::vector<vk::Buffer> groups;
+};
+
 class LumiConvPass {
  public:
   LumiConvPass(vk::Context& context, const LumiConvShape& shape);
   const LumiConvShape& shape() const { return shape_; }
-  // `name` names the pass in the graph (a network has several layers).
-  void add_to(vk::FrameGraph& graph, const std::string& name, vk::Buffer& source, vk::Buffer& parameters,
-              size_t weight_offset, vk::Buffer& result, uint32_t width, uint32_t height, uint32_t views) const;
+  // The layer's parameters from `weight_offset` of `parameters` (PyTorch's order), on the device.
+  LumiConvWeights upload_weights(vk::Context& context, std::span<const float> parameters, size_t weight_offset,
+                                 const std::string& name) const;
+  // `name` names the pass in the graph (a network has several layers); a layer of more than one
+  // group adds a pass per group, the later ones named after their first output channel.
+  void add_to(vk::FrameGraph& graph, const std::string& name, vk::Buffer& source, LumiConvWeights& weights,
+              vk::Buffer& result, uint32_t width, uint32_t height, uint32_t views) const;
 
  private:
   LumiConvShape shape_;
   vk::ComputeKernel kernel_;
 };
+
+uint32_t lumi_conv_groups(const LumiConvShape& shape);
+// What group `group`'s uniform buffer holds (shaders/lumi_conv.comp): the group's bias, then for
+// each input channel, kernel row and column the group's weights, RT_LUMI_CONV_GROUP floats each,
+// zeros past the last output channel.
+std::vector<float> lumi_conv_group_parameters(std::span<const float> parameters, size_t weight_offset,
+                                              const LumiConvShape& shape, uint32_t group);
 
 LumiTensor lumi_conv_reference(const LumiTensor& source, std::span<const float> parameters, size_t weight_offset,
                                const LumiConvShape& shape);

@@ -1,10 +1,14 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // One convolution layer of Lumi-Net, its bias and activation fused: zero padding, stride 1, the
-// same weights for every view (the views are the batch). Each workgroup stages its tile of the
-// input, with the kernel's halo, in shared memory a chunk of channels at a time, so that each
-// input value is read from the buffer once per workgroup rather than once per tap; every
-// invocation then keeps all output channels of its pixel in registers.
+// same weights for every view (the views are the batch). One dispatch computes a group of
+// RT_LUMI_CONV_GROUP output channels. Each workgroup stages its tile of the input, with the
+// kernel's halo, in shared memory a chunk of channels at a time, so that each input value is read
+// from the buffer once per workgroup rather than once per tap; every invocation then keeps its
+// pixel's outputs in four vec4 accumulators. The group's weights come from a uniform buffer, laid
+// out so that one tap's weights for the whole group are four consecutive vec4s: a CPU driver then
+// loads them once for all the pixels it runs side by side, where from a storage buffer it loads
+// them lane by lane, and it would keep an indexed array of sums in memory rather than registers.
 #include "shared/config.h"
 #include "shared/lumi_net.h"
 
@@ -17,8 +21,10 @@ layout(constant_id = 2) const int kernel_size = 1;  // 1 or 3
 layout(constant_id = 3) const bool relu = false;
 
 layout(std430, binding = 0) readonly buffer Source { float source[]; };
-// Weights as PyTorch stores them (out, in, ky, kx), then the bias (out), from weight_offset.
-layout(std430, binding = 1) readonly buffer Parameters { float parameters[]; };
+// The group's bias (four vec4s), then per input channel, row and column of the kernel the group's
+// four vec4s of weights (passes/lumi_conv.h: lumi_conv_group_parameters); zeros past the layer's
+// last output channel.
+layout(std140, binding = 1) uniform Weights { vec4 weights[RT_LUMI_CONV_GROUP_VEC4S]; };
 layout(std430, binding = 2) writeonly buffer Result { float result[]; };
 layout(push_constant) uniform Push { LumiTensorParams params; };
 
@@ -28,19 +34,22 @@ const int tile_h = RT_TILE_Y + 2 * radius;
 // Sized for the largest kernel (3x3), so that the array's size is a plain constant.
 shared float tile[RT_LUMI_CONV_CHANNEL_CHUNK * (RT_TILE_X + 2) * (RT_TILE_Y + 2)];
 
+void store(int view, int o, ivec2 pixel, float value) {
+  if (o >= out_channels) return;
+  const int width = int(params.width), height = int(params.height);
+  result[((view * out_channels + o) * height + pixel.y) * width + pixel.x] = relu ? max(value, 0.0) : value;
+}
+
 void main() {
   const int width = int(params.width), height = int(params.height);
   const int view = int(gl_WorkGroupID.z);
+  const int first_out = int(params.first_output);
   const ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   const ivec2 local = ivec2(gl_LocalInvocationID.xy);
   const ivec2 origin = ivec2(gl_WorkGroupID.xy) * ivec2(RT_TILE_X, RT_TILE_Y) - radius;
   const bool inside = pixel.x < width && pixel.y < height;
-  const int taps = kernel_size * kernel_size;
-  const uint bias_offset = params.weight_offset + uint(out_channels * in_channels * taps);
 
-  float sum[out_channels];
-  for (int o = 0; o < out_channels; ++o) sum[o] = parameters[bias_offset + uint(o)];
-
+  vec4 sum0 = weights[0], sum1 = weights[1], sum2 = weights[2], sum3 = weights[3];
   for (int first = 0; first < in_channels; first += RT_LUMI_CONV_CHANNEL_CHUNK) {
     const int chunk = min(RT_LUMI_CONV_CHANNEL_CHUNK, in_channels - first);
     barrier();  // every invocation is done reading the previous chunk
@@ -60,12 +69,19 @@ void main() {
       for (int ky = 0; ky < kernel_size; ++ky)
         for (int kx = 0; kx < kernel_size; ++kx) {
           const float value = tile[(c * tile_h + local.y + ky) * tile_w + local.x + kx];
-          const uint tap = params.weight_offset + uint(((first + c) * kernel_size + ky) * kernel_size + kx);
-          for (int o = 0; o < out_channels; ++o)
-            sum[o] += parameters[tap + uint(o * in_channels * taps)] * value;
+          const int tap = 4 + 4 * (((first + c) * kernel_size + ky) * kernel_size + kx);
+          // Only the accumulators the layer's outputs need: a head of two does not pay for sixteen.
+          sum0 += weights[tap] * value;
+          if (out_channels > 4) sum1 += weights[tap + 1] * value;
+          if (out_channels > 8) sum2 += weights[tap + 2] * value;
+          if (out_channels > 12) sum3 += weights[tap + 3] * value;
         }
   }
   if (!inside) return;
-  for (int o = 0; o < out_channels; ++o)
-    result[((view * out_channels + o) * height + pixel.y) * width + pixel.x] = relu ? max(sum[o], 0.0) : sum[o];
+  for (int k = 0; k < 4; ++k) {
+    store(view, first_out + k, pixel, sum0[k]);
+    store(view, first_out + 4 + k, pixel, sum1[k]);
+    store(view, first_out + 8 + k, pixel, sum2[k]);
+    store(view, first_out + 12 + k, pixel, sum3[k]);
+  }
 }

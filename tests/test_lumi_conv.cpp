@@ -1,8 +1,9 @@
 // lumi_conv: GPU against the C++ reference on random tensors of odd sizes (1x1, a row, a column,
 // sizes off the 8x8 tile), 3x3 and 1x1, with and without ReLU, channel counts that are not
-// multiples of 4 and counts past the shader's 16-channel chunk (17, 48), 1 to 6 views, a layer at
-// an offset in a larger parameter buffer. Tolerance 1e-5 absolute + 1e-5 relative: the shader sums
-// in the reference's order, only fused multiply-adds differ. By hand: the zero padding at the
+// multiples of 4, counts past the shader's 16-channel chunk (17, 48) and past its 16-output group
+// (20, 33: two and three dispatches), 1 to 6 views, a layer at an offset in a larger parameter
+// buffer. Tolerance 1e-5 absolute + 1e-5 relative: the shader sums in the reference's order, only
+// fused multiply-adds differ. By hand: the zero padding at the
 // borders and a 1x1 layer's plain matrix product. No NaN or Inf.
 #include <random>
 
@@ -17,8 +18,9 @@ passes::LumiTensor run_conv(const passes::LumiTensor& source, const std::vector<
                             const passes::LumiConvShape& shape) {
   const passes::LumiConvPass pass(test::gpu(), shape);
   test::PassHarness gpu("lumi_conv");
-  pass.add_to(gpu.graph(), "lumi_conv", test::input_tensor(gpu, "source", source), gpu.input_buffer("parameters", parameters),
-              offset, test::output_tensor(gpu, "result", source.views, shape.out_channels, source.width, source.height),
+  passes::LumiConvWeights weights = pass.upload_weights(test::gpu(), parameters, offset, "weights");
+  pass.add_to(gpu.graph(), "lumi_conv", test::input_tensor(gpu, "source", source), weights,
+              test::output_tensor(gpu, "result", source.views, shape.out_channels, source.width, source.height),
               source.width, source.height, source.views);
   return test::tensor_of(gpu.run(), "result", source.views, shape.out_channels, source.width, source.height);
 }
@@ -36,7 +38,8 @@ TEST_CASE("lumi_conv on random tensors, odd sizes and channel counts", "[lumi_co
   test::NoValidationErrors no_errors;
   std::mt19937 rng(71);
   const passes::LumiConvShape shapes[] = {
-      {7, 16, 3, true}, {48, 16, 3, true}, {17, 5, 3, false}, {3, 1, 3, true}, {16, 2, 1, false}, {5, 7, 1, true}};
+      {7, 16, 3, true}, {48, 16, 3, true}, {17, 5, 3, false}, {3, 1, 3, true}, {16, 2, 1, false}, {5, 7, 1, true},
+      {5, 20, 3, true}, {6, 33, 1, false}};
   for (const auto& [width, height] : test::lumi_sizes())
     for (const passes::LumiConvShape& shape : shapes)
       for (uint32_t views : {1u, 4u}) {
@@ -86,12 +89,18 @@ TEST_CASE("lumi_conv by hand: zero padding, bias, 1x1 as a matrix product, six v
 
 TEST_CASE("lumi_conv refuses what it cannot run", "[lumi_conv][gpu]") {
   REQUIRE_THROWS_WITH(passes::LumiConvPass(test::gpu(), {4, 4, 5, true}), Catch::Contains("1x1 or 3x3"));
+  // 120 channels of a 3x3 kernel are 1080 taps: more than one group's uniform buffer holds.
+  REQUIRE_THROWS_WITH(passes::LumiConvPass(test::gpu(), {120, 4, 3, true}), Catch::Contains("one uniform buffer"));
   const passes::LumiConvPass pass(test::gpu(), {4, 4, 3, true});
+  const std::vector<float> parameters(10);
+  REQUIRE_THROWS_WITH(pass.upload_weights(test::gpu(), parameters, 0, "weights"), Catch::Contains("too few parameters"));
+  const passes::LumiConvPass other(test::gpu(), {4, 20, 3, true});
+  passes::LumiConvWeights two_groups =
+      other.upload_weights(test::gpu(), std::vector<float>(other.shape().parameter_count()), 0, "weights");
+  REQUIRE(two_groups.groups.size() == 2);
   test::PassHarness gpu("lumi_conv refusal");
   const passes::LumiTensor small(1, 4, 3, 3);
-  const std::vector<float> parameters(10);
-  REQUIRE_THROWS_WITH(pass.add_to(gpu.graph(), "lumi_conv", test::input_tensor(gpu, "source", small),
-                                  gpu.input_buffer("parameters", parameters), 0,
+  REQUIRE_THROWS_WITH(pass.add_to(gpu.graph(), "lumi_conv", test::input_tensor(gpu, "source", small), two_groups,
                                   test::output_tensor(gpu, "result", 1, 4, 3, 3), 3, 3, 1),
-                      Catch::Contains("'parameters' holds fewer floats"));
+                      Catch::Contains("weights for 2 groups"));
 }

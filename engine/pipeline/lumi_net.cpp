@@ -12,7 +12,8 @@ namespace rt::pipeline {
 // Every tensor has its own buffer: the frame graph orders passes by what they read and write,
 // so a buffer written twice in a frame would tie the layers in a cycle.
 struct LumiNetBlender::Buffers {
-  vk::Buffer parameters, inputs, coverage;
+  std::vector<passes::LumiConvWeights> weights;  // one per layer
+  vk::Buffer inputs, coverage;
   std::vector<vk::Buffer> layer_outputs;  // the last one holds the logits
   std::vector<vk::Buffer> pooled;         // one per layer, empty where no pooling feeds it
   vk::Buffer blending_small, blending_full;
@@ -47,7 +48,7 @@ LumiNetBlender::LumiNetBlender(vk::Context& context, ibr::LumiNetModel model, ui
   const size_t small = size_t(passes::lumi_small_size(width, scale)) * passes::lumi_small_size(height, scale);
   const size_t c = model_.shape.channels, v = max_views;
   buffers_ = std::make_unique<Buffers>(Buffers{
-      tensor_buffer(context, "lumi parameters", model_.parameters.size()),
+      {},
       tensor_buffer(context, "lumi inputs", small * v * RT_LUMI_INPUT_CHANNELS),
       tensor_buffer(context, "lumi coverage", small * v),
       {},
@@ -61,7 +62,9 @@ LumiNetBlender::LumiNetBlender(vk::Context& context, ibr::LumiNetModel model, ui
                                    ? tensor_buffer(context, "lumi pooled for " + layer.name, small * v * 3 * c)
                                    : tensor_buffer(context, "lumi unused pool " + layer.name, 1));
   }
-  vk::upload(context, buffers_->parameters, std::as_bytes(std::span(model_.parameters)));
+  for (size_t i = 0; i < layers_.size(); ++i)
+    buffers_->weights.push_back(
+        convs_[i]->upload_weights(context, model_.parameters, layers_[i].offset, "lumi weights " + layers_[i].name));
 }
 
 LumiNetBlender::~LumiNetBlender() = default;
@@ -86,7 +89,7 @@ void LumiNetBlender::add_to(vk::FrameGraph& graph, vk::Image& fused_depth, vk::I
       pool_->add_to(graph, "lumi_pool_" + std::to_string(i), *source, b.coverage, b.pooled[i], sw, sh, view_count);
       source = &b.pooled[i];
     }
-    convs_[i]->add_to(graph, layer.name, *source, b.parameters, layer.offset, b.layer_outputs[i], sw, sh, view_count);
+    convs_[i]->add_to(graph, layer.name, *source, b.weights[i], b.layer_outputs[i], sw, sh, view_count);
     source = &b.layer_outputs[i];
   }
   softmax_.add_to(graph, logits(), b.coverage, b.blending_small, sw, sh, view_count);

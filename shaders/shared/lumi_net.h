@@ -22,6 +22,12 @@ namespace rt::shader_abi {
 // Input channels staged in shared memory per step of the 3x3 convolution: a 10x10 tile of 16
 // channels is 6.4 KiB, well inside the 32 KiB lavapipe offers, at any channel count.
 #define RT_LUMI_CONV_CHANNEL_CHUNK 16
+// Output channels one dispatch of the convolution computes, each invocation in four vec4
+// accumulators: each staged input value then feeds this many multiply-adds.
+#define RT_LUMI_CONV_GROUP 16
+// The vec4s of a group's uniform buffer: 64 KiB, the uniform range NVIDIA's drivers and lavapipe
+// offer. It holds the bias and the weights of 1023 taps (input channels times kernel taps).
+#define RT_LUMI_CONV_GROUP_VEC4S 4096
 // Logits above this count as this, so that +Inf still softmaxes to a finite one-hot weight.
 #define RT_LUMI_MAX_LOGIT 1.0e4
 
@@ -30,7 +36,7 @@ struct LumiTensorParams {
   RT_LUMI_UINT width;
   RT_LUMI_UINT height;
   RT_LUMI_UINT views;
-  RT_LUMI_UINT weight_offset;  // convolution only: the layer's first float in the parameter buffer
+  RT_LUMI_UINT first_output;  // convolution only: the first output channel of the group a dispatch computes
 };
 
 // A pass between the target's full resolution and the network's reduced one.
