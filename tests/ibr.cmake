@@ -10,7 +10,7 @@ add_cli_test(cli_eval_ibr_unknown_camera 1 "remotetouch: error: no camera named 
 add_cli_test(cli_eval_ibr_cameras_and_views 108 "--views excludes --cameras" ${rt} eval ibr --cameras top-centre --views 2)
 add_cli_test(cli_eval_ibr_bad_fusion 105 "--fusion: median not in" ${rt} eval ibr --fusion median)
 add_cli_test(cli_eval_ibr_bad_edge_inset 105 "--edge-inset: Value 0.5 not in range" ${rt} eval ibr --edge-inset 0.5)
-add_cli_test(cli_bench_ibr 0 "roofline .*buffer transfer.*host memcpy.*FMA peak.*6 views: image-based model.*% roofline"
+add_cli_test(cli_bench_ibr 0 "roofline .*buffer transfer.*host memcpy.*FMA peak.*6 views: image-based model.*% roofline.*CPU peer \\(OpenCV.*GPU [0-9.]+x the peer.s speed; portraits agree to [0-9.]+ dB"
              ${rt} bench ibr --frames 1 --width 65 --height 33 --out ${CMAKE_BINARY_DIR}/test-out/bench-ibr)
 # The dual hand at the glass: the receiver's whole chain per touch phase and variant, small.
 add_test(NAME cli_eval_dual_outputs

@@ -99,6 +99,7 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     depth = &i.refined_depth;
   }
   warp_.add_to(*graph_, scene_, *depth, i.color, i.points, i.warped, i.features, views);
+  warp_depth_ = depth;
   vk::Image& blended = resolve_ ? *fine_portrait_ : *portrait_;
   vk::Image& blended_depth = resolve_ ? *fine_portrait_depth_ : *portrait_depth_;
   if (lumi_)
@@ -109,6 +110,10 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
 }
 
 IbrRenderer::~IbrRenderer() = default;
+
+IbrRenderer::WarpInputs IbrRenderer::warp_inputs() {
+  return {table_, *warp_depth_, images_->color, images_->points};
+}
 
 void IbrRenderer::prepare(std::span<const sim::RgbdImage> images, std::span<const size_t> selection,
                          const Camera& target_view) {
@@ -138,7 +143,8 @@ void IbrRenderer::prepare(std::span<const sim::RgbdImage> images, std::span<cons
   }
   Camera rendered_view = target_view;
   if (settings_.supersample > 1) rendered_view.intrinsics = scaled_intrinsics(target_view.intrinsics, settings_.supersample);
-  scene_.write(passes::make_scene_table(rendered_view, selected));
+  table_ = passes::make_scene_table(rendered_view, selected);
+  scene_.write(table_);
   if (uploaded_selection_ != std::vector<size_t>(selection.begin(), selection.end())) {
     vk::upload(context_, images_->depth_rays, passes::depth_ray_atlas(selected));
     uploaded_selection_.assign(selection.begin(), selection.end());

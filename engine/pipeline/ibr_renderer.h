@@ -46,6 +46,15 @@ class IbrRenderer {
   vk::Image& portrait_depth() { return *portrait_depth_; }
   vk::FrameGraph& graph() { return *graph_; }
   const IbrSettings& settings() const { return settings_; }
+  // What the warp reads in the prepared frame (after the graph ran), for a peer to start from the
+  // same surface: the scene table, the depth it warps through, the colour and points atlases.
+  struct WarpInputs {
+    const passes::IbrSceneTable& table;
+    vk::Image& depth;
+    vk::Image& color;
+    vk::Image& points;
+  };
+  WarpInputs warp_inputs();
   // With settings.blending Lumi, the network (its tensors, for benchmarks and checks); else null.
   LumiNetBlender* lumi_net() { return lumi_.get(); }
   const LumiNetBlender* lumi_net() const { return lumi_.get(); }
@@ -65,6 +74,8 @@ class IbrRenderer {
   std::unique_ptr<LumiNetBlender> lumi_;
   std::unique_ptr<passes::IbrResolvePass> resolve_;
   passes::IbrSceneBuffer scene_;
+  passes::IbrSceneTable table_;
+  vk::Image* warp_depth_ = nullptr;  // the fused, carved or refined depth, as the settings say
   std::unique_ptr<Images> images_;
   std::unique_ptr<vk::Image> portrait_, portrait_depth_;
   std::unique_ptr<vk::Image> fine_portrait_, fine_portrait_depth_;  // with supersampling

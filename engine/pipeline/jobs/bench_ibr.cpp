@@ -1,8 +1,10 @@
 // `remotetouch bench ibr`: per-pass GPU ms of the image-based model for 2, 4 and 6 views (or
 // --views N alone; the other image-based-model options apply to every run) at
 // 640x360, 1280x720 and 2560x1440, from the frame graph's timestamps, each pass as a fraction of
-// the roofline measured in the same run (pipeline/roofline.h). The
-// input is one frame of the clap scene rendered by the simulator at the site's full resolution.
+// the roofline measured in the same run (pipeline/roofline.h), and next to the same warp and
+// lumigraph blend run on the CPU with OpenCV (pipeline/ibr_cpu_peer.h) from the same surface, on
+// the same cores: the figure a user would compare the GPU path with. The input is one frame of
+// the clap scene rendered by the simulator at the site's full resolution.
 #include "pipeline/jobs.h"
 
 #include <chrono>
@@ -14,6 +16,7 @@
 #include "pipeline/site_simulator.h"
 #include "geometry/target_view.h"
 #include "ibr/camera_selection.h"
+#include "pipeline/ibr_cpu_peer.h"
 #include "pipeline/roofline.h"
 
 namespace rt::pipeline {
@@ -21,6 +24,33 @@ namespace rt::pipeline {
 namespace {
 
 constexpr uint32_t kWarmUpFrames = 2;
+
+double median_of(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values.empty() ? 0.0 : values[values.size() / 2];
+}
+
+// The peer's portrait against the GPU's where either covers: how far apart the two computations
+// are (the peer samples with OpenCV's fixed-point bilinear weights).
+nlohmann::json compare_portraits(const cv::Mat& peer, const HostImage& gpu) {
+  double squared = 0;
+  size_t covered = 0, alpha_differs = 0;
+  for (int y = 0; y < peer.rows; ++y)
+    for (int x = 0; x < peer.cols; ++x) {
+      const cv::Vec4f p = peer.at<cv::Vec4f>(y, x);
+      const float gpu_alpha = gpu.at(uint32_t(x), uint32_t(y), 3);
+      if (!(p[3] > 0.5f) && !(gpu_alpha > 0.5f)) continue;
+      ++covered;
+      if ((p[3] > 0.5f) != (gpu_alpha > 0.5f)) ++alpha_differs;
+      for (int c = 0; c < 3; ++c) {
+        const double d = double(p[c]) - gpu.at(uint32_t(x), uint32_t(y), uint32_t(c));
+        squared += d * d;
+      }
+    }
+  const double mse = covered ? squared / (3.0 * covered) : 0.0;
+  return {{"psnr_db", mse > 0 ? 10.0 * std::log10(1.0 / mse) : 99.0},
+          {"alpha_differs_fraction", covered ? double(alpha_differs) / covered : 0.0}};
+}
 
 }  // namespace
 
@@ -86,6 +116,47 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
       run["wall_ms_per_frame"] = wall_ms[wall_ms.size() / 2];
       std::printf("\n%ux%u, %u views: image-based model %.2f GPU ms, frame wall %.1f ms\n%s", width, height, views, ibr_ms,
                   run["wall_ms_per_frame"].get<double>(), format_profile(timings, roofline).c_str());
+
+      // The CPU peer from the surface the GPU warped through, timed over as many frames.
+      IbrRenderer::WarpInputs warp = renderer.warp_inputs();
+      const IbrCpuPeerInputs peer_inputs = cpu_peer_inputs(warp.table, vk::download(context, warp.depth),
+                                                           vk::download(context, warp.color), vk::download(context, warp.points));
+      std::vector<double> maps_ms, sample_ms, blend_ms, peer_ms;
+      IbrCpuPeerResult peer;
+      for (uint32_t i = 0; i < options.frames; ++i) {
+        peer = run_ibr_cpu_peer(peer_inputs, settings.warp, settings.blend);
+        maps_ms.push_back(peer.times.maps_ms);
+        sample_ms.push_back(peer.times.sample_ms);
+        blend_ms.push_back(peer.times.blend_ms);
+        peer_ms.push_back(peer.times.total());
+      }
+      double gpu_warp_blend_ms = 0;
+      for (const auto& timing : timings)
+        if (timing.name == "ibr_warp" || timing.name == "ibr_blend") gpu_warp_blend_ms += timing.median_ms;
+      const double peer_total = median_of(peer_ms);
+      run["cpu_peer"] = {{"opencv_threads", cv::getNumThreads()},
+                         {"ms_maps", median_of(maps_ms)},
+                         {"ms_remap", median_of(sample_ms)},
+                         {"ms_blend", median_of(blend_ms)},
+                         {"ms_total", peer_total},
+                         {"gpu_ms_warp_and_blend", gpu_warp_blend_ms},
+                         {"peer_over_gpu", gpu_warp_blend_ms > 0 ? peer_total / gpu_warp_blend_ms : 0.0},
+                         {"against_gpu_portrait", nullptr}};
+      // With supersampling the GPU resolves a finer portrait than the warp's: nothing to compare.
+      const HostImage portrait = vk::download(context, renderer.portrait());
+      if (portrait.width == uint32_t(peer.portrait.cols) && portrait.height == uint32_t(peer.portrait.rows))
+        run["cpu_peer"]["against_gpu_portrait"] = compare_portraits(peer.portrait, portrait);
+      const nlohmann::json& p = run["cpu_peer"];
+      std::printf("CPU peer (OpenCV, %d threads): warp and blend %.2f ms (maps %.2f, remap %.2f, blend %.2f) against the "
+                  "GPU's ibr_warp + ibr_blend %.2f ms: GPU %.2fx the peer's speed",
+                  cv::getNumThreads(), peer_total, p["ms_maps"].get<double>(), p["ms_remap"].get<double>(),
+                  p["ms_blend"].get<double>(), gpu_warp_blend_ms, p["peer_over_gpu"].get<double>());
+      if (p["against_gpu_portrait"].is_null())
+        std::printf(" (portraits not compared: the GPU's is supersampled)\n");
+      else
+        std::printf("; portraits agree to %.1f dB, alpha differs on %.2f %% of the covered pixels\n",
+                    p["against_gpu_portrait"]["psnr_db"].get<double>(),
+                    100.0 * p["against_gpu_portrait"]["alpha_differs_fraction"].get<double>());
       report["runs"].push_back(run);
     }
   std::filesystem::create_directories(options.out);
