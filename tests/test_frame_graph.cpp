@@ -49,6 +49,31 @@ TEST_CASE("a pass runs after the pass that writes what it reads, whatever the or
   CHECK(barriers[1] >= 1);
 }
 
+TEST_CASE("an image copy in the graph runs after its source's writer and before its reader", "[frame_graph][gpu]") {
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  const passes::CopyPass copy(context);
+  Images images(context);
+  std::mt19937 rng(12);
+  const HostImage source = test::random_image(rng, 13, 11, PixelFormat::RGBA32F);
+  vk::upload(context, images.a, source);
+  vk::Image last(context, {"image d", 13, 11, PixelFormat::RGBA32F});
+  vk::FrameGraph graph(context, "test image copy");
+  copy.add_to(graph, images.c, last, "reader");  // reads the transfer's destination
+  graph.add_image_copy("transfer", images.b, images.c);
+  copy.add_to(graph, images.a, images.b, "writer");
+  // a -> b (kernel), b -> c (transfer), c -> d (kernel), whatever the order added.
+  CHECK(graph.execution_order() == std::vector<std::string>{"writer", "transfer", "reader"});
+  graph.run();
+  RT_REQUIRE_MATCHES(vk::download(context, images.c), source, 0.0, 0.0);
+  RT_REQUIRE_MATCHES(vk::download(context, last), source, 0.0, 0.0);
+
+  vk::Image other_size(context, {"image d", 12, 11, PixelFormat::RGBA32F});
+  vk::Image other_format(context, {"image e", 13, 11, PixelFormat::R32F});
+  REQUIRE_THROWS_WITH(graph.add_image_copy("bad", images.a, other_size), Catch::Contains("differ in size or format"));
+  REQUIRE_THROWS_WITH(graph.add_image_copy("bad", images.a, other_format), Catch::Contains("differ in size or format"));
+}
+
 TEST_CASE("passes that read each other's outputs are a cycle, reported by name", "[frame_graph][gpu]") {
   test::NoValidationErrors no_errors;
   vk::Context& context = test::gpu();

@@ -64,6 +64,9 @@ void Receiver::display_loop() {
     hand = std::make_unique<pipeline::HandRenderer>(*common_.context, config::assets_dir() / "hand", common_.width,
                                                     common_.height, common_.options.hand);
     hand->add_to(hand_graph);
+    // The render goes to the compositor on the device: the frame never waits on a host round trip.
+    hand_graph.add_image_copy("hand_color_to_compositor", hand->color(), compositor->hand_color);
+    hand_graph.add_image_copy("hand_mask_to_compositor", hand->mask(), compositor->hand_mask);
     portrait_depth = std::make_unique<vk::Image>(
         *common_.context, vk::ImageDesc{"adaption portrait depth", common_.width, common_.height, PixelFormat::R32F});
     if (common_.window)
@@ -163,8 +166,6 @@ void Receiver::display_loop() {
       if (with_hand) {
         const uint64_t start = monotonic_now_us();
         hand_graph.run();
-        vk::upload(*common_.context, compositor->hand_color, vk::download(*common_.context, hand->color()));
-        vk::upload(*common_.context, compositor->hand_mask, vk::download(*common_.context, hand->mask()));
         hand_wall_.add(double(monotonic_now_us() - start) / 1000.0);
         ++hand_renders_done_;
       }

@@ -178,6 +178,22 @@ void bind_pipeline(const Context& context, VkCommandBuffer commands, const std::
 
 }  // namespace
 
+void FrameGraph::add_image_copy(const std::string& name, Image& source, Image& destination) {
+  if (source.width() != destination.width() || source.height() != destination.height() ||
+      source.pixel_format() != destination.pixel_format())
+    throw std::invalid_argument("pass '" + name + "': '" + source.name() + "' and '" + destination.name() +
+                                "' differ in size or format");
+  add_pass({name,
+            {{&source, access::transfer_read}, {&destination, access::transfer_write}},
+            [&source, &destination](VkCommandBuffer commands) {
+              VkImageCopy region{};
+              region.srcSubresource = region.dstSubresource = {aspect_of(source.pixel_format()), 0, 0, 1};
+              region.extent = {source.width(), source.height(), 1};
+              vkCmdCopyImage(commands, source.image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, destination.image(),
+                             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+            }});
+}
+
 void FrameGraph::add_compute_pass(ComputePassDecl decl) {
   auto fail = [&](const std::string& what) { return std::invalid_argument("pass '" + decl.name + "': " + what); };
   if (!decl.kernel) throw fail("no kernel");

@@ -102,6 +102,8 @@ class FrameGraph {
   FrameGraph& operator=(const FrameGraph&) = delete;
 
   void add_pass(PassDecl pass);
+  // A copy of one image into another of the same size and format, on the device.
+  void add_image_copy(const std::string& name, Image& source, Image& destination);
   void add_compute_pass(ComputePassDecl pass);    // checks bindings, formats and sizes against the shader
   void add_graphics_pass(GraphicsPassDecl pass);  // the same checks, and the targets' formats and sizes
 
