@@ -29,6 +29,6 @@ esac
 grep -q "RenderDoc capture of frame 1" "$out/log.txt"
 capture=$(find "$out/capture" -name '*.rdc' | head -n 1)
 [ -n "$capture" ] || { echo "no .rdc written under $out/capture" >&2; exit 1; }
-/usr/bin/python3 "$here/list_markers.py" "$capture" \
+"$here/check_capture.sh" "$capture" \
   --passes "compose frame" hand_alpha overlay composite \
   --resources "hand mask" "hand alpha" portrait "hand color" fused background display hand_alpha overlay composite
