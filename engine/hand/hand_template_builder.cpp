@@ -152,7 +152,8 @@ class MeshBuilder {
 };
 
 // Rings closing a tube end: a flattened hemisphere from `end` (whose ring it copies) outwards.
-void append_cap(std::vector<Ring>& rings, const Ring& end, const Vector3d& outwards, double length, int count) {
+// `end` is a copy: callers pass rings.back(), which the first push_back may move.
+void append_cap(std::vector<Ring>& rings, const Ring end, const Vector3d& outwards, double length, int count) {
   for (int k = 1; k <= count; ++k) {
     const double phi = std::numbers::pi / 2 * k / count;
     Ring ring = end;
