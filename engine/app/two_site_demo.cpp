@@ -7,6 +7,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -183,7 +184,7 @@ void print_summary(const nlohmann::json& metrics) {
   // replays a recording has no simulator: its entries are absent.
   const std::pair<const char*, const char*> stages[] = {{"simulator", "simulator_render_and_readback"},
                                                         {"ibr", "ibr_render_and_readback"},
-                                                        {"hand", "hand_render_and_readback"},
+                                                        {"hand", "hand_render"},
                                                         {"receiver", "receiver_render_and_readback"}};
   auto per_stage = [&](const nlohmann::json& site, bool gpu) {
     std::string text;
@@ -329,6 +330,26 @@ int run_two_site_demo(const DemoOptions& options) {
         if (line == "done") child->done = true;
         handle_line(*child, line);
       }
+      // A site that ends without finishing fails the demo at once, named as the one that failed;
+      // its peer would otherwise wait out its connect timeout and be reported instead.
+      if (child->eof && !child->done) {
+        close(child->stdout_fd);
+        child->stdout_fd = -1;
+        child->exit_code = wait_child(*child);
+        if (child->exit_code == 0) continue;
+        if (tty) std::cerr << "\n";
+        std::cerr << "demo: site " << child->site << " failed (exit status " << child->exit_code
+                  << ") before it finished; stopping the other site\n";
+        for (Child* other : children)
+          if (other != child && other->stdout_fd >= 0) {
+            kill(other->pid, SIGTERM);
+            close(other->stdout_fd);
+            other->stdout_fd = -1;
+            wait_child(*other);
+          }
+        if (proxy) proxy->stop();
+        return 1;
+      }
     }
     draw_progress(children, tty);
     if (proxy && options.disconnect_after_ms && !disconnected && connected_at &&
@@ -349,10 +370,11 @@ int run_two_site_demo(const DemoOptions& options) {
     }
   }
   if (tty) std::cerr << "\n";
-  for (Child* child : children) {
-    close(child->stdout_fd);
-    child->exit_code = wait_child(*child);
-  }
+  for (Child* child : children)
+    if (child->stdout_fd >= 0) {
+      close(child->stdout_fd);
+      child->exit_code = wait_child(*child);
+    }
   nlohmann::json fault_counts;
   if (proxy) {
     fault_counts = proxy->counts().to_json();

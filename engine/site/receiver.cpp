@@ -253,7 +253,7 @@ void Receiver::add_metrics(nlohmann::json& m, double wall_s) const {
     std::lock_guard lock(appearance_mutex_);
     if (!window_metrics_.is_null()) m["window"] = window_metrics_;
   }
-  m["stage_wall_ms"]["hand_render_and_readback"] = hand_wall_.to_json();
+  m["stage_wall_ms"]["hand_render"] = hand_wall_.to_json();
   m["stage_wall_ms"]["receiver_render_and_readback"] = receiver_wall_.to_json();
   m["latency_ms"]["capture_to_portrait_received"] = portrait_network_.to_json();
   m["latency_ms"]["capture_to_portrait_on_screen"] = portrait_on_screen_.to_json();

@@ -284,9 +284,13 @@ int SiteRun::run() {
   events_.write("waiting_for_peer", monotonic_now_us(), {{"role", options.peer.empty() ? "listener" : "connector"}});
   // Waited for in slices, so that a stop signal ends the wait too.
   const uint64_t give_up_us = monotonic_now_us() + uint64_t(options.connect_timeout_s * 1e6);
+  // A connector whose peer refused it outright (the wrong key, not our protocol) stops at once:
+  // trying again with the same key cannot succeed. A listener keeps waiting for the right peer.
+  const bool connector = !options.peer.empty();
+  auto refused = [&] { return connector && net_->status().state == net::ConnectionState::Refused; };
   bool connected = false;
   while (!(connected = net_->wait_connected(std::chrono::milliseconds(100))) && !g_stop_signal && !window_quit() &&
-         monotonic_now_us() < give_up_us) {
+         !refused() && monotonic_now_us() < give_up_us) {
   }
   if (!connected && window_quit()) {
     std::cerr << "site " << common_.name << ": window closed before the other site connected\n";
@@ -301,9 +305,13 @@ int SiteRun::run() {
   if (!connected) {
     const net::ConnectionStatus status = net_->status();
     events_.write("connect_failed", monotonic_now_us(), {{"state", net::connection_state_name(status.state)}, {"reason", status.reason}});
-    std::cerr << "site " << common_.name << ": no connection to the other site within " << options.connect_timeout_s
-              << " s (" << net::connection_state_name(status.state) << (status.reason.empty() ? "" : ": " + status.reason)
-              << ")\n";
+    if (refused())
+      std::cerr << "site " << common_.name << ": the other site refused the connection (" << status.reason
+                << "); not trying again\n";
+    else
+      std::cerr << "site " << common_.name << ": no connection to the other site within " << options.connect_timeout_s
+                << " s (" << net::connection_state_name(status.state) << (status.reason.empty() ? "" : ": " + status.reason)
+                << ")\n";
     return 2;
   }
   common_.epoch_us = monotonic_now_us();

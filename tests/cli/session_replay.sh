@@ -9,7 +9,8 @@
 #                                                       peer sees the connection end and finishes
 #   session_replay.sh BINARY OUT RECORDING bad-inputs   missing folder, broken calibration.json,
 #                                                       a broken tracker frame, --motor usb without
-#                                                       a board: clear errors
+#                                                       a board: clear errors; the demo with site
+#                                                       B's recording missing names B at once
 set -euo pipefail
 binary=$1 out=$2 recording=$3 mode=$4
 rm -rf "$out"
@@ -56,6 +57,15 @@ if [ "$mode" = bad-inputs ]; then
   # No Arduino on this machine's USB: asking for it fails at start, before any peer is awaited.
   expect_error motor-usb "--motor usb: no Arduino Uno 2341:0043 found" \
     site --site A --motor usb --frames 2 --resolution-scale 0.05 "${common[@]}" --out "$out/motor-usb"
+  # The demo with a site that cannot start: that site is named, at once, not its waiting peer.
+  SECONDS=0
+  expect_error demo-missing-replay "demo: site B failed \(exit status [0-9]+\) before it finished" \
+    demo --replay-b "$out/no-such-recording" --frames 10 --width 32 --height 18 --resolution-scale 0.05 \
+    --display headless --out "$out/demo-missing"
+  grep -q "recording folder '$out/no-such-recording' does not exist" "$out/demo-missing-replay.err" \
+    || fail "the demo did not pass on site B's reason"
+  ! grep -q "demo: site A failed" "$out/demo-missing-replay.err" || fail "the demo blamed site A"
+  [ "$SECONDS" -lt 30 ] || fail "the demo took ${SECONDS} s to report site B's failure"
   echo "bad inputs refused with clear errors"
   exit 0
 fi
