@@ -82,14 +82,18 @@ TEST_CASE("small messages round-trip exactly") {
   CHECK(eye.valid);
   CHECK_FALSE(round_trip<EyeMessage>(EyeMessage{1, {0, 0, 0}, false}).valid);
 
-  const auto touch = round_trip<TouchEventMessage>(TouchEventMessage{99, TouchEventMessage::Kind::End, 1});
+  const auto touch = round_trip<TouchEventMessage>(TouchEventMessage{99, TouchEventMessage::Kind::End, 1, 0xABCDEF0123ull, 41});
   CHECK(touch.timestamp_us == 99);
   CHECK(touch.kind == TouchEventMessage::Kind::End);
   CHECK(touch.site == 1);
+  CHECK(touch.sender_session == 0xABCDEF0123ull);
+  CHECK(touch.sequence == 41);
 
-  const auto heartbeat = round_trip<HeartbeatMessage>(HeartbeatMessage{77, 0xFFFFFFFFFFull});
+  const auto heartbeat = round_trip<HeartbeatMessage>(HeartbeatMessage{77, 0xFFFFFFFFFFull, 0x1234567890ull, 3});
   CHECK(heartbeat.timestamp_us == 77);
   CHECK(heartbeat.sequence == 0xFFFFFFFFFFull);
+  CHECK(heartbeat.touches_acked_session == 0x1234567890ull);
+  CHECK(heartbeat.touches_acked_sequence == 3);
 
   const SkeletonMessage sent = test::test_skeleton(5'000'000);
   const auto skeleton = round_trip<SkeletonMessage>(sent);
@@ -183,13 +187,13 @@ TEST_CASE("malformed headers are rejected with what is wrong") {
   expect_rejected(bytes, DecodeErrorKind::UnknownType, "type 0");
   bytes = good;
   patch_u32(bytes, 8, 17);
-  expect_rejected(bytes, DecodeErrorKind::BadLength, "must be 16");
+  expect_rejected(bytes, DecodeErrorKind::BadLength, "must be 32");
   bytes = encode_message(test::test_portrait(4, 4, 1));
   patch_u32(bytes, 8, kMaxPortraitPayload + 1);
   expect_rejected(bytes, DecodeErrorKind::BadLength, "limit 67108864");
   expect_rejected(std::vector<uint8_t>(good.begin(), good.begin() + 5), DecodeErrorKind::Truncated, "shorter than the 12-byte header");
   expect_rejected({}, DecodeErrorKind::Truncated, "0 bytes");
-  expect_rejected(std::vector<uint8_t>(good.begin(), good.end() - 1), DecodeErrorKind::Truncated, "15 present");
+  expect_rejected(std::vector<uint8_t>(good.begin(), good.end() - 1), DecodeErrorKind::Truncated, "31 present");
   bytes = good;
   bytes.push_back(0);
   expect_rejected(bytes, DecodeErrorKind::TrailingBytes, "1 trailing");
@@ -208,7 +212,7 @@ TEST_CASE("bad values are rejected: NaN, Inf, out of range, bad flags, hand coun
   expect_rejected(eye, DecodeErrorKind::BadValue, "valid flag is 2");
 
   auto touch = encode_message(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
-  touch.back() = 7;
+  touch[kHeaderSize + 9] = 7;  // after the timestamp and the kind
   expect_rejected(touch, DecodeErrorKind::BadValue, "touch site is 7");
 
   auto skeleton = encode_message(test::test_skeleton(10));

@@ -148,7 +148,7 @@ TEST_CASE("a record deleted on the way (a counter gap) is refused, the connectio
   link.connector->send(TouchEventMessage{2, TouchEventMessage::Kind::End, 0});
   REQUIRE(eventually([&] { return link.listener.counters().messages_in[kTouch] == 2; }));
   // The attacker in the path picks the touch events out by their size: 12-byte message header +
-  // 10-byte touch + 16-byte tag.
+  // 26-byte touch + 16-byte tag.
   const uint32_t touch_record = uint32_t(encode_message(TouchEventMessage{}).size() + kRecordTagSize);
   link.proxy->delete_next_record(touch_record);
   link.connector->send(TouchEventMessage{3, TouchEventMessage::Kind::Start, 0});
@@ -164,16 +164,23 @@ TEST_CASE("a record deleted on the way (a counter gap) is refused, the connectio
   // Rebuilt by the connector, as any dead connection is; the session goes on.
   REQUIRE(eventually([&] { return link.connector->counters().reconnects == 1 && link.connector->status().connected(); }));
   link.connector->send(TouchEventMessage{4, TouchEventMessage::Kind::End, 0});
-  REQUIRE(eventually([&] { return link.listener.counters().messages_in[kTouch] == 3; }));
-  // What had arrived before the gap is all there; the deleted touch is gone (it was written, and
-  // there are no application acknowledgements); the one after the new handshake arrived.
+  REQUIRE(eventually([&] { return link.listener.counters().messages_in[kTouch] == 4; }));
+  // What had arrived before the gap is all there, once each; the deleted touch was not
+  // acknowledged, so it went again on the new connection, before the one sent after it.
   const auto touches = link.listener.take_touch_events();
-  REQUIRE(touches.size() == 3);
-  CHECK(touches[0].timestamp_us == 1);
-  CHECK(touches[1].timestamp_us == 2);
-  CHECK(touches[2].timestamp_us == 4);
+  REQUIRE(touches.size() == 4);
+  for (size_t i = 0; i < touches.size(); ++i) {
+    CHECK(touches[i].timestamp_us == i + 1);
+    CHECK(touches[i].sequence == i + 1);
+    CHECK(touches[i].sender_session == touches[0].sender_session);
+  }
+  CHECK(touches[0].sender_session != 0);
   CHECK(link.listener.take_eye().has_value());
   CHECK(link.listener.counters().reconnects == 1);
+  CHECK(link.connector->counters().touches_resent >= 1);
+  // The first two may go again too (a heartbeat's acknowledgement may not have come back before
+  // the cut); any copy is dropped, never delivered twice.
+  CHECK(link.listener.counters().touch_duplicates_in == link.connector->counters().touches_resent - 1);
   link.report("a touch record deleted in the path");
 }
 
@@ -209,6 +216,41 @@ TEST_CASE("a disconnect in the middle: both sides see the remote lost, reconnect
   CHECK(link.proxy->counts().disconnects == 1);
   CHECK(link.log.contains("[A] connection with"));
   link.report("disconnect and reconnect");
+}
+
+TEST_CASE("an acknowledged touch event is not sent again after a reconnect; a new run's touch events are new") {
+  ProxiedLink link(FaultOptions{});
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  link.connector->send(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
+  REQUIRE(eventually([&] { return link.connector->counters().touches_acked == 1; }));
+  link.proxy->disconnect_now();
+  REQUIRE(eventually([&] { return link.connector->counters().reconnects == 1 && link.connector->status().connected(); }));
+  link.connector->send(TouchEventMessage{2, TouchEventMessage::Kind::End, 0});
+  REQUIRE(eventually([&] { return link.listener.counters().messages_in[kTouch] == 2; }));
+  REQUIRE(eventually([&] { return link.connector->counters().touches_acked == 2; }));
+  CHECK(link.connector->counters().touches_resent == 0);
+  CHECK(link.listener.counters().touch_duplicates_in == 0);
+  auto touches = link.listener.take_touch_events();
+  REQUIRE(touches.size() == 2);
+  CHECK(touches[0].sequence == 1);
+  CHECK(touches[1].sequence == 2);
+
+  // The connecting site's run ends and a new one starts: its numbering starts at 1 again, under
+  // a new session id, and the listener takes its touch events as new ones.
+  link.connector.reset();
+  auto options = test::test_session_options(Role::Connector, link.key, link.log, "A");
+  options.port = link.proxy->port();
+  link.connector = std::make_unique<Session>(options);
+  link.connector->start();
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  link.connector->send(TouchEventMessage{3, TouchEventMessage::Kind::Start, 0});
+  REQUIRE(eventually([&] { return link.listener.counters().messages_in[kTouch] == 3; }));
+  touches = link.listener.take_touch_events();
+  REQUIRE(touches.size() == 1);
+  CHECK(touches[0].sequence == 1);
+  CHECK(touches[0].timestamp_us == 3);
+  CHECK(link.listener.counters().touch_duplicates_in == 0);
+  link.report("touch acknowledgements over a reconnect and a new run");
 }
 
 TEST_CASE("garbage in the stream: rejected, the connection is rebuilt, the session goes on") {

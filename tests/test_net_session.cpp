@@ -161,7 +161,7 @@ TEST_CASE("malformed messages from a peer holding the key are rejected, counted,
   Link link;
   link.connector->start();
   REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
-  const auto good = encode_message(TouchEventMessage{5, TouchEventMessage::Kind::End, 0});
+  const auto good = encode_message(TouchEventMessage{5, TouchEventMessage::Kind::End, 0, 1, 1});
   std::vector<std::vector<uint8_t>> bad;
   bad.push_back({1, 2, 3});                       // truncated
   bad.push_back(good), bad.back()[0] = 'x';       // bad magic

@@ -16,8 +16,10 @@ constexpr uint32_t kEyePayload = 8 + 3 * 8 + 1;
 constexpr uint32_t kHandSize = 8 + 4 + 1 + 4 + (5 + kDigitCount * kJointsPerDigit) * 3 * 8 + 2 * 8;
 constexpr uint32_t kSkeletonFixed = 8 + 1;
 constexpr double kMaxHandWidth = 1.0;  // metres: wider is not a hand or a forearm
-constexpr uint32_t kTouchPayload = 8 + 1 + 1;
-constexpr uint32_t kHeartbeatPayload = 8 + 8;
+// Version 3 added the sending session and sequence to touch events and their acknowledgement
+// to heartbeats.
+constexpr uint32_t kTouchPayload = 8 + 1 + 1 + 8 + 8;
+constexpr uint32_t kHeartbeatPayload = 8 + 8 + 8 + 8;
 constexpr uint32_t kPortraitFixed = 8 + 8 + 4 + 4 + 4 * 8 + 16 * 8;
 
 // Thrown inside the decoder only, caught at its top: one place turns a failed check into a result.
@@ -164,9 +166,13 @@ void encode_payload(ByteWriter& w, const Message& message, const EncodeOptions& 
           w.put<uint64_t>(m.timestamp_us);
           w.put<uint8_t>(uint8_t(m.kind));
           w.put<uint8_t>(m.site);
+          w.put<uint64_t>(m.sender_session);
+          w.put<uint64_t>(m.sequence);
         } else {
           w.put<uint64_t>(m.timestamp_us);
           w.put<uint64_t>(m.sequence);
+          w.put<uint64_t>(m.touches_acked_session);
+          w.put<uint64_t>(m.touches_acked_sequence);
         }
       },
       message);
@@ -192,6 +198,8 @@ Message decode_payload(MessageType type, ByteReader& r, const DecodeOptions& opt
       HeartbeatMessage m;
       m.timestamp_us = r.get<uint64_t>();
       m.sequence = r.get<uint64_t>();
+      m.touches_acked_session = r.get<uint64_t>();
+      m.touches_acked_sequence = r.get<uint64_t>();
       return m;
     }
     case MessageType::TouchEvent: {
@@ -199,6 +207,8 @@ Message decode_payload(MessageType type, ByteReader& r, const DecodeOptions& opt
       m.timestamp_us = r.get<uint64_t>();
       m.kind = TouchEventMessage::Kind(get_flag(r, "touch kind"));
       m.site = get_flag(r, "touch site");
+      m.sender_session = r.get<uint64_t>();
+      m.sequence = r.get<uint64_t>();
       return m;
     }
     case MessageType::Skeleton: {

@@ -51,11 +51,20 @@ struct TouchEventMessage {
   uint64_t timestamp_us = 0;
   Kind kind = Kind::Start;
   uint8_t site = 0;  // the site that detected the touch: 0 = A, 1 = B
+  // Stamped by the sending session (net::Session::send): which session sent it (random, one per
+  // run) and its place among that session's touch events, from 1. A touch event is sent again
+  // after a reconnect until the peer acknowledges it; these let the receiver drop the copies.
+  uint64_t sender_session = 0;
+  uint64_t sequence = 0;
 };
 
 struct HeartbeatMessage {
   uint64_t timestamp_us = 0;
   uint64_t sequence = 0;
+  // The newest touch event received from the peer's session `touches_acked_session`, by its
+  // sequence: the peer stops sending those again.
+  uint64_t touches_acked_session = 0;
+  uint64_t touches_acked_sequence = 0;
 };
 
 using Message = std::variant<EyeMessage, PortraitMessage, SkeletonMessage, TouchEventMessage, HeartbeatMessage>;

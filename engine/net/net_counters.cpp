@@ -23,7 +23,11 @@ nlohmann::json NetCounters::to_json() const {
           {"connections_lost", connections_lost},
           {"reconnects", reconnects},
           {"accept_errors", accept_errors},
-          {"handshakes_dropped_for_room", handshakes_dropped_for_room}};
+          {"handshakes_dropped_for_room", handshakes_dropped_for_room},
+          {"touches_acked", touches_acked},
+          {"touches_resent", touches_resent},
+          {"touch_duplicates_in", touch_duplicates_in},
+          {"touches_unacked_dropped", touches_unacked_dropped}};
 }
 
 }  // namespace rt::net

@@ -57,6 +57,7 @@ struct Connection {
   std::vector<uint8_t> body_in;
   std::deque<std::vector<uint8_t>> handshake_out;
   std::vector<uint8_t> writing_buffer;
+  uint64_t touches_written = 0;  // the sequence of the last touch event written on this connection
   bool writing = false, closed = false;
   // Refused, but a decoy proof is still being written: closed once it is out (or on the
   // handshake timer), so that the connector learns of the refusal as a wrong proof.
@@ -76,8 +77,12 @@ constexpr size_t kMaxPendingHandshakesPerAddress = 4;
 struct Outgoing {
   MessageType type;
   std::vector<uint8_t> bytes;
-  uint64_t touch_id = 0;  // nonzero: pop the touch queue once written
+  uint64_t touch_sequence = 0;  // nonzero: a touch event, written up to here once out
 };
+
+// Unacknowledged touch events a session keeps for sending again; touches are a few a second, so
+// only a peer that never acknowledges fills it.
+constexpr size_t kMaxUnackedTouches = 256;
 
 }  // namespace
 
@@ -87,6 +92,8 @@ struct Session::Impl {
     if (is_weak_session_key(options.key))
       throw std::invalid_argument("session key is weak (every byte the same, e.g. all zero): make one with remotetouch keygen FILE");
     if (!options.log) options.log = [](const std::string& line) { std::cerr << line << "\n"; };
+    do randombytes_buf(&touch_session, sizeof touch_session);
+    while (touch_session == 0);
   }
 
   SessionOptions options;
@@ -112,8 +119,14 @@ struct Session::Impl {
 
   mutable std::mutex mutex;  // everything below
   std::optional<std::vector<uint8_t>> out_eye, out_skeleton, out_portrait, out_heartbeat;
+  // Touch events sent and not yet acknowledged by the peer, by sequence, oldest first.
   std::deque<std::pair<uint64_t, std::vector<uint8_t>>> out_touch;
-  uint64_t next_touch_id = 1;
+  uint64_t touch_session = 0;  // random: tells this run's touch sequence from an earlier run's
+  uint64_t next_touch_sequence = 1;
+  uint64_t touches_written_any = 0;  // the newest touch event written on any connection
+  // The newest touch event received, by the sending session and its sequence: acknowledged in
+  // every heartbeat, and older copies dropped.
+  uint64_t peer_touch_session = 0, peer_touch_sequence = 0;
   std::optional<EyeMessage> in_eye;
   std::optional<PortraitMessage> in_portrait;
   std::optional<SkeletonMessage> in_skeleton;
@@ -412,6 +425,26 @@ struct Session::Impl {
 
   void deliver(Message message) {
     const int index = message_type_index(message_type(message));
+    if (const auto* touch = std::get_if<TouchEventMessage>(&message)) {
+      std::lock_guard lock(mutex);
+      if (touch->sender_session != peer_touch_session) {  // the peer's run started again
+        peer_touch_session = touch->sender_session;
+        peer_touch_sequence = 0;
+      }
+      if (touch->sequence <= peer_touch_sequence) {  // sent again after a reconnect, already here
+        ++counters.touch_duplicates_in;
+        return;
+      }
+      peer_touch_sequence = touch->sequence;
+    }
+    if (const auto* heartbeat = std::get_if<HeartbeatMessage>(&message)) {
+      std::lock_guard lock(mutex);
+      if (heartbeat->touches_acked_session == touch_session)
+        while (!out_touch.empty() && out_touch.front().first <= heartbeat->touches_acked_sequence) {
+          out_touch.pop_front();
+          ++counters.touches_acked;
+        }
+    }
     // The mailbox takes the message (moved: a 720p portrait is 18 MB of floats); the handler, if
     // any, gets a copy afterwards, so that a handler seeing a message can already take() it.
     std::optional<Message> for_handler;
@@ -445,9 +478,10 @@ struct Session::Impl {
 
   // ---- writing (network thread) ----
 
-  std::optional<Outgoing> next_outgoing() {
+  std::optional<Outgoing> next_outgoing(const Connection& c) {
     std::lock_guard lock(mutex);
-    if (!out_touch.empty()) return Outgoing{MessageType::TouchEvent, out_touch.front().second, out_touch.front().first};
+    for (const auto& [sequence, bytes] : out_touch)
+      if (sequence > c.touches_written) return Outgoing{MessageType::TouchEvent, bytes, sequence};
     for (auto [slot, type] : {std::pair{&out_heartbeat, MessageType::Heartbeat}, {&out_eye, MessageType::Eye},
                               {&out_skeleton, MessageType::Skeleton}, {&out_portrait, MessageType::Portrait}})
       if (*slot) {
@@ -461,29 +495,35 @@ struct Session::Impl {
   void pump(const ConnectionPtr& c) {
     if (c->writing || c->closed) return;
     std::optional<MessageType> type;
-    uint64_t touch_id = 0;
+    uint64_t touch_sequence = 0;
     if (!c->handshake_out.empty()) {
       c->writing_buffer = std::move(c->handshake_out.front());
       c->handshake_out.pop_front();
     } else if (c->refused) {
       return close(c);
     } else if (c == active) {
-      auto next = next_outgoing();
+      auto next = next_outgoing(*c);
       if (!next) return;
       type = next->type;
-      touch_id = next->touch_id;
+      touch_sequence = next->touch_sequence;
       c->writing_buffer = c->sealer->seal(next->bytes);
     } else {
       return;
     }
     c->writing = true;
-    asio::async_write(c->socket, asio::buffer(c->writing_buffer), [this, c, type, touch_id](std::error_code e, size_t n) {
+    asio::async_write(c->socket, asio::buffer(c->writing_buffer), [this, c, type, touch_sequence](std::error_code e, size_t n) {
       c->writing = false;
       {
         std::lock_guard lock(mutex);
         counters.bytes_out += n;
         if (!e && type) ++counters.messages_out[size_t(message_type_index(*type))];
-        if (!e && touch_id && !out_touch.empty() && out_touch.front().first == touch_id) out_touch.pop_front();
+        if (!e && touch_sequence) {
+          c->touches_written = touch_sequence;
+          if (touch_sequence <= touches_written_any)
+            ++counters.touches_resent;  // written on an earlier connection, not acknowledged
+          else
+            touches_written_any = touch_sequence;
+        }
       }
       if (c->closed) return;
       if (e && c->refused) return close(c);
@@ -583,7 +623,13 @@ struct Session::Impl {
         if (silent_us > uint64_t(options.lost_after.count()) * 1000) {
           drop(active, "no data from the peer for " + std::to_string(silent_us / 1000) + " ms");
         } else {
-          auto bytes = encode_message(HeartbeatMessage{now, ++heartbeat_sequence});
+          HeartbeatMessage heartbeat{now, ++heartbeat_sequence};
+          {
+            std::lock_guard lock(mutex);
+            heartbeat.touches_acked_session = peer_touch_session;
+            heartbeat.touches_acked_sequence = peer_touch_sequence;
+          }
+          auto bytes = encode_message(heartbeat);
           {
             std::lock_guard lock(mutex);
             out_heartbeat = std::move(bytes);
@@ -656,7 +702,25 @@ void Session::stop() {
 
 uint16_t Session::local_port() const { return impl_->bound_port; }
 
-void Session::send(const Message& message) { send_encoded(message_type(message), encode_message(message, impl_->options.encode)); }
+void Session::send(const Message& message) {
+  if (const auto* touch = std::get_if<TouchEventMessage>(&message)) {
+    Impl& s = *impl_;
+    TouchEventMessage stamped = *touch;
+    {
+      std::lock_guard lock(s.mutex);
+      stamped.sender_session = s.touch_session;
+      stamped.sequence = s.next_touch_sequence++;
+      if (s.out_touch.size() >= kMaxUnackedTouches) {
+        s.out_touch.pop_front();
+        ++s.counters.touches_unacked_dropped;
+      }
+      s.out_touch.emplace_back(stamped.sequence, encode_message(stamped));
+    }
+    s.wake();
+    return;
+  }
+  send_encoded(message_type(message), encode_message(message, impl_->options.encode));
+}
 
 void Session::send_encoded(MessageType stream, std::vector<uint8_t> bytes) {
   Impl& s = *impl_;
@@ -671,7 +735,9 @@ void Session::send_encoded(MessageType stream, std::vector<uint8_t> bytes) {
       case MessageType::Skeleton: replace(s.out_skeleton); break;
       case MessageType::Portrait: replace(s.out_portrait); break;
       case MessageType::Heartbeat: replace(s.out_heartbeat); break;
-      case MessageType::TouchEvent: s.out_touch.emplace_back(s.next_touch_id++, std::move(bytes)); break;
+      case MessageType::TouchEvent:  // as encoded: send() is what numbers a touch event
+        s.out_touch.emplace_back(s.next_touch_sequence++, std::move(bytes));
+        break;
     }
   }
   s.wake();

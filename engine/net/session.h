@@ -4,12 +4,12 @@
 // messages of message_codec.h.
 //
 // Sending never blocks on the network. Eye, skeleton and portrait are newest-wins streams: a newer
-// message replaces an older unsent one (counted as stale). Touch events queue and are never
-// dropped: one leaves the queue only once written; after a drop it goes again on the next
-// connection. Received messages land in mailboxes the receiver polls (newest wins; touch events
-// queue), and optionally in a handler called on the network thread. There are no application
-// acknowledgements: a message already handed to a connection that then dies is lost (touch
-// events included, once their write completed).
+// message replaces an older unsent one (counted as stale); one handed to a connection that then
+// dies is lost. Touch events are numbered and acknowledged (in the heartbeats): one stays queued
+// until the peer has acknowledged it, and goes again on the next connection, so a touch written
+// into a connection that died on the way still arrives; the receiver drops the copies. Received
+// messages land in mailboxes the receiver polls (newest wins; touch events queue), and optionally
+// in a handler called on the network thread.
 //
 // A dropped connection (socket error, no data for `lost_after`, a record that breaks the stream)
 // is retried with exponential backoff by the connecting side; the listener keeps accepting, and
@@ -78,7 +78,8 @@ class Session {
   // std::invalid_argument for a message the peer would reject.
   void send(const Message& message);
   // Bytes already encoded (the benchmark times encoding apart), sent as they are on `stream`'s
-  // queue: tests use it to play a peer that holds the key but sends malformed messages.
+  // queue (a touch event with the number and session it carries): tests use it to play a peer
+  // that holds the key but sends malformed messages.
   void send_encoded(MessageType stream, std::vector<uint8_t> bytes);
 
   std::optional<EyeMessage> take_eye();
