@@ -187,13 +187,13 @@ TEST_CASE("malformed headers are rejected with what is wrong") {
   expect_rejected(bytes, DecodeErrorKind::UnknownType, "type 0");
   bytes = good;
   patch_u32(bytes, 8, 17);
-  expect_rejected(bytes, DecodeErrorKind::BadLength, "must be 32");
+  expect_rejected(bytes, DecodeErrorKind::BadLength, "must be 33");
   bytes = encode_message(test::test_portrait(4, 4, 1));
   patch_u32(bytes, 8, kMaxPortraitPayload + 1);
   expect_rejected(bytes, DecodeErrorKind::BadLength, "limit 67108864");
   expect_rejected(std::vector<uint8_t>(good.begin(), good.begin() + 5), DecodeErrorKind::Truncated, "shorter than the 12-byte header");
   expect_rejected({}, DecodeErrorKind::Truncated, "0 bytes");
-  expect_rejected(std::vector<uint8_t>(good.begin(), good.end() - 1), DecodeErrorKind::Truncated, "31 present");
+  expect_rejected(std::vector<uint8_t>(good.begin(), good.end() - 1), DecodeErrorKind::Truncated, "32 present");
   bytes = good;
   bytes.push_back(0);
   expect_rejected(bytes, DecodeErrorKind::TrailingBytes, "1 trailing");

@@ -118,6 +118,34 @@ TEST_CASE("a session delivers all five message types both ways") {
   }
 }
 
+TEST_CASE("a session that stops says goodbye: its peer counts the session's end, not a lost connection") {
+  Link link;
+  link.connector->start();
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  link.connector->send(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
+  link.connector->stop();  // the touch still goes, before the goodbye
+  REQUIRE(eventually([&] { return link.listener.status().state == ConnectionState::Lost; }));
+  const NetCounters c = link.listener.counters();
+  CHECK(c.sessions_ended_by_peer == 1);
+  CHECK(c.connections_lost == 0);
+  CHECK(link.listener.status().reason == "the peer ended its session");
+  CHECK(link.listener.take_touch_events().size() == 1);
+  CHECK(link.log.contains("ended its session"));
+}
+
+// (A link cut without a goodbye counts as lost: test_net_faults, "a disconnect in the middle".)
+TEST_CASE("a listener that stops says goodbye to its connector too") {
+  Link link;
+  link.connector->start();
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  link.listener.stop();
+  REQUIRE(eventually([&] { return link.connector->status().state != ConnectionState::Connected; }));
+  CHECK(link.connector->counters().sessions_ended_by_peer == 1);
+  CHECK(link.connector->counters().connections_lost == 0);
+}
+
 TEST_CASE("a peer with the wrong key is refused on both sides and nothing is delivered") {
   Link link(random_session_key());
   link.listener.set_handler([](const Message&) { FAIL("a message passed a failed handshake"); });

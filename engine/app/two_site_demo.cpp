@@ -205,8 +205,12 @@ void print_summary(const nlohmann::json& metrics) {
   row("touch starts / motor pulses", cell(a["touch"]["starts"], "%.0f") + " / " + cell(a["touch"]["motor_pulses"], "%.0f"),
       cell(b["touch"]["starts"], "%.0f") + " / " + cell(b["touch"]["motor_pulses"], "%.0f"));
   // A site that is still finishing sees the peer close: that loss counts here (events.jsonl says "shutdown").
-  row("connections lost / reconnects (any phase)", cell(a["net"]["connections_lost"], "%.0f") + " / " + cell(a["net"]["reconnects"], "%.0f"),
-      cell(b["net"]["connections_lost"], "%.0f") + " / " + cell(b["net"]["reconnects"], "%.0f"));
+  // A peer that ended its session said so first: that close is not counted as lost.
+  auto links = [&](const nlohmann::json& site) {
+    return cell(site["net"]["connections_lost"], "%.0f") + " / " + cell(site["net"]["reconnects"], "%.0f") + " / " +
+           cell(site["net"]["touches_resent"], "%.0f");
+  };
+  row("connections lost / reconnects / touches resent", links(a), links(b));
   row("PSNR final composite dB (mean)",
       cell(metrics["psnr_db"]["A"]["final_db"]) + " (" + cell(metrics["psnr_db"]["A"]["mean_db"]) + ")",
       cell(metrics["psnr_db"]["B"]["final_db"]) + " (" + cell(metrics["psnr_db"]["B"]["mean_db"]) + ")");

@@ -16,10 +16,10 @@ constexpr uint32_t kEyePayload = 8 + 3 * 8 + 1;
 constexpr uint32_t kHandSize = 8 + 4 + 1 + 4 + (5 + kDigitCount * kJointsPerDigit) * 3 * 8 + 2 * 8;
 constexpr uint32_t kSkeletonFixed = 8 + 1;
 constexpr double kMaxHandWidth = 1.0;  // metres: wider is not a hand or a forearm
-// Version 3 added the sending session and sequence to touch events and their acknowledgement
-// to heartbeats.
+// Version 3 added the sending session and sequence to touch events, and their acknowledgement
+// and the ending flag to heartbeats.
 constexpr uint32_t kTouchPayload = 8 + 1 + 1 + 8 + 8;
-constexpr uint32_t kHeartbeatPayload = 8 + 8 + 8 + 8;
+constexpr uint32_t kHeartbeatPayload = 8 + 8 + 8 + 8 + 1;
 constexpr uint32_t kPortraitFixed = 8 + 8 + 4 + 4 + 4 * 8 + 16 * 8;
 
 // Thrown inside the decoder only, caught at its top: one place turns a failed check into a result.
@@ -173,6 +173,7 @@ void encode_payload(ByteWriter& w, const Message& message, const EncodeOptions& 
           w.put<uint64_t>(m.sequence);
           w.put<uint64_t>(m.touches_acked_session);
           w.put<uint64_t>(m.touches_acked_sequence);
+          w.put<uint8_t>(m.ending ? 1 : 0);
         }
       },
       message);
@@ -200,6 +201,7 @@ Message decode_payload(MessageType type, ByteReader& r, const DecodeOptions& opt
       m.sequence = r.get<uint64_t>();
       m.touches_acked_session = r.get<uint64_t>();
       m.touches_acked_sequence = r.get<uint64_t>();
+      m.ending = get_flag(r, "heartbeat ending flag");
       return m;
     }
     case MessageType::TouchEvent: {

@@ -65,6 +65,8 @@ struct HeartbeatMessage {
   // sequence: the peer stops sending those again.
   uint64_t touches_acked_session = 0;
   uint64_t touches_acked_sequence = 0;
+  // The sender is ending its session: the close that follows is the session's end, not a loss.
+  bool ending = false;
 };
 
 using Message = std::variant<EyeMessage, PortraitMessage, SkeletonMessage, TouchEventMessage, HeartbeatMessage>;

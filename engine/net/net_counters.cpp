@@ -21,6 +21,7 @@ nlohmann::json NetCounters::to_json() const {
           {"handshakes_ok", handshakes_ok},
           {"handshakes_refused", handshakes_refused},
           {"connections_lost", connections_lost},
+          {"sessions_ended_by_peer", sessions_ended_by_peer},
           {"reconnects", reconnects},
           {"accept_errors", accept_errors},
           {"handshakes_dropped_for_room", handshakes_dropped_for_room},

@@ -23,7 +23,8 @@ struct NetCounters {
   // way; TCP itself loses nothing): each ended its connection. Also in rejected_by_reason.
   uint64_t records_out_of_sequence = 0;
   uint64_t handshakes_ok = 0, handshakes_refused = 0;
-  uint64_t connections_lost = 0;
+  uint64_t connections_lost = 0;  // an active connection that died (not a peer's announced end)
+  uint64_t sessions_ended_by_peer = 0;  // the peer said it was ending its session, then closed
   uint64_t reconnects = 0;  // sessions established after the first
   uint64_t accept_errors = 0;  // the listener's accept failed (e.g. out of descriptors)
   uint64_t handshakes_dropped_for_room = 0;  // pending handshakes closed to make room for newer ones

@@ -59,6 +59,7 @@ struct Connection {
   std::vector<uint8_t> writing_buffer;
   uint64_t touches_written = 0;  // the sequence of the last touch event written on this connection
   bool writing = false, closed = false;
+  bool peer_ending = false;  // the peer's last heartbeat said it is ending its session
   // Refused, but a decoy proof is still being written: closed once it is out (or on the
   // handshake timer), so that the connector learns of the refusal as a wrong proof.
   bool refused = false;
@@ -78,7 +79,11 @@ struct Outgoing {
   MessageType type;
   std::vector<uint8_t> bytes;
   uint64_t touch_sequence = 0;  // nonzero: a touch event, written up to here once out
+  bool goodbye = false;         // the heartbeat that ends the session: close once it is out
 };
+
+// How long a session that stops waits for its goodbye to be written (behind a portrait, say).
+constexpr std::chrono::milliseconds kGoodbyeWait{300};
 
 // Unacknowledged touch events a session keeps for sending again; touches are a few a second, so
 // only a peer that never acknowledges fills it.
@@ -87,7 +92,7 @@ constexpr size_t kMaxUnackedTouches = 256;
 }  // namespace
 
 struct Session::Impl {
-  explicit Impl(SessionOptions o) : options(std::move(o)), acceptor(io), connect_timer(io), tick_timer(io), accept_timer(io) {
+  explicit Impl(SessionOptions o) : options(std::move(o)), acceptor(io), connect_timer(io), tick_timer(io), accept_timer(io), goodbye_timer(io) {
     ensure_sodium();
     if (is_weak_session_key(options.key))
       throw std::invalid_argument("session key is weak (every byte the same, e.g. all zero): make one with remotetouch keygen FILE");
@@ -99,7 +104,7 @@ struct Session::Impl {
   SessionOptions options;
   asio::io_context io;  // first: destroyed last
   tcp::acceptor acceptor;
-  asio::steady_timer connect_timer, tick_timer, accept_timer;
+  asio::steady_timer connect_timer, tick_timer, accept_timer, goodbye_timer;
   // Accept errors (no descriptors left, say) persist until something closes: waiting before the
   // next accept, longer each time, keeps the loop from spinning, and one log line a second says
   // how many there were.
@@ -109,6 +114,7 @@ struct Session::Impl {
   std::optional<asio::executor_work_guard<asio::io_context::executor_type>> work;
   std::thread thread;
   bool closing = false;  // network thread only
+  bool goodbye_pending = false;  // network thread only: stopping, the goodbye not yet written
   std::set<ConnectionPtr> connections;
   ConnectionPtr active;
   int backoff_attempt = 0;
@@ -338,9 +344,15 @@ struct Session::Impl {
     close(c);
     if (!was_active) return;
     active.reset();
-    log("connection with " + c->peer + " lost: " + reason);
-    count([](NetCounters& k) { ++k.connections_lost; });
-    set_status(ConnectionState::Lost, reason, c->peer);
+    if (c->peer_ending) {
+      log("the peer " + c->peer + " ended its session");
+      count([](NetCounters& k) { ++k.sessions_ended_by_peer; });
+      set_status(ConnectionState::Lost, "the peer ended its session", c->peer);
+    } else {
+      log("connection with " + c->peer + " lost: " + reason);
+      count([](NetCounters& k) { ++k.connections_lost; });
+      set_status(ConnectionState::Lost, reason, c->peer);
+    }
     if (options.role == Role::Connector) schedule_connect();
   }
 
@@ -401,12 +413,14 @@ struct Session::Impl {
       portrait_wake.notify_one();
       return;
     }
-    decode_and_deliver(plaintext);
+    decode_and_deliver(plaintext, c.get());
   }
 
-  void decode_and_deliver(std::span<const uint8_t> plaintext) {
+  void decode_and_deliver(std::span<const uint8_t> plaintext, Connection* from = nullptr) {
     DecodeResult result = decode_message(plaintext, options.decode);
     if (!result.ok()) return reject(decode_error_kind_name(result.error.kind), result.error.message);
+    if (const auto* heartbeat = std::get_if<HeartbeatMessage>(&*result.message); heartbeat && from)
+      from->peer_ending = from->peer_ending || heartbeat->ending;
     deliver(std::move(*result.message));
   }
 
@@ -485,10 +499,11 @@ struct Session::Impl {
     for (auto [slot, type] : {std::pair{&out_heartbeat, MessageType::Heartbeat}, {&out_eye, MessageType::Eye},
                               {&out_skeleton, MessageType::Skeleton}, {&out_portrait, MessageType::Portrait}})
       if (*slot) {
-        Outgoing o{type, std::move(**slot), 0};
+        Outgoing o{type, std::move(**slot), 0, goodbye_pending && type == MessageType::Heartbeat};
         slot->reset();
         return o;
       }
+    if (goodbye_pending) return std::nullopt;  // nothing more after the goodbye
     return std::nullopt;
   }
 
@@ -496,6 +511,7 @@ struct Session::Impl {
     if (c->writing || c->closed) return;
     std::optional<MessageType> type;
     uint64_t touch_sequence = 0;
+    bool goodbye = false;
     if (!c->handshake_out.empty()) {
       c->writing_buffer = std::move(c->handshake_out.front());
       c->handshake_out.pop_front();
@@ -506,12 +522,13 @@ struct Session::Impl {
       if (!next) return;
       type = next->type;
       touch_sequence = next->touch_sequence;
+      goodbye = next->goodbye;
       c->writing_buffer = c->sealer->seal(next->bytes);
     } else {
       return;
     }
     c->writing = true;
-    asio::async_write(c->socket, asio::buffer(c->writing_buffer), [this, c, type, touch_sequence](std::error_code e, size_t n) {
+    asio::async_write(c->socket, asio::buffer(c->writing_buffer), [this, c, type, touch_sequence, goodbye](std::error_code e, size_t n) {
       c->writing = false;
       {
         std::lock_guard lock(mutex);
@@ -525,6 +542,7 @@ struct Session::Impl {
             touches_written_any = touch_sequence;
         }
       }
+      if (goodbye) return close_all();
       if (c->closed) return;
       if (e && c->refused) return close(c);
       if (e) return c == active ? drop(c, "write failed: " + e.message()) : refuse(c, "write failed: " + e.message(), false);
@@ -613,6 +631,14 @@ struct Session::Impl {
     });
   }
 
+  HeartbeatMessage next_heartbeat() {
+    HeartbeatMessage heartbeat{monotonic_now_us(), ++heartbeat_sequence};
+    std::lock_guard lock(mutex);
+    heartbeat.touches_acked_session = peer_touch_session;
+    heartbeat.touches_acked_sequence = peer_touch_sequence;
+    return heartbeat;
+  }
+
   void tick() {
     tick_timer.expires_after(options.heartbeat_period);
     tick_timer.async_wait([this](std::error_code e) {
@@ -623,13 +649,7 @@ struct Session::Impl {
         if (silent_us > uint64_t(options.lost_after.count()) * 1000) {
           drop(active, "no data from the peer for " + std::to_string(silent_us / 1000) + " ms");
         } else {
-          HeartbeatMessage heartbeat{now, ++heartbeat_sequence};
-          {
-            std::lock_guard lock(mutex);
-            heartbeat.touches_acked_session = peer_touch_session;
-            heartbeat.touches_acked_sequence = peer_touch_sequence;
-          }
-          auto bytes = encode_message(heartbeat);
+          auto bytes = encode_message(next_heartbeat());
           {
             std::lock_guard lock(mutex);
             out_heartbeat = std::move(bytes);
@@ -641,6 +661,8 @@ struct Session::Impl {
     });
   }
 
+  // With a connection up, a last heartbeat says goodbye first, so that the peer takes the close
+  // for the session's end and not a loss; it waits for that write at most kGoodbyeWait.
   void shut_down() {
     closing = true;
     std::error_code ignored;
@@ -648,6 +670,26 @@ struct Session::Impl {
     connect_timer.cancel();
     tick_timer.cancel();
     accept_timer.cancel();
+    if (active && !active->closed) {
+      HeartbeatMessage goodbye = next_heartbeat();
+      goodbye.ending = true;
+      auto bytes = encode_message(goodbye);
+      {
+        std::lock_guard lock(mutex);
+        out_heartbeat = std::move(bytes);
+      }
+      goodbye_pending = true;
+      goodbye_timer.expires_after(kGoodbyeWait);
+      goodbye_timer.async_wait([this](std::error_code) { close_all(); });
+      pump(active);
+      return;
+    }
+    close_all();
+  }
+
+  void close_all() {
+    goodbye_pending = false;
+    goodbye_timer.cancel();
     for (auto c : std::vector<ConnectionPtr>(connections.begin(), connections.end())) close(c);
     active.reset();
   }

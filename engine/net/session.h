@@ -9,7 +9,8 @@
 // until the peer has acknowledged it, and goes again on the next connection, so a touch written
 // into a connection that died on the way still arrives; the receiver drops the copies. Received
 // messages land in mailboxes the receiver polls (newest wins; touch events queue), and optionally
-// in a handler called on the network thread.
+// in a handler called on the network thread. stop() says goodbye (a last heartbeat marked
+// `ending`), so that the peer tells the session's end from a lost connection.
 //
 // A dropped connection (socket error, no data for `lost_after`, a record that breaks the stream)
 // is retried with exponential backoff by the connecting side; the listener keeps accepting, and
