@@ -50,6 +50,7 @@ struct Pair {
   tcp::socket client, server;
   Pipe up, down;  // up: connector -> listener
   bool closed = false;
+  bool swallowed = false;  // the blackhole ate some of its bytes
 };
 using PairPtr = std::shared_ptr<Pair>;
 
@@ -162,6 +163,7 @@ struct FaultProxy::Impl {
 
   void enqueue(const PairPtr& p, Pipe& pipe, std::vector<uint8_t> bytes, bool is_record) {
     if (blackhole) {
+      p->swallowed = true;
       std::lock_guard lock(mutex);
       counts.bytes_swallowed += bytes.size();
       return;
@@ -296,7 +298,15 @@ void FaultProxy::delete_next_record(uint32_t ciphertext_length) {
 }
 
 void FaultProxy::set_blackhole(bool on) {
-  asio::post(impl_->io, [this, on] { impl_->blackhole = on; });
+  asio::post(impl_->io, [this, on] {
+    impl_->blackhole = on;
+    // TCP never skips bytes: a connection that lost some to the outage cannot simply go on, so
+    // when the link comes back it is cut (as a real one would die of its unanswered segments),
+    // and the sessions rebuild it at once instead of waiting out their handshake timeouts.
+    if (!on)
+      for (auto p : std::vector<PairPtr>(impl_->pairs.begin(), impl_->pairs.end()))
+        if (p->swallowed) impl_->close(p);
+  });
 }
 
 FaultCounts FaultProxy::counts() const {

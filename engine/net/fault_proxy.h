@@ -55,7 +55,8 @@ class FaultProxy {
   // Random bytes into the connector-to-listener stream, between two records.
   void inject_garbage_now(size_t bytes);
   // While on, every byte in both directions is swallowed, handshakes too: a link that has gone
-  // silent without closing, which only the sessions' heartbeat timeouts can notice.
+  // silent without closing, which only the sessions' heartbeat timeouts can notice. Turned off,
+  // it cuts the connections whose bytes it swallowed (TCP cannot skip them).
   void set_blackhole(bool on);
   // Deletes the next connector-to-listener record of this ciphertext length and forwards the
   // rest, as an attacker in the path could (the sizes tell message types apart): the receiver's

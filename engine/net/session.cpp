@@ -119,6 +119,8 @@ struct Session::Impl {
   ConnectionPtr active;
   int backoff_attempt = 0;
   bool ever_connected = false;
+  uint64_t attempts_failed_while_lost = 0;  // since the session was last lost, not yet logged
+  std::string last_failed_attempt;
   uint64_t heartbeat_sequence = 0;
   uint16_t bound_port = 0;
   std::function<void(const Message&)> handler;
@@ -295,7 +297,14 @@ struct Session::Impl {
   // Handshake bytes still queued (a listener's decoy proof) go out before the socket closes.
   void refuse(ConnectionPtr c, const std::string& reason, bool definite = true) {
     if (c->closed || c->refused) return;
-    log_limited("refused", "connection with " + c->peer + " refused: " + reason);
+    // While a lost session is being rebuilt, attempts that time out or are closed are expected
+    // (the link is still down): counted, and told once in the line that says it is back.
+    if (!definite && ever_connected && !active) {
+      ++attempts_failed_while_lost;
+      last_failed_attempt = reason;
+    } else {
+      log_limited("refused", "connection with " + c->peer + " refused: " + reason);
+    }
     c->refused = true;
     if (c->handshake_out.empty() && !c->writing)
       close(c);
@@ -331,9 +340,24 @@ struct Session::Impl {
       ++k.handshakes_ok;
       if (ever_connected) ++k.reconnects;
     });
+    uint64_t lost_since_us = 0;
+    {
+      std::lock_guard lock(mutex);
+      if (status.state == ConnectionState::Lost) lost_since_us = status.since_us;
+    }
+    if (ever_connected && lost_since_us) {
+      std::string line = "session re-established with " + c->peer + " after " +
+                         std::to_string((monotonic_now_us() - lost_since_us) / 1000) + " ms";
+      if (attempts_failed_while_lost)
+        line += " (" + std::to_string(attempts_failed_while_lost) + " attempts failed meanwhile, the last: " +
+                last_failed_attempt + ")";
+      log(line);
+    } else {
+      log("session established with " + c->peer + " (" + role_name(options.role) + ")");
+    }
+    attempts_failed_while_lost = 0;
     ever_connected = true;
     set_status(ConnectionState::Connected, "", c->peer);
-    log("session established with " + c->peer + " (" + role_name(options.role) + ")");
     read_record(c);
     pump(c);
   }
