@@ -81,3 +81,9 @@ set_tests_properties(session_site_replay_session session_site_replay_broken-png 
 add_test(NAME session_site_window
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_window.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-window)
 set_tests_properties(session_site_window PROPERTIES TIMEOUT 300 RUN_SERIAL TRUE)
+# A two-minute soak (scripts/soak): a clap every 6 s through a slow, jittery link that is cut now
+# and then; each site's memory flat after warm-up and one touch per cycle. Alone, as a site pair
+# takes both cores.
+add_test(NAME soak_two_minutes
+         COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/soak.py --binary ${rt} 2 --out ${CMAKE_BINARY_DIR}/test-out/soak --check)
+set_tests_properties(soak_two_minutes PROPERTIES LABELS soak RUN_SERIAL TRUE TIMEOUT 600)

@@ -249,6 +249,29 @@ TEST_CASE("start delay, speed and the pose before the start and after the end", 
   CHECK_THROWS_AS(nominal.pose_at(std::nan("")), std::invalid_argument);
 }
 
+TEST_CASE("a repeating motion starts again from its first pose; a period shorter than the motion is refused",
+          "[sim][motion]") {
+  const Seat seat;
+  const UserAppearance user;
+  MotionSpec spec = motion(MotionKind::Clap, {0.02, 0.0});
+  const MotionTrack once(spec, seat, user);
+  spec.repeat_every_s = once.duration_s() + 0.5;
+  const MotionTrack repeating(spec, seat, user);
+  for (double t : {0.0, 0.3, once.duration_s() * 0.5, once.duration_s() - 0.01})
+    for (int cycle : {1, 3}) {
+      const double later = t + cycle * spec.repeat_every_s;
+      CHECK((repeating.pose_at(later).right_hand.palm - once.pose_at(t).right_hand.palm).norm() < 1e-9);
+      CHECK(repeating.pose_at(later).right_hand.timestamp_us == uint64_t(std::llround(later * 1e6)));
+    }
+  // Between the end and the next start, the last pose holds, as a single play does.
+  CHECK((repeating.pose_at(once.duration_s() + 0.25).right_hand.palm - once.pose_at(once.duration_s()).right_hand.palm)
+            .norm() < 1e-9);
+  spec.repeat_every_s = once.duration_s() * 0.5;
+  CHECK_THROWS_WITH(MotionTrack(spec, seat, user), Contains("repeat_every_s") && Contains("shorter than the motion"));
+  CHECK(motion_from_json({{"name", "clap"}, {"repeat_every_s", 8.0}}, "m").repeat_every_s == 8.0);
+  CHECK_THROWS_WITH(motion_from_json({{"name", "clap"}, {"repeat_every_s", -1.0}}, "m"), Contains("'repeat_every_s'"));
+}
+
 TEST_CASE("a touch target out of the arm's reach is refused", "[sim][motion]") {
   const Seat seat;
   CHECK_THROWS_WITH(MotionTrack(motion(MotionKind::Clap, {-0.7, 0.4}), seat, with_hand_scale(0.8)),

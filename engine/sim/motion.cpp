@@ -157,7 +157,7 @@ std::optional<MotionKind> motion_kind_from_name(std::string_view name) {
 }
 
 MotionSpec motion_from_json(const nlohmann::json& json, const std::string& where) {
-  reject_unknown_fields(json, {"name", "touch_target_m", "start_delay_s", "hold_s", "speed"}, where);
+  reject_unknown_fields(json, {"name", "touch_target_m", "start_delay_s", "hold_s", "speed", "repeat_every_s"}, where);
   MotionSpec spec;
   const std::string name = config::require_string(json, "name", where);
   const std::optional<MotionKind> kind = motion_kind_from_name(name);
@@ -167,6 +167,7 @@ MotionSpec motion_from_json(const nlohmann::json& json, const std::string& where
   if (json.contains("start_delay_s")) spec.start_delay_s = require_in_range(json, "start_delay_s", where, 0.0, 3600.0);
   if (json.contains("hold_s")) spec.hold_s = require_in_range(json, "hold_s", where, 0.0, 3600.0);
   if (json.contains("speed")) spec.speed = require_in_range(json, "speed", where, 0.25, 4.0);
+  if (json.contains("repeat_every_s")) spec.repeat_every_s = require_in_range(json, "repeat_every_s", where, 0.0, 3600.0);
   return spec;
 }
 
@@ -175,7 +176,8 @@ nlohmann::json motion_to_json(const MotionSpec& spec) {
           {"touch_target_m", to_json(spec.touch_target_m)},
           {"start_delay_s", spec.start_delay_s},
           {"hold_s", spec.hold_s},
-          {"speed", spec.speed}};
+          {"speed", spec.speed},
+          {"repeat_every_s", spec.repeat_every_s}};
 }
 
 void MotionTrack::add(double after_s, const BodyKey& body) {
@@ -241,10 +243,17 @@ MotionTrack::MotionTrack(const MotionSpec& spec, const Seat& seat, const UserApp
       retract_from_touch();
       break;
   }
+  if (!(spec.repeat_every_s >= 0) || !std::isfinite(spec.repeat_every_s))
+    throw std::invalid_argument("motion repeat_every_s must be >= 0");
+  if (spec.repeat_every_s > 0 && spec.repeat_every_s < duration_s())
+    throw std::invalid_argument("motion repeat_every_s (" + std::to_string(spec.repeat_every_s) +
+                                " s) is shorter than the motion itself (" + std::to_string(duration_s()) + " s)");
 }
 
 PersonPose MotionTrack::pose_at(double t_s) const {
   if (!std::isfinite(t_s)) throw std::invalid_argument("motion time must be finite");
+  const double breath_t_s = t_s;
+  if (spec_.repeat_every_s > 0 && t_s > 0) t_s = std::fmod(t_s, spec_.repeat_every_s);
   const auto next = std::upper_bound(keys_.begin(), keys_.end(), t_s,
                                      [](double t, const Keyframe& key) { return t < key.t_s; });
   BodyKey key;
@@ -257,8 +266,8 @@ PersonPose MotionTrack::pose_at(double t_s) const {
     const double span = next->t_s - previous.t_s;
     key = span > 0 ? blend(previous.body, next->body, smoothstep((t_s - previous.t_s) / span)) : next->body;
   }
-  key.lean_rad += kBreathLeanRad * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * t_s / kBreathPeriodS));
-  const uint64_t timestamp_us = t_s > 0 ? uint64_t(std::llround(t_s * 1e6)) : 0;
+  key.lean_rad += kBreathLeanRad * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * breath_t_s / kBreathPeriodS));
+  const uint64_t timestamp_us = breath_t_s > 0 ? uint64_t(std::llround(breath_t_s * 1e6)) : 0;
   return pose_person(body_, key, timestamp_us);
 }
 

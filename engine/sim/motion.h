@@ -39,9 +39,13 @@ struct MotionSpec {
   double start_delay_s = 0.0;  // the first pose is held this long
   double hold_s = 1.0;         // time the palm stays on the glass (touch_hold, fast_approach, clap)
   double speed = 1.0;          // > 1 plays the moves faster (not the hold)
+  // > 0: the motion starts again from its first pose this often, seconds (a long soak run of a
+  // short scene); at least the motion's own length. 0: it plays once and holds its last pose.
+  double repeat_every_s = 0.0;
 };
 
-// JSON: {"name": "clap", "touch_target_m": [x, y], "start_delay_s", "hold_s", "speed"}; all but
+// JSON: {"name": "clap", "touch_target_m": [x, y], "start_delay_s", "hold_s", "speed",
+// "repeat_every_s"}; all but
 // the name are optional. Errors start with `where`.
 MotionSpec motion_from_json(const nlohmann::json& json, const std::string& where);
 nlohmann::json motion_to_json(const MotionSpec& spec);
@@ -57,7 +61,8 @@ class MotionTrack {
   MotionTrack(const MotionSpec& spec, const Seat& seat, const UserAppearance& appearance);
 
   PersonPose pose_at(double t_s) const;
-  // When the last keyframe is reached; the pose holds after it (and before 0).
+  // When the last keyframe is reached; the pose holds after it (and before 0), unless the spec
+  // repeats the motion.
   double duration_s() const { return keys_.back().t_s; }
   const BodyGeometry& body() const { return body_; }
   const MotionSpec& spec() const { return spec_; }
