@@ -87,3 +87,7 @@ set_tests_properties(session_site_window PROPERTIES TIMEOUT 300 RUN_SERIAL TRUE)
 add_test(NAME soak_two_minutes
          COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/soak.py --binary ${rt} 2 --out ${CMAKE_BINARY_DIR}/test-out/soak --check)
 set_tests_properties(soak_two_minutes PROPERTIES LABELS soak RUN_SERIAL TRUE TIMEOUT 600)
+# A flood of garbage connections at a listening site: memory, log and the real peer's way in.
+add_test(NAME session_site_flood
+         COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/cli/site_under_flood.py ${rt} ${CMAKE_BINARY_DIR}/test-out/site-flood)
+set_tests_properties(session_site_flood PROPERTIES RUN_SERIAL TRUE TIMEOUT 300)

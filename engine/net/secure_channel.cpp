@@ -201,6 +201,14 @@ std::array<uint8_t, kHelloSize> Handshake::hello() const {
 }
 
 std::optional<std::string> Handshake::check_hello_prefix(std::span<const uint8_t> prefix) const {
+  return check_hello_prefix(prefix, role_);
+}
+
+bool Handshake::has_hello_magic(std::span<const uint8_t> prefix) {
+  return prefix.size() >= 4 && std::memcmp(prefix.data(), kHelloMagic, 4) == 0;
+}
+
+std::optional<std::string> Handshake::check_hello_prefix(std::span<const uint8_t> prefix, Role own_role) {
   if (prefix.size() < kHelloPrefixSize) return std::string("handshake: hello too short");
   if (std::memcmp(prefix.data(), kHelloMagic, 4) != 0) return std::string("handshake: the peer does not speak RemoteTouch (bad hello magic)");
   uint16_t version = 0;
@@ -208,7 +216,7 @@ std::optional<std::string> Handshake::check_hello_prefix(std::span<const uint8_t
   if (version != kHandshakeVersion)
     return "handshake: the peer speaks protocol version " + std::to_string(version) + ", this build version " +
            std::to_string(kHandshakeVersion) + " (run the same release at both sites)";
-  const Role expected = role_ == Role::Connector ? Role::Listener : Role::Connector;
+  const Role expected = own_role == Role::Connector ? Role::Listener : Role::Connector;
   if (prefix[6] != uint8_t(expected)) return std::string("handshake: peer claims the wrong role (a reflected hello?)");
   if (prefix[7] != 0)
     return "handshake: the hello's reserved byte is " + std::to_string(prefix[7]) + ", not 0 (tampered with, or a newer peer)";

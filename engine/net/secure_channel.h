@@ -87,6 +87,11 @@ class Handshake {
   // The first kHelloPrefixSize bytes of the peer's hello: magic, version (an older peer gets a
   // clear error before the rest of its shorter hello is awaited), role, reserved byte.
   std::optional<std::string> check_hello_prefix(std::span<const uint8_t> prefix) const;
+  // The same check before any handshake exists (a listener makes its ephemeral key only for a
+  // peer whose hello starts right).
+  static std::optional<std::string> check_hello_prefix(std::span<const uint8_t> prefix, Role own_role);
+  // Whether a hello's first bytes carry RemoteTouch's magic (whatever version follows).
+  static bool has_hello_magic(std::span<const uint8_t> prefix);
   // Checks the whole hello (the prefix again, a nonce and an ephemeral key not equal to ours,
   // an ephemeral key of full order) and derives the handshake secret; the ephemeral secret is
   // wiped whatever the outcome. Once only: a handshake that refused a hello is spent.

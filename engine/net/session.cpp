@@ -223,15 +223,14 @@ struct Session::Impl {
     c->opened_us = monotonic_now_us();
     cap_pending_handshakes(c->address);
     connections.insert(c);
-    c->handshake = std::make_unique<Handshake>(options.key, options.role);
-    const auto hello = c->handshake->hello();
-    c->handshake_out.emplace_back(hello.begin(), hello.end());
-    pump(c);
+    // The connector says hello at once; the listener only to a peer whose hello starts right, so
+    // that a stranger's garbage costs it no ephemeral key and no write.
+    if (options.role == Role::Connector) say_hello(c);
     c->handshake_timer.expires_after(options.handshake_timeout);
     c->handshake_timer.async_wait([this, c](std::error_code e) {
       if (e || c->closed) return;
       if (c->refused) return close(c);  // the decoy never went out
-      if (!c->handshake->complete()) refuse(c, "handshake timed out", false);
+      if (!c->handshake || !c->handshake->complete()) refuse(c, "handshake timed out", false);
     });
     // The hello's first bytes alone first: a peer of another version gets a clear error, not a
     // wait for the rest of a hello that may be shorter than ours.
@@ -239,7 +238,10 @@ struct Session::Impl {
       count([&](NetCounters& k) { k.bytes_in += n; });
       if (c->closed || c->refused) return;
       if (e) return refuse(c, "peer closed during the handshake (" + e.message() + ")", false);
-      if (auto error = c->handshake->check_hello_prefix(std::span(c->hello_in).first(kHelloPrefixSize))) return refuse(c, *error);
+      const auto prefix = std::span(c->hello_in).first(kHelloPrefixSize);
+      // Whoever speaks RemoteTouch gets our hello, another version too: it learns ours from it.
+      if (!c->handshake && Handshake::has_hello_magic(prefix)) say_hello(c);
+      if (auto error = Handshake::check_hello_prefix(prefix, options.role)) return refuse(c, *error);
       asio::async_read(c->socket, asio::buffer(c->hello_in.data() + kHelloPrefixSize, kHelloSize - kHelloPrefixSize),
                        [this, c](std::error_code e2, size_t n2) {
                          count([&](NetCounters& k) { k.bytes_in += n2; });
@@ -249,6 +251,13 @@ struct Session::Impl {
                          on_hello(c);
                        });
     });
+  }
+
+  void say_hello(const ConnectionPtr& c) {
+    c->handshake = std::make_unique<Handshake>(options.key, options.role);
+    const auto hello = c->handshake->hello();
+    c->handshake_out.emplace_back(hello.begin(), hello.end());
+    pump(c);
   }
 
   // The connector proves the key first; the listener proves it only to a connector that has.
