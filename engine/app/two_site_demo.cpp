@@ -204,7 +204,6 @@ void print_summary(const nlohmann::json& metrics) {
       cell(b["frames"]["with_mesh_hand"], "%.0f") + " / " + cell(b["frames"]["no_hand_skeleton_gap"], "%.0f"));
   row("touch starts / motor pulses", cell(a["touch"]["starts"], "%.0f") + " / " + cell(a["touch"]["motor_pulses"], "%.0f"),
       cell(b["touch"]["starts"], "%.0f") + " / " + cell(b["touch"]["motor_pulses"], "%.0f"));
-  // A site that is still finishing sees the peer close: that loss counts here (events.jsonl says "shutdown").
   // A peer that ended its session said so first: that close is not counted as lost.
   auto links = [&](const nlohmann::json& site) {
     return cell(site["net"]["connections_lost"], "%.0f") + " / " + cell(site["net"]["reconnects"], "%.0f") + " / " +

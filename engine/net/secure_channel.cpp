@@ -200,10 +200,6 @@ std::array<uint8_t, kHelloSize> Handshake::hello() const {
   return out;
 }
 
-std::optional<std::string> Handshake::check_hello_prefix(std::span<const uint8_t> prefix) const {
-  return check_hello_prefix(prefix, role_);
-}
-
 bool Handshake::has_hello_magic(std::span<const uint8_t> prefix) {
   return prefix.size() >= 4 && std::memcmp(prefix.data(), kHelloMagic, 4) == 0;
 }
@@ -238,7 +234,7 @@ std::optional<std::string> Handshake::receive_hello(std::span<const uint8_t> hel
   } wipe_secret{ephemeral_secret_};
   if (hello.size() != kHelloSize)
     return "handshake: hello of " + std::to_string(hello.size()) + " bytes, expected " + std::to_string(kHelloSize);
-  if (auto error = check_hello_prefix(hello)) return error;
+  if (auto error = check_hello_prefix(hello, role_)) return error;
   if (sodium_memcmp(hello.data() + kNonceAt, own_nonce_.data(), 32) == 0 ||
       sodium_memcmp(hello.data() + kEphemeralAt, ephemeral_public_.data(), 32) == 0)
     return std::string("handshake: peer echoed our nonce or key (a reflected hello)");

@@ -86,9 +86,8 @@ class Handshake {
   std::array<uint8_t, kHelloSize> hello() const;
   // The first kHelloPrefixSize bytes of the peer's hello: magic, version (an older peer gets a
   // clear error before the rest of its shorter hello is awaited), role, reserved byte.
-  std::optional<std::string> check_hello_prefix(std::span<const uint8_t> prefix) const;
-  // The same check before any handshake exists (a listener makes its ephemeral key only for a
-  // peer whose hello starts right).
+  // Before any handshake exists: a listener makes its ephemeral key only for a peer whose hello
+  // starts right.
   static std::optional<std::string> check_hello_prefix(std::span<const uint8_t> prefix, Role own_role);
   // Whether a hello's first bytes carry RemoteTouch's magic (whatever version follows).
   static bool has_hello_magic(std::span<const uint8_t> prefix);

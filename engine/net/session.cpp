@@ -536,7 +536,6 @@ struct Session::Impl {
         slot->reset();
         return o;
       }
-    if (goodbye_pending) return std::nullopt;  // nothing more after the goodbye
     return std::nullopt;
   }
 

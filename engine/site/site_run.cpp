@@ -304,8 +304,9 @@ int SiteRun::run() {
   }
   if (!connected) {
     const net::ConnectionStatus status = net_->status();
+    const bool was_refused = connector && status.state == net::ConnectionState::Refused;
     events_.write("connect_failed", monotonic_now_us(), {{"state", net::connection_state_name(status.state)}, {"reason", status.reason}});
-    if (refused())
+    if (was_refused)
       std::cerr << "site " << common_.name << ": the other site refused the connection (" << status.reason
                 << "); not trying again\n";
     else
