@@ -342,6 +342,20 @@ TEST_CASE("out of descriptors, the listener backs off instead of spinning, and r
   CHECK(listener.counters().to_json()["accept_errors"] == errors);
 }
 
+namespace {
+// A TCP connection to `to` from the loopback address `from` (any of 127.0.0.0/8).
+int connect_from(const sockaddr_in& to, const std::string& from) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  REQUIRE(fd >= 0);
+  sockaddr_in source{};
+  source.sin_family = AF_INET;
+  REQUIRE(::inet_pton(AF_INET, from.c_str(), &source.sin_addr) == 1);
+  REQUIRE(::bind(fd, reinterpret_cast<const sockaddr*>(&source), sizeof source) == 0);
+  REQUIRE(::connect(fd, reinterpret_cast<const sockaddr*>(&to), sizeof to) == 0);
+  return fd;
+}
+}  // namespace
+
 TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not flood the log") {
   test::LogLines log;
   const SessionKey key = random_session_key();
@@ -353,12 +367,11 @@ TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not f
   address.sin_family = AF_INET;
   address.sin_port = htons(listener.local_port());
   address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  // Forty connections that never say anything, then forty that send garbage at once.
+  // Forty connections that never say anything, then forty that send garbage at once, each from
+  // an address of its own (the loopback network has them all), so that none is shed at accept.
   std::vector<int> strangers;
   for (int i = 0; i < 80; ++i) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    REQUIRE(fd >= 0);
-    REQUIRE(::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0);
+    const int fd = connect_from(address, "127.0.1." + std::to_string(1 + i));
     if (i >= 40) {
       const std::string garbage(200, 'x');
       CHECK(::write(fd, garbage.data(), garbage.size()) > 0);
@@ -390,6 +403,46 @@ TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not f
   CHECK(refusal_lines <= 3);  // one a second at most, however many strangers
   CHECK(dropped_lines <= 3);
   CHECK(counters.to_json()["handshakes_dropped_for_room"] == counters.handshakes_dropped_for_room);
+}
+
+TEST_CASE("a flood from one address is shed at accept; the peer, on its own address or on the flooder's, gets in") {
+  test::LogLines log;
+  const SessionKey key = random_session_key();
+  Session listener(test::test_session_options(Role::Listener, key, log, "B"));
+  listener.start();
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(listener.local_port());
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const std::string garbage(64, 'x');
+  auto flood = [&](const std::string& from, int connections) {
+    for (int i = 0; i < connections; ++i) {
+      const int fd = connect_from(address, from);
+      (void)!::write(fd, garbage.data(), garbage.size());
+      ::close(fd);
+    }
+  };
+  flood("127.0.0.2", 200);
+  // The burst (20) and what refills while the flood runs are let in; the rest is closed unread.
+  REQUIRE(eventually([&] { return listener.counters().connections_shed >= 150; }));
+  auto options = test::test_session_options(Role::Connector, key, log, "A");
+  options.port = listener.local_port();
+  Session connector(options);
+  connector.start();
+  CHECK(connector.wait_connected(std::chrono::seconds(1)));
+
+  // The peer's own address is never shed: a flood from it (its host, its network's NAT) still
+  // lets the peer back in after the link is lost.
+  const uint64_t shed_before = listener.counters().connections_shed;
+  flood("127.0.0.1", 200);
+  CHECK(listener.counters().connections_shed == shed_before);
+  size_t shed_lines = 0;
+  {
+    std::lock_guard lock(log.mutex);
+    for (const auto& line : log.lines) shed_lines += line.find("closed unread") != std::string::npos;
+  }
+  CHECK(shed_lines <= 3);  // one a second at most
+  CHECK(listener.counters().to_json()["connections_shed"] == shed_before);
 }
 
 TEST_CASE("a session refuses a weak key at construction") {

@@ -25,6 +25,7 @@ nlohmann::json NetCounters::to_json() const {
           {"reconnects", reconnects},
           {"accept_errors", accept_errors},
           {"handshakes_dropped_for_room", handshakes_dropped_for_room},
+          {"connections_shed", connections_shed},
           {"touches_acked", touches_acked},
           {"touches_resent", touches_resent},
           {"touch_duplicates_in", touch_duplicates_in},

@@ -28,6 +28,7 @@ struct NetCounters {
   uint64_t reconnects = 0;  // sessions established after the first
   uint64_t accept_errors = 0;  // the listener's accept failed (e.g. out of descriptors)
   uint64_t handshakes_dropped_for_room = 0;  // pending handshakes closed to make room for newer ones
+  uint64_t connections_shed = 0;  // closed at accept, unread: their address opened too many too fast
   // Touch events are acknowledged (acked: by the peer): one not yet acknowledged goes again on
   // the next connection (resent), a copy that arrives twice is dropped (duplicates_in), and beyond the session's
   // room for unacknowledged ones the oldest is given up (unacked_dropped).

@@ -1,6 +1,8 @@
 #include "net/session.h"
 
 #include <sodium.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <asio.hpp>
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <set>
 #include <thread>
 
+#include "net/connection_rate_limit.h"
 #include "time/monotonic_clock.h"
 
 namespace rt::net {
@@ -66,13 +69,34 @@ struct Connection {
   uint64_t last_rx_us = 0;
   uint64_t opened_us = 0;
   std::string peer, address;  // address: the peer's IP alone, for the per-address cap
+  std::string address_key;    // the IP's bytes, as the listener's rate limit knows it
 };
 using ConnectionPtr = std::shared_ptr<Connection>;
+
+// An IP address as the listener's rate limit knows it: its bytes (printing it costs more than
+// the rest of shedding a connection).
+std::string address_key(const asio::ip::address& address) {
+  if (address.is_v4()) {
+    const auto bytes = address.to_v4().to_bytes();
+    return std::string(bytes.begin(), bytes.end());
+  }
+  const auto bytes = address.to_v6().to_bytes();
+  return std::string(bytes.begin(), bytes.end());
+}
 
 // Handshakes under way at once: beyond these the oldest is dropped for the newest, so that
 // silent or slow strangers cannot keep the real peer out, nor hold descriptors and memory.
 constexpr size_t kMaxPendingHandshakes = 16;
 constexpr size_t kMaxPendingHandshakesPerAddress = 4;
+
+// New connections an address may open while it is not the authenticated peer's: a connector
+// retries a few times a second at most, so beyond this it is a flood, and its connections are
+// closed at accept, unread. Remembering an address costs little; how many is bounded.
+constexpr uint32_t kNewConnectionsPerSecondPerAddress = 10;
+constexpr uint32_t kNewConnectionBurstPerAddress = 20;
+constexpr size_t kRateLimitedAddresses = 1024;
+constexpr int kMaxAcceptsPerRound = 256;
+constexpr std::chrono::milliseconds kShedPause{5};
 
 // What leaves next, chosen under the queue lock.
 struct Outgoing {
@@ -111,6 +135,12 @@ struct Session::Impl {
   std::chrono::milliseconds accept_backoff{0};
   uint64_t accept_errors_unlogged = 0;
   std::chrono::steady_clock::time_point accept_error_logged{};
+  ConnectionRateLimit connection_rate{kNewConnectionsPerSecondPerAddress, kNewConnectionBurstPerAddress,
+                                      kRateLimitedAddresses};
+  // The address the peer last authenticated from (its bytes): its reconnections are never shed,
+  // even while a stranger on the same address floods us.
+  std::string peer_address_key;
+  int listener_fd_paused = -1;  // the listening socket while it sits out a pause in shedding a flood
   std::optional<asio::executor_work_guard<asio::io_context::executor_type>> work;
   std::thread thread;
   bool closing = false;  // network thread only
@@ -160,6 +190,12 @@ struct Session::Impl {
   std::map<std::string, LogLimit> log_limits;
   std::mutex log_limits_mutex;  // the portrait decoder's thread rejects too
   void log_limited(const std::string& kind, const std::string& line) {
+    log_limited(kind, [&] { return line; });
+  }
+  // `make_line` is called only when the line is due.
+  template <typename MakeLine>
+    requires std::is_invocable_r_v<std::string, MakeLine>
+  void log_limited(const std::string& kind, MakeLine&& make_line) {
     std::lock_guard lock(log_limits_mutex);
     LogLimit& limit = log_limits[kind];
     const auto now = std::chrono::steady_clock::now();
@@ -167,7 +203,7 @@ struct Session::Impl {
       ++limit.suppressed;
       return;
     }
-    log(line + (limit.suppressed ? " (and " + std::to_string(limit.suppressed) + " more like it in the last second)" : ""));
+    log(make_line() + (limit.suppressed ? " (and " + std::to_string(limit.suppressed) + " more like it in the last second)" : ""));
     limit.suppressed = 0;
     limit.last = now;
   }
@@ -219,6 +255,7 @@ struct Session::Impl {
     c->socket.set_option(tcp::no_delay(true), ec);
     const auto endpoint = c->socket.remote_endpoint(ec);
     c->address = ec ? "?" : endpoint.address().to_string();
+    if (!ec) c->address_key = address_key(endpoint.address());
     c->peer = ec ? "?" : c->address + ":" + std::to_string(endpoint.port());
     c->opened_us = monotonic_now_us();
     cap_pending_handshakes(c->address);
@@ -344,6 +381,7 @@ struct Session::Impl {
       close(active);
     }
     active = c;
+    peer_address_key = c->address_key;
     backoff_attempt = 0;
     count([&](NetCounters& k) {
       ++k.handshakes_ok;
@@ -635,31 +673,89 @@ struct Session::Impl {
     });
   }
 
+  // A connection from an address over its rate is closed before anything is read or allocated.
+  bool admit(const tcp::endpoint& from) {
+    const asio::ip::address address = from.address();
+    const std::string key = address_key(address);
+    if (key == peer_address_key || connection_rate.admit(key, monotonic_now_us())) return true;
+    count([](NetCounters& k) { ++k.connections_shed; });
+    log_limited("shed", [&] {
+      return "connections from " + address.to_string() + " closed unread: more than " +
+             std::to_string(kNewConnectionsPerSecondPerAddress) + " new ones a second from that address";
+    });
+    return false;
+  }
+
+  // Waits until a connection is there, then takes every one the backlog holds. While a flood is
+  // being shed it waits a little between rounds, so that one wake-up sheds many connections
+  // instead of each costing the network thread a sleep and a wake; a real peer waits that little.
+  // accept4 itself, not Asio's accept: a shed connection then costs two system calls (accept and
+  // close), not five (Asio also asks for the address and registers and unregisters the socket).
   void accept() {
-    acceptor.async_accept([this](std::error_code e, tcp::socket socket) {
+    acceptor.async_wait(tcp::acceptor::wait_read, [this](std::error_code e) {
       if (closing) return;
-      if (!e) {
+      if (e) return accept_failed(e);
+      bool shed = false;
+      for (int taken = 0; taken < kMaxAcceptsPerRound; ++taken) {
+        tcp::endpoint from;
+        socklen_t length = socklen_t(from.capacity());
+        const int fd = ::accept4(acceptor.native_handle(), from.data(), &length, SOCK_CLOEXEC);
+        if (fd < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR || errno == ECONNABORTED)) {
+          if (errno == EINTR || errno == ECONNABORTED) continue;
+          break;
+        }
+        if (fd < 0) return accept_failed(std::error_code(errno, std::generic_category()));
         accept_backoff = std::chrono::milliseconds(0);
+        from.resize(length);
+        if (!admit(from)) {
+          ::close(fd);
+          shed = true;
+          continue;
+        }
         auto c = std::make_shared<Connection>(io);
-        c->socket = std::move(socket);
+        std::error_code assign_error;
+        c->socket.assign(from.protocol(), fd, assign_error);
+        if (assign_error) {
+          ::close(fd);
+          log_limited("accept", "an accepted connection could not be used: " + assign_error.message());
+          continue;
+        }
         begin(c);
+      }
+      if (!shed) return accept();
+      // Asio's reactor watches the listening socket edge-triggered even with no wait pending, so
+      // every connection of the flood would still wake the thread during the pause: the socket
+      // leaves the reactor until the pause is over.
+      std::error_code release_error;
+      const tcp::endpoint local = acceptor.local_endpoint(release_error);
+      if (release_error) return accept();
+      listener_fd_paused = acceptor.release(release_error);
+      if (release_error) return accept();
+      accept_timer.expires_after(kShedPause);
+      accept_timer.async_wait([this, protocol = local.protocol()](std::error_code timer_error) {
+        if (timer_error || closing) return;  // shut_down() closes the paused socket
+        std::error_code assign_error;
+        acceptor.assign(protocol, std::exchange(listener_fd_paused, -1), assign_error);
+        if (assign_error) return log("cannot listen again after shedding a flood: " + assign_error.message());
         accept();
-        return;
-      }
-      count([](NetCounters& c) { ++c.accept_errors; });
-      ++accept_errors_unlogged;
-      const auto now = std::chrono::steady_clock::now();
-      if (now - accept_error_logged >= std::chrono::seconds(1)) {
-        log("accept failed: " + e.message() +
-            (accept_errors_unlogged > 1 ? " (" + std::to_string(accept_errors_unlogged) + " times since the last report)" : ""));
-        accept_errors_unlogged = 0;
-        accept_error_logged = now;
-      }
-      accept_backoff = std::clamp(accept_backoff * 2, std::chrono::milliseconds(10), std::chrono::milliseconds(1000));
-      accept_timer.expires_after(accept_backoff);
-      accept_timer.async_wait([this](std::error_code timer_error) {
-        if (!timer_error && !closing) accept();
       });
+    });
+  }
+
+  void accept_failed(std::error_code e) {
+    count([](NetCounters& c) { ++c.accept_errors; });
+    ++accept_errors_unlogged;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - accept_error_logged >= std::chrono::seconds(1)) {
+      log("accept failed: " + e.message() +
+          (accept_errors_unlogged > 1 ? " (" + std::to_string(accept_errors_unlogged) + " times since the last report)" : ""));
+      accept_errors_unlogged = 0;
+      accept_error_logged = now;
+    }
+    accept_backoff = std::clamp(accept_backoff * 2, std::chrono::milliseconds(10), std::chrono::milliseconds(1000));
+    accept_timer.expires_after(accept_backoff);
+    accept_timer.async_wait([this](std::error_code timer_error) {
+      if (!timer_error && !closing) accept();
     });
   }
 
@@ -699,6 +795,7 @@ struct Session::Impl {
     closing = true;
     std::error_code ignored;
     acceptor.close(ignored);
+    if (listener_fd_paused >= 0) ::close(std::exchange(listener_fd_paused, -1));
     connect_timer.cancel();
     tick_timer.cancel();
     accept_timer.cancel();
@@ -743,6 +840,7 @@ void Session::start() {
     if (ec)
       throw std::runtime_error("cannot listen on " + s.options.host + ":" + std::to_string(s.options.port) + ": " + ec.message());
     s.acceptor.listen();
+    s.acceptor.non_blocking(true);  // accept() drains the backlog until it would block
     s.bound_port = s.acceptor.local_endpoint().port();
     s.set_status(ConnectionState::Connecting, "waiting for the peer", "");
     s.log("listening on " + s.options.host + ":" + std::to_string(s.bound_port));
