@@ -65,8 +65,8 @@ TEST_CASE("parse_host_port") {
 }
 
 TEST_CASE("a session delivers all five message types both ways") {
+  Received at_listener, at_connector;  // first: the sessions' threads deliver into them until the link goes
   Link link;
-  Received at_listener, at_connector;
   link.listener.set_handler([&](const Message& m) {
     std::lock_guard lock(at_listener.mutex);
     at_listener.messages.push_back(m);

@@ -1,5 +1,7 @@
 #include "vulkan/context.h"
 
+#include <dlfcn.h>
+#include <link.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,6 +21,20 @@ namespace {
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 constexpr uint64_t kWaitTimeoutNs = 120'000'000'000ull;  // a stuck GPU fails loudly instead of hanging
+
+// Under AddressSanitizer: the driver and layers the loader opened stay loaded until exit, so that
+// what they keep allocated is reported with their names (and suppressed as theirs,
+// tests/sanitizer/lsan.supp) rather than from an unloaded, nameless module.
+void keep_loaded_libraries_for_leak_reports() {
+#if defined(__SANITIZE_ADDRESS__)
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void*) {
+        if (info->dlpi_name && info->dlpi_name[0] != '\0') dlopen(info->dlpi_name, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+        return 0;
+      },
+      nullptr);
+#endif
+}
 
 bool env_flag(const char* name) {
   const char* value = std::getenv(name);
@@ -265,6 +281,7 @@ void Context::create_device() {
   info.enabledExtensionCount = uint32_t(extensions.size());
   info.ppEnabledExtensionNames = extensions.data();
   RT_VK_CHECK(vkCreateDevice(physical_device_, &info, nullptr, &device_));
+  keep_loaded_libraries_for_leak_reports();
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
   push_descriptor_set_ =
       reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));

@@ -36,7 +36,7 @@ class PassOutputs {
     const std::vector<std::byte>& data = bytes(name);
     check_whole(name, data.size(), sizeof(T));
     std::vector<T> out(data.size() / sizeof(T));
-    std::memcpy(out.data(), data.data(), out.size() * sizeof(T));
+    if (!out.empty()) std::memcpy(out.data(), data.data(), out.size() * sizeof(T));
     return out;
   }
   // A buffer holding exactly one T.
