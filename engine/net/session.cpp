@@ -95,6 +95,8 @@ constexpr size_t kMaxPendingHandshakesPerAddress = 4;
 constexpr uint32_t kNewConnectionsPerSecondPerAddress = 10;
 constexpr uint32_t kNewConnectionBurstPerAddress = 20;
 constexpr size_t kRateLimitedAddresses = 1024;
+// A round of accepting ends after this many even with more waiting, so that the network thread
+// also serves the live connection and its timers under a flood that never lets the backlog empty.
 constexpr int kMaxAcceptsPerRound = 256;
 constexpr std::chrono::milliseconds kShedPause{5};
 
