@@ -38,21 +38,26 @@ void HandColorStatsPass::add_to(vk::FrameGraph& graph, vk::Image& portrait_color
   });
 }
 
+bool hand_fit_pixel_reference(const HostImage& portrait_color, const HostImage& portrait_depth, const HostImage& mesh_color,
+                              const HostImage& mesh_depth, const HostImage& mesh_mask, uint32_t x, uint32_t y,
+                              const ColorStatsParams& params) {
+  auto usable = [&](const HostImage& color) {
+    const Eigen::Vector3d c(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2));
+    return c.allFinite() && (c.array() > params.min_level).all() && (c.array() < params.max_level).all();
+  };
+  const float di = portrait_depth.at(x, y), dg = mesh_depth.at(x, y);
+  return mesh_mask.at(x, y) > 0.5f && portrait_color.at(x, y, 3) > 0.5f && std::isfinite(di) && std::isfinite(dg) &&
+         di > 0 && dg > 0 && std::abs(di - dg) < params.depth_tolerance_m && usable(portrait_color) && usable(mesh_color);
+}
+
 ColorSums color_stats_reference(const HostImage& portrait_color, const HostImage& portrait_depth, const HostImage& mesh_color,
                                 const HostImage& mesh_depth, const HostImage& mesh_mask, const ColorStatsParams& params) {
   ColorSums sums;
-  auto usable = [&](const Eigen::Vector3d& c) {
-    return c.allFinite() && (c.array() > params.min_level).all() && (c.array() < params.max_level).all();
-  };
   for (uint32_t y = 0; y < mesh_color.height; ++y)
     for (uint32_t x = 0; x < mesh_color.width; ++x) {
+      if (!hand_fit_pixel_reference(portrait_color, portrait_depth, mesh_color, mesh_depth, mesh_mask, x, y, params)) continue;
       const Eigen::Vector3d image(portrait_color.at(x, y, 0), portrait_color.at(x, y, 1), portrait_color.at(x, y, 2));
       const Eigen::Vector3d mesh(mesh_color.at(x, y, 0), mesh_color.at(x, y, 1), mesh_color.at(x, y, 2));
-      const float di = portrait_depth.at(x, y), dg = mesh_depth.at(x, y);
-      const bool valid = mesh_mask.at(x, y) > 0.5f && portrait_color.at(x, y, 3) > 0.5f && std::isfinite(di) &&
-                         std::isfinite(dg) && di > 0 && dg > 0 && std::abs(di - dg) < params.depth_tolerance_m &&
-                         usable(image) && usable(mesh);
-      if (!valid) continue;
       const Eigen::Vector3d li = hand::rgb_to_lab_alpha_beta(image), lg = hand::rgb_to_lab_alpha_beta(mesh);
       sums.count += 1;
       sums.image_sum += li;

@@ -41,6 +41,10 @@ struct ColorSums {
   Eigen::Vector3d image_sum = Eigen::Vector3d::Zero(), image_sum_sq = Eigen::Vector3d::Zero();
   Eigen::Vector3d mesh_sum = Eigen::Vector3d::Zero(), mesh_sum_sq = Eigen::Vector3d::Zero();
 };
+// Whether the pixel counts for Eq. 3 (the rule above), as common/hand_fit_pixel.glsl decides it.
+bool hand_fit_pixel_reference(const HostImage& portrait_color, const HostImage& portrait_depth, const HostImage& mesh_color,
+                              const HostImage& mesh_depth, const HostImage& mesh_mask, uint32_t x, uint32_t y,
+                              const ColorStatsParams& params);
 ColorSums color_stats_reference(const HostImage& portrait_color, const HostImage& portrait_depth, const HostImage& mesh_color,
                                 const HostImage& mesh_depth, const HostImage& mesh_mask, const ColorStatsParams& params);
 

@@ -7,6 +7,7 @@
 #include <map>
 #include <vector>
 
+#include "hand/shading_fit.h"
 #include "passes/common/reference_raster.h"
 
 #include "hand_raster.frag.h"
@@ -18,31 +19,40 @@ namespace {
 struct ClipVertex {
   Eigen::Vector4d clip;
   double u = 0, v = 0, camera_z = 0;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
 };
 
 ClipVertex lerp(const ClipVertex& a, const ClipVertex& b, double t) {
   return {a.clip + t * (b.clip - a.clip), a.u + t * (b.u - a.u), a.v + t * (b.v - a.v),
-          a.camera_z + t * (b.camera_z - a.camera_z)};
+          a.camera_z + t * (b.camera_z - a.camera_z), a.normal + t * (b.normal - a.normal)};
 }
 
 }  // namespace
 
+HandRasterParams hand_raster_params(const RasterViewParams& view, const std::array<std::array<float, 4>, 3>& shading) {
+  HandRasterParams params{};
+  params.view = view;
+  for (size_t i = 0; i < 3; ++i) params.shading[i] = shading[i];
+  return params;
+}
+
 HandRasterPass::HandRasterPass(vk::Context& context)
     : kernel_(context, "hand_raster", hand_raster_vert_spirv, hand_raster_frag_spirv,
-              {{PixelFormat::RGBA32F, PixelFormat::R32F, PixelFormat::R32F}, true}) {}
+              {{PixelFormat::RGBA32F, PixelFormat::R32F, PixelFormat::R32F, PixelFormat::RGBA32F}, true}) {}
 
 void HandRasterPass::add_to(vk::FrameGraph& graph, vk::Buffer& skinned, vk::Buffer& indices,
                             std::function<uint32_t()> index_count, vk::Image& texture, const vk::Sampler& sampler,
-                            std::function<RasterViewParams()> view, const HandRasterTargets& targets,
+                            std::function<HandRasterParams()> params, const HandRasterTargets& targets,
                             const std::string& pass_name) const {
   graph.add_graphics_pass({
       .name = pass_name,
       .kernel = &kernel_,
       .bindings = {{"Skinned", &skinned}, {"Indices", &indices}, {"skin_texture", &texture, &sampler}},
-      .color = {{targets.color, {0, 0, 0, 0}}, {targets.depth_m, {0, 0, 0, 0}}, {targets.mask, {0, 0, 0, 0}}},
+      .color = {{targets.color, {0, 0, 0, 0}}, {targets.depth_m, {0, 0, 0, 0}}, {targets.mask, {0, 0, 0, 0}},
+                {targets.normal, {0, 0, 0, 0}}},
       .depth = targets.depth_buffer,
       .vertex_count = std::move(index_count),
-      .push_constants = vk::push_constants_from<RasterViewParams>(std::move(view)),
+      .push_constants = vk::push_constants_from<HandRasterParams>(std::move(params)),
   });
 }
 
@@ -63,10 +73,14 @@ Eigen::Vector4f sample_bilinear(const HostImage& texture, float u, float v) {
 }
 
 HandRasterReference hand_raster_reference(std::span<const SkinnedVertex> skinned, std::span<const uint32_t> indices,
-                                          const HostImage& texture, const RasterViewParams& view, uint32_t width,
+                                          const HostImage& texture, const HandRasterParams& params, uint32_t width,
                                           uint32_t height) {
   HandRasterReference out{HostImage(width, height, PixelFormat::RGBA32F), HostImage(width, height, PixelFormat::R32F),
-                          HostImage(width, height, PixelFormat::R32F), HostImage(width, height, PixelFormat::R32F)};
+                          HostImage(width, height, PixelFormat::R32F), HostImage(width, height, PixelFormat::RGBA32F),
+                          HostImage(width, height, PixelFormat::R32F)};
+  const RasterViewParams& view = params.view;
+  hand::ShadingVector shading;
+  for (int k = 0; k < hand::kShadingTerms; ++k) shading[k] = params.shading[size_t(k / 4)][size_t(k % 4)];
   Eigen::Matrix4d clip_from_site;
   for (int column = 0; column < 4; ++column)
     for (int row = 0; row < 4; ++row) clip_from_site(row, column) = view.clip_from_site[column * 4 + row];
@@ -89,6 +103,7 @@ HandRasterReference hand_raster_reference(std::span<const SkinnedVertex> skinned
       c.u = v.position_u[3];
       c.v = v.normal_v[3];
       c.camera_z = view.depth_row[0] * site.x() + view.depth_row[1] * site.y() + view.depth_row[2] * site.z() + view.depth_row[3];
+      c.normal = Eigen::Vector3d(v.normal_v[0], v.normal_v[1], v.normal_v[2]);
       finite &= c.clip.allFinite();
       polygon.push_back(c);
     }
@@ -131,8 +146,16 @@ HandRasterReference hand_raster_reference(std::span<const SkinnedVertex> skinned
           };
           const Eigen::Vector4f color = sample_bilinear(texture, float(interpolate([](const ClipVertex& v) { return v.u; })),
                                                          float(interpolate([](const ClipVertex& v) { return v.v; })));
-          for (uint32_t channel = 0; channel < 3; ++channel)
-            out.color.at(uint32_t(x), uint32_t(y), channel) = std::clamp(color[channel], 0.0f, 1.0f);
+          const Eigen::Vector3d normal = (*weights)[0] * polygon[ids[0]].normal + (*weights)[1] * polygon[ids[1]].normal +
+                                         (*weights)[2] * polygon[ids[2]].normal;
+          const double length_sq = normal.squaredNorm();
+          const bool has_normal = std::isfinite(length_sq) && length_sq > 1e-12;
+          const double s = has_normal ? hand::shade(shading, normal) : 1.0;
+          for (uint32_t channel = 0; channel < 3; ++channel) {
+            out.color.at(uint32_t(x), uint32_t(y), channel) = std::clamp(float(color[channel] * s), 0.0f, 1.0f);
+            out.normal.at(uint32_t(x), uint32_t(y), channel) = has_normal ? float(normal[channel] / std::sqrt(length_sq)) : 0.0f;
+          }
+          out.normal.at(uint32_t(x), uint32_t(y), 3) = has_normal ? 1.0f : 0.0f;
           out.color.at(uint32_t(x), uint32_t(y), 3) = 1.0f;
           out.depth_m.at(uint32_t(x), uint32_t(y)) = float(interpolate([](const ClipVertex& v) { return v.camera_z; }));
           out.mask.at(uint32_t(x), uint32_t(y)) = 1.0f;

@@ -3,13 +3,12 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 // Paper Eq. 3, first half: per workgroup sums of L, alpha, beta and their squares over the hand
 // pixels where the image-based portrait (I_i, D_i) and the mesh render (I_g, D_g) both have a
-// depth and agree within the tolerance. Black and saturated pixels carry no color statistics
-// and are skipped. Each invocation sums RT_COLOR_STATS_PIXELS_PER_THREAD pixels, subgroupAdd
-// sums a subgroup whatever its size (8 on lavapipe, 32 or 64 elsewhere), and one invocation
+// depth and agree (common/hand_fit_pixel.glsl). Each invocation sums
+// RT_COLOR_STATS_PIXELS_PER_THREAD pixels, subgroupAdd sums a subgroup whatever its size (8 on lavapipe, 32 or 64 elsewhere), and one invocation
 // adds the subgroups' sums from shared memory after a single barrier.
 #include "shared/config.h"
 #include "common/lab_alpha_beta.glsl"
-#include "common/numeric.glsl"
+#include "common/hand_fit_pixel.glsl"
 
 layout(local_size_x = RT_COLOR_STATS_GROUP) in;
 
@@ -23,19 +22,12 @@ layout(push_constant) uniform Push { ColorStatsParams params; };
 
 shared float sums[13][RT_COLOR_STATS_GROUP];
 
-bool usable(vec3 c) {
-  return is_finite(c.x) && is_finite(c.y) && is_finite(c.z) && all(greaterThan(c, vec3(params.min_level))) &&
-         all(lessThan(c, vec3(params.max_level)));
-}
-
 void add_pixel(uint i, inout float values[13]) {
   ivec2 pixel = ivec2(i % params.width, i / params.width);
   vec4 image = imageLoad(portrait_color, pixel);
   vec4 mesh = imageLoad(mesh_color, pixel);
   float di = imageLoad(portrait_depth, pixel).r, dg = imageLoad(mesh_depth, pixel).r;
-  bool valid = imageLoad(mesh_mask, pixel).r > 0.5 && image.a > 0.5 && is_finite(di) && is_finite(dg) && di > 0.0 &&
-               dg > 0.0 && abs(di - dg) < params.depth_tolerance_m && usable(image.rgb) && usable(mesh.rgb);
-  if (!valid) return;
+  if (!hand_fit_pixel(image, di, mesh, dg, imageLoad(mesh_mask, pixel).r, params)) return;
   vec3 li = rgb_to_lab_alpha_beta(image.rgb), lg = rgb_to_lab_alpha_beta(mesh.rgb);
   values[0] += 1.0;
   for (int c = 0; c < 3; ++c) {

@@ -33,8 +33,11 @@ HandRenderer::HandRenderer(vk::Context& context, const std::filesystem::path& te
       stats_(context),
       reduce_(context),
       transfer_(context, options.appearance_max_contrast),
+      shading_stats_(context),
       sampler_(context, "hand skin sampler"),
-      appearance_(options.appearance_stale_frames, min_region_pixels(options, width, height)) {
+      appearance_(options.appearance_stale_frames, min_region_pixels(options, width, height)),
+      shading_(options.appearance_smoothing, min_region_pixels(options, width, height)),
+      raster_shading_(hand::raster_shading(hand::unlit_shading())) {
   if (width == 0 || height == 0) throw std::invalid_argument("hand renderer: the image size must be at least 1x1");
   const size_t vertices = std::max(right_.vertices.size(), left_.vertices.size());
   const size_t indices = std::max(right_.indices.size(), left_.indices.size());
@@ -45,6 +48,8 @@ HandRenderer::HandRenderer(vk::Context& context, const std::filesystem::path& te
   skinned_ = std::make_unique<vk::Buffer>(context, vk::BufferDesc{"hand skinned vertices", vertices * sizeof(shader_abi::SkinnedVertex)});
   partials_ = std::make_unique<vk::Buffer>(
       context, vk::BufferDesc{"hand color partial sums", passes::color_stats_group_count(width, height) * sizeof(shader_abi::ColorStatsPartial)});
+  shading_partials_ = std::make_unique<vk::Buffer>(
+      context, vk::BufferDesc{"hand shading partial sums", passes::shading_stats_group_count(width, height) * sizeof(shader_abi::ShadingPartial)});
   state_ = std::make_unique<vk::Buffer>(context, vk::BufferDesc{"hand appearance state", sizeof(shader_abi::AppearanceState)});
   // Both templates are written with the same skin texture; the right hand's serves both.
   const HostImage& texture = right_.texture;
@@ -57,10 +62,12 @@ HandRenderer::HandRenderer(vk::Context& context, const std::filesystem::path& te
   color_ = image("hand color", PixelFormat::RGBA32F);
   depth_ = image("hand depth", PixelFormat::R32F);
   mask_ = image("hand mask", PixelFormat::R32F);
+  normal_ = image("hand normal", PixelFormat::RGBA32F);
   depth_buffer_ = image("hand depth buffer", PixelFormat::D32F);
   template_color_ = image("hand template color", PixelFormat::RGBA32F);
   template_depth_ = image("hand template depth", PixelFormat::R32F);
   template_mask_ = image("hand template mask", PixelFormat::R32F);
+  template_normal_ = image("hand template normal", PixelFormat::RGBA32F);
   template_depth_buffer_ = image("hand template depth buffer", PixelFormat::D32F);
   reset_appearance();
   use_template(false);
@@ -137,8 +144,9 @@ uint32_t HandRenderer::drawn_index_count() const {
 
 void HandRenderer::add_to(vk::FrameGraph& graph) {
   skinning_.add_to(graph, *rest_buffer_, *bones_, *skinned_, [this] { return uint32_t(rest_vertices_.size()); });
-  raster_.add_to(graph, *skinned_, *indices_, [this] { return drawn_index_count(); },
-                 *adapted_texture_, sampler_, [this] { return view_; }, {color_.get(), depth_.get(), mask_.get(), depth_buffer_.get()});
+  raster_.add_to(graph, *skinned_, *indices_, [this] { return drawn_index_count(); }, *adapted_texture_, sampler_,
+                 [this] { return passes::hand_raster_params(view_, raster_shading_); },
+                 {color_.get(), depth_.get(), mask_.get(), normal_.get(), depth_buffer_.get()});
 }
 
 void HandRenderer::reset_appearance() {
@@ -147,6 +155,8 @@ void HandRenderer::reset_appearance() {
   vk::upload(context_, *adapted_texture_, right_.texture);
   appearance_before_ = empty;
   appearance_.reset();
+  shading_.reset();
+  raster_shading_ = hand::raster_shading(hand::unlit_shading());
 }
 
 shader_abi::AppearanceState HandRenderer::appearance_state() {
@@ -159,11 +169,17 @@ shader_abi::AppearanceState HandRenderer::appearance_state() {
 void HandRenderer::build_appearance_graph(vk::Image& portrait_color, vk::Image& portrait_depth) {
   appearance_graph_ = std::make_unique<vk::FrameGraph>(context_, "hand appearance adaption");
   vk::FrameGraph& graph = *appearance_graph_;
-  raster_.add_to(graph, *skinned_, *indices_, [this] { return drawn_index_count(); }, *template_texture_,
-                 sampler_, [this] { return view_; },
-                 {template_color_.get(), template_depth_.get(), template_mask_.get(), template_depth_buffer_.get()},
+  // The untouched template, unlit: the statistics and the light estimate compare the portrait
+  // with the albedo.
+  raster_.add_to(graph, *skinned_, *indices_, [this] { return drawn_index_count(); }, *template_texture_, sampler_,
+                 [this] { return passes::hand_raster_params(view_, hand::raster_shading(hand::unlit_shading())); },
+                 {template_color_.get(), template_depth_.get(), template_mask_.get(), template_normal_.get(),
+                  template_depth_buffer_.get()},
                  "hand_raster_template");
   stats_.add_to(graph, portrait_color, portrait_depth, *template_color_, *template_depth_, *template_mask_, *partials_);
+  if (options_.appearance_shading)
+    shading_stats_.add_to(graph, portrait_color, portrait_depth, *template_color_, *template_depth_, *template_mask_,
+                          *template_normal_, *shading_partials_);
   const uint32_t groups = passes::color_stats_group_count(width_, height_);
   const float min_pixels = float(min_region_pixels(options_, width_, height_));
   reduce_.add_to(graph, *partials_, *state_, [groups, min_pixels, smoothing = options_.appearance_smoothing] {
@@ -190,6 +206,13 @@ bool HandRenderer::adapt_appearance_from(vk::Image& portrait_color, vk::Image& p
   const shader_abi::AppearanceState after = appearance_state();
   appearance_.record(appearance_before_, after, beyond_d_max);
   appearance_before_ = after;
+  if (options_.appearance_shading) {
+    const auto bytes = vk::download(context_, *shading_partials_);
+    const std::span partials(reinterpret_cast<const shader_abi::ShadingPartial*>(bytes.data()),
+                             passes::shading_stats_group_count(width_, height_));
+    shading_.add_frame(hand::add_shading_partials(partials));
+    raster_shading_ = hand::raster_shading(shading_.coefficients());
+  }
   return true;
 }
 

@@ -18,11 +18,13 @@
 #include "geometry/camera.h"
 #include "hand/appearance_adaption.h"
 #include "hand/hand_template.h"
+#include "hand/shading_fit.h"
 #include "pipeline/hand_settings.h"
 #include "passes/hand_color_reduce.h"
 #include "passes/hand_color_stats.h"
 #include "passes/hand_color_transfer.h"
 #include "passes/hand_raster.h"
+#include "passes/hand_shading_stats.h"
 #include "passes/hand_skinning.h"
 #include "vulkan/frame_graph.h"
 
@@ -66,6 +68,8 @@ class HandRenderer {
   void note_frame_displayed(uint64_t count = 1) { appearance_.frame_displayed(count); }
   void sync_frames_displayed(uint64_t total) { appearance_.sync_frames_displayed(total); }
   hand::AppearanceStatus appearance_status() const { return appearance_.status(); }
+  // The light estimate the mesh is shaded with (unlit until a frame has fitted, or when off).
+  const hand::ShadingFit& shading_fit() const { return shading_; }
   // For the events log: "fitted", "stale", "refitted", "rejected" (hand::AppearanceAdaption).
   std::vector<nlohmann::json> take_appearance_events() { return appearance_.take_events(); }
   vk::FrameGraph* appearance_graph() { return appearance_graph_.get(); }
@@ -107,13 +111,16 @@ class HandRenderer {
   passes::HandColorStatsPass stats_;
   passes::HandColorReducePass reduce_;
   passes::HandColorTransferPass transfer_;
+  passes::HandShadingStatsPass shading_stats_;
   vk::Sampler sampler_;
-  std::unique_ptr<vk::Buffer> rest_buffer_, indices_, bones_, skinned_, partials_, state_;
-  std::unique_ptr<vk::Image> template_texture_, adapted_texture_, color_, depth_, mask_, depth_buffer_;
-  std::unique_ptr<vk::Image> template_color_, template_depth_, template_mask_, template_depth_buffer_;
+  std::unique_ptr<vk::Buffer> rest_buffer_, indices_, bones_, skinned_, partials_, state_, shading_partials_;
+  std::unique_ptr<vk::Image> template_texture_, adapted_texture_, color_, depth_, mask_, normal_, depth_buffer_;
+  std::unique_ptr<vk::Image> template_color_, template_depth_, template_mask_, template_normal_, template_depth_buffer_;
   std::unique_ptr<vk::FrameGraph> appearance_graph_;
   const vk::Image* appearance_portrait_[2] = {nullptr, nullptr};
   hand::AppearanceAdaption appearance_;
+  hand::ShadingFit shading_;
+  std::array<std::array<float, 4>, 3> raster_shading_{};  // what the frame's raster applies
   shader_abi::AppearanceState appearance_before_{};  // the GPU state as last read back
 };
 

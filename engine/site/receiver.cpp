@@ -199,6 +199,7 @@ void Receiver::display_loop() {
     {
       std::lock_guard lock(appearance_mutex_);
       appearance_status_ = hand->appearance_status();
+      appearance_shading_ = hand->shading_fit().to_json();
     }
     last_shown_us = on_screen;
     portrait_on_screen_.add(double(int64_t(on_screen) - int64_t(message.capture_timestamp_us)) / 1000.0);
@@ -229,6 +230,7 @@ void Receiver::display_loop() {
   {
     std::lock_guard lock(appearance_mutex_);
     appearance_status_ = hand->appearance_status();
+    appearance_shading_ = hand->shading_fit().to_json();
     // A receiver that never fitted the remote user's skin showed them in the template's: say so.
     if (appearance_status_.phase == hand::AppearancePhase::Waiting)
       common_.events->write("warning", monotonic_now_us(),
@@ -248,6 +250,7 @@ void Receiver::add_metrics(nlohmann::json& m, double wall_s) const {
   {
     std::lock_guard lock(appearance_mutex_);
     m["appearance"] = appearance_status_.to_json();
+    m["appearance_shading"] = appearance_shading_;
   }
   {
     std::lock_guard lock(appearance_mutex_);

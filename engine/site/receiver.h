@@ -56,6 +56,7 @@ class Receiver {
   // The geometry hand's appearance adaption as of the last displayed frame, for metrics.json.
   mutable std::mutex appearance_mutex_;
   hand::AppearanceStatus appearance_status_;
+  nlohmann::json appearance_shading_;  // hand::ShadingFit::to_json of the receiver's hand
   nlohmann::json window_metrics_;  // the window's counts at the display's end (same mutex)
   std::atomic<uint64_t> last_portrait_arrival_us_{0};
   // How far in time the drawn hand's pose reaches to the skeletons it was built from (see HandsAtTime).

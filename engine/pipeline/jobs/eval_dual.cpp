@@ -235,7 +235,11 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
     if (hands.count(HandPath::Full)) {
       const hand::AppearanceStatus status = hands.at(HandPath::Full).renderer->appearance_status();
       user_report["appearance"] = status.to_json();
-      std::printf("user %s: appearance adaption %s\n", user_name.c_str(), status.describe().c_str());
+      const hand::ShadingFit& shading = hands.at(HandPath::Full).renderer->shading_fit();
+      user_report["appearance_shading"] = shading.to_json();
+      std::printf("user %s: appearance adaption %s; light estimate %s from %llu frames\n", user_name.c_str(),
+                  status.describe().c_str(), shading.to_json()["state"].get<std::string>().c_str(),
+                  static_cast<unsigned long long>(shading.frames()));
     }
     double ibr_ms = 0;
     for (const auto& timing : ibr.graph().timings()) ibr_ms += timing.median_ms;
