@@ -206,7 +206,9 @@ bool HandRenderer::adapt_appearance_from(vk::Image& portrait_color, vk::Image& p
   const shader_abi::AppearanceState after = appearance_state();
   appearance_.record(appearance_before_, after, beyond_d_max);
   appearance_before_ = after;
-  if (options_.appearance_shading) {
+  // Not from provisional frames: close to the glass the depth test keeps mostly the forearm, whose
+  // normals turn about one axis, and a light fitted there is extrapolated over the palm.
+  if (options_.appearance_shading && beyond_d_max) {
     const auto bytes = vk::download(context_, *shading_partials_);
     const std::span partials(reinterpret_cast<const shader_abi::ShadingPartial*>(bytes.data()),
                              passes::shading_stats_group_count(width_, height_));

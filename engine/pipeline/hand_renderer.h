@@ -68,7 +68,8 @@ class HandRenderer {
   void note_frame_displayed(uint64_t count = 1) { appearance_.frame_displayed(count); }
   void sync_frames_displayed(uint64_t total) { appearance_.sync_frames_displayed(total); }
   hand::AppearanceStatus appearance_status() const { return appearance_.status(); }
-  // The light estimate the mesh is shaded with (unlit until a frame has fitted, or when off).
+  // The light estimate the mesh is shaded with: unlit until a frame beyond d_max has fitted (a
+  // provisional fit leaves it unlit), or when off.
   const hand::ShadingFit& shading_fit() const { return shading_; }
   // For the events log: "fitted", "stale", "refitted", "rejected" (hand::AppearanceAdaption).
   std::vector<nlohmann::json> take_appearance_events() { return appearance_.take_events(); }
