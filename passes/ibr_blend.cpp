@@ -11,20 +11,18 @@
 #include "ibr_blend.comp.h"
 
 namespace rt::passes {
-namespace {
 
-const BlendSettings& check(const BlendSettings& s) {
+const BlendSettings& checked_blend_settings(const BlendSettings& s) {
   if (s.best_views < 2 || s.best_views > RT_IBR_MAX_VIEWS + 1 || !(s.resolution_weight >= 0.0f))
     throw std::invalid_argument("blending: best_views (k) must be 2.." + std::to_string(RT_IBR_MAX_VIEWS + 1) +
                                 " and resolution_weight >= 0");
   return s;
 }
 
-}  // namespace
-
 IbrBlendPass::IbrBlendPass(vk::Context& context, const BlendSettings& settings)
     : kernel_(context, "ibr_blend", ibr_blend_comp_spirv,
-              {{"best_views", int32_t(check(settings).best_views)}, {"resolution_weight", settings.resolution_weight}}) {}
+              {{"best_views", int32_t(checked_blend_settings(settings).best_views)},
+               {"resolution_weight", settings.resolution_weight}}) {}
 
 void IbrBlendPass::add_to(vk::FrameGraph& graph, vk::Image& fused_depth, vk::Image& warped, vk::Image& features,
                           vk::Image& portrait, vk::Image& portrait_depth, uint32_t view_count) const {

@@ -14,6 +14,8 @@ struct BlendSettings {
   int best_views = 3;              // k: the k-1 best views blend, the k-th has weight 0
   float resolution_weight = 1.0f;  // radians of penalty per metre of resolution penalty
 };
+// `s`, or std::invalid_argument saying which setting is out of range.
+const BlendSettings& checked_blend_settings(const BlendSettings& s);
 
 class IbrBlendPass {
  public:

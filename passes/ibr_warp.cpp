@@ -10,12 +10,6 @@
 namespace rt::passes {
 namespace {
 
-const WarpSettings& check(const WarpSettings& s) {
-  if (!s.visibility.valid() || !(s.feather_px > 0.0f))
-    throw std::invalid_argument("warping: visibility tolerances must be >= 0 and feather_px > 0");
-  return s;
-}
-
 void require_bands(const vk::Image& atlas, uint32_t width, uint32_t band_height, uint32_t views, const char* what) {
   if (atlas.width() != width || atlas.height() != band_height * views)
     throw std::invalid_argument(std::string("ibr_warp: '") + atlas.name() + "' is not a " + what + " atlas of " +
@@ -25,9 +19,15 @@ void require_bands(const vk::Image& atlas, uint32_t width, uint32_t band_height,
 
 }  // namespace
 
+const WarpSettings& checked_warp_settings(const WarpSettings& s) {
+  if (!s.visibility.valid() || !(s.feather_px > 0.0f))
+    throw std::invalid_argument("warping: visibility tolerances must be >= 0 and feather_px > 0");
+  return s;
+}
+
 IbrWarpPass::IbrWarpPass(vk::Context& context, const WarpSettings& settings)
     : kernel_(context, "ibr_warp", ibr_warp_comp_spirv,
-              {{"visibility_tolerance_m", check(settings).visibility.metres},
+              {{"visibility_tolerance_m", checked_warp_settings(settings).visibility.metres},
                {"visibility_tolerance_rel", settings.visibility.relative},
                {"feather_px", settings.feather_px}}) {}
 

@@ -5,7 +5,8 @@
 //        own depth in w), the camera table
 //   out: warped rgba32f atlas (rgb, visible) and features rgba32f atlas (angle penalty in radians,
 //        resolution penalty in metres, field-of-view feather, visible), one target-sized band per
-//        view: the inputs of any blending, the lumigraph weights or a learned one.
+//        view: the inputs of a learned blending (the lumigraph blending runs fused with the
+//        warp, passes/ibr_warp_blend.h, and needs no atlases).
 // A view sees a surface point when it projects inside its color and depth images and its own
 // depth there agrees (passes::VisibilityTolerance).
 #include "passes/common/ibr_scene.h"
@@ -17,6 +18,8 @@ struct WarpSettings {
   VisibilityTolerance visibility;  // refinement uses the same
   float feather_px = 16.0f;
 };
+// `s`, or std::invalid_argument saying which setting is out of range.
+const WarpSettings& checked_warp_settings(const WarpSettings& s);
 
 class IbrWarpPass {
  public:
