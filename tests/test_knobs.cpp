@@ -131,6 +131,7 @@ TEST_CASE("the options a parent forwards give the child the same settings") {
   ibr.fusion = passes::DepthFusion::Average;
   ibr.splat.edge_inset = 0.3f;
   ibr.blend.best_views = 4;
+  ibr.split_warp = true;
   HandRendererOptions hand;
   hand.shape_adaption = false;
   hand.appearance_smoothing = 0.4f;
@@ -143,6 +144,7 @@ TEST_CASE("the options a parent forwards give the child the same settings") {
   CHECK(pipeline::hand_settings_json(child_hand) == pipeline::hand_settings_json(hand));
   CHECK(pipeline::ibr_settings_json(child_ibr)["refine"] == 9);
   CHECK(pipeline::ibr_settings_json(child_ibr)["edge_inset"] == 0.3);
+  CHECK(child_ibr.split_warp);
   // The defaults forward nothing.
   CHECK(config::knob_arguments(pipeline::ibr_knobs(), IbrSettings{}, IbrSettings{}).empty());
 }

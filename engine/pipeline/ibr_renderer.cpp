@@ -23,10 +23,11 @@ IbrSettings with_fusion(IbrSettings settings) {
 struct IbrRenderer::Images {
   vk::Image depth_mm, depth_rays, points, color;        // views in bands
   vk::Buffer fusion;
-  vk::Image fused_depth, carved_depth, refined_depth, warped, features;  // target sized (atlases: bands)
+  vk::Image fused_depth, carved_depth, refined_depth;  // target sized
+  std::unique_ptr<vk::Image> warped, features;         // the split path's: target sized, views in bands
 
   // `s.width` x `s.height` here are the rendered (supersampled) size.
-  Images(vk::Context& context, const passes::IbrCameraModel& camera, const IbrSettings& s)
+  Images(vk::Context& context, const passes::IbrCameraModel& camera, const IbrSettings& s, bool split)
       : depth_mm(context, {"ibr depth mm", camera.depth.intrinsics.width, camera.depth.intrinsics.height * s.views,
                            PixelFormat::R16U}),
         depth_rays(context, {"ibr depth rays", camera.depth.intrinsics.width,
@@ -38,9 +39,12 @@ struct IbrRenderer::Images {
         fusion(context, passes::fusion_buffer_desc(s.width, s.height)),
         fused_depth(context, {"ibr fused depth", s.width, s.height, PixelFormat::R32F}),
         carved_depth(context, {"ibr carved depth", s.width, s.height, PixelFormat::R32F}),
-        refined_depth(context, {"ibr refined depth", s.width, s.height, PixelFormat::R32F}),
-        warped(context, {"ibr warped", s.width, s.height * s.views, PixelFormat::RGBA32F}),
-        features(context, {"ibr features", s.width, s.height * s.views, PixelFormat::RGBA32F}) {}
+        refined_depth(context, {"ibr refined depth", s.width, s.height, PixelFormat::R32F}) {
+    if (!split) return;
+    warped = std::make_unique<vk::Image>(context, vk::ImageDesc{"ibr warped", s.width, s.height * s.views, PixelFormat::RGBA32F});
+    features =
+        std::make_unique<vk::Image>(context, vk::ImageDesc{"ibr features", s.width, s.height * s.views, PixelFormat::RGBA32F});
+  }
 };
 
 IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraModel> cameras, const IbrSettings& settings)
@@ -54,7 +58,6 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
                              : nullptr),
       refine_(settings_.refine ? std::make_unique<passes::IbrRefinePass>(context, settings_.refinement,
                                                                                  settings_.warp.visibility) : nullptr),
-      warp_(context, settings_.warp),
       scene_(context) {
   if (cameras_.size() < settings_.views)
     throw std::invalid_argument("image-based model: " + std::to_string(settings_.views) + " views asked for, the site has " +
@@ -67,12 +70,16 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   IbrSettings rendered = settings_;
   rendered.width *= settings_.supersample;
   rendered.height *= settings_.supersample;
-  images_ = std::make_unique<Images>(context, cameras_[0], rendered);
+  const bool split = settings_.split_warp || settings_.blending == IbrBlending::Lumi;
+  images_ = std::make_unique<Images>(context, cameras_[0], rendered, split);
   if (settings_.blending == IbrBlending::Lumi)
     lumi_ = std::make_unique<LumiNetBlender>(context, ibr::load_lumi_net(lumi_weights_path(settings_)), rendered.width,
                                              rendered.height, settings_.views);
-  else
+  else if (split)
     blend_ = std::make_unique<passes::IbrBlendPass>(context, settings_.blend);
+  else
+    warp_blend_ = std::make_unique<passes::IbrWarpBlendPass>(context, settings_.warp, settings_.blend);
+  if (split) warp_ = std::make_unique<passes::IbrWarpPass>(context, settings_.warp);
   portrait_ = std::make_unique<vk::Image>(context, vk::ImageDesc{"portrait", settings_.width, settings_.height});
   portrait_depth_ = std::make_unique<vk::Image>(
       context, vk::ImageDesc{"portrait depth", settings_.width, settings_.height, PixelFormat::R32F});
@@ -98,14 +105,16 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     refine_->add_to(*graph_, scene_, *depth, i.color, i.points, i.refined_depth, views);
     depth = &i.refined_depth;
   }
-  warp_.add_to(*graph_, scene_, *depth, i.color, i.points, i.warped, i.features, views);
   warp_depth_ = depth;
   vk::Image& blended = resolve_ ? *fine_portrait_ : *portrait_;
   vk::Image& blended_depth = resolve_ ? *fine_portrait_depth_ : *portrait_depth_;
+  if (warp_) warp_->add_to(*graph_, scene_, *depth, i.color, i.points, *i.warped, *i.features, views);
   if (lumi_)
-    lumi_->add_to(*graph_, *depth, i.warped, i.features, blended, blended_depth, views);
+    lumi_->add_to(*graph_, *depth, *i.warped, *i.features, blended, blended_depth, views);
+  else if (blend_)
+    blend_->add_to(*graph_, *depth, *i.warped, *i.features, blended, blended_depth, views);
   else
-    blend_->add_to(*graph_, *depth, i.warped, i.features, blended, blended_depth, views);
+    warp_blend_->add_to(*graph_, scene_, *depth, i.color, i.points, blended, blended_depth, views);
   if (resolve_) resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, *portrait_, *portrait_depth_);
 }
 

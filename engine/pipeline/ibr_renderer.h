@@ -1,8 +1,9 @@
 #pragma once
 // The sender's image-based model (paper 3.1.1) as one frame graph: background removal, depth
 // reprojection with min (or average) fusion and crack filling, optional see-through carving and
-// plane-sweep refinement, warping of each selected view, blending by unstructured lumigraph
-// weights or by Lumi-Net (settings.blending). In: the
+// plane-sweep refinement, then either warping and unstructured lumigraph blending in one pass,
+// or warping of each selected view and blending by lumigraph weights or by Lumi-Net
+// (settings.blending, settings.split_warp). In: the
 // site's RGBD images and the target view of the remote eye; out: the portrait (RGBA, straight
 // alpha) and its depth.
 #include <memory>
@@ -21,6 +22,7 @@
 #include "passes/common/ibr_scene.h"
 #include "passes/ibr_splat.h"
 #include "passes/ibr_warp.h"
+#include "passes/ibr_warp_blend.h"
 #include "sim/rgbd_source.h"
 
 namespace rt::pipeline {
@@ -69,9 +71,11 @@ class IbrRenderer {
   passes::IbrFusePass fuse_;
   std::unique_ptr<passes::IbrCarvePass> carve_;
   std::unique_ptr<passes::IbrRefinePass> refine_;
-  passes::IbrWarpPass warp_;
-  std::unique_ptr<passes::IbrBlendPass> blend_;  // one of these two, as settings.blending says
+  // Split: warp_ and one of blend_ and lumi_, as settings.blending says; else warp_blend_ alone.
+  std::unique_ptr<passes::IbrWarpPass> warp_;
+  std::unique_ptr<passes::IbrBlendPass> blend_;
   std::unique_ptr<LumiNetBlender> lumi_;
+  std::unique_ptr<passes::IbrWarpBlendPass> warp_blend_;
   std::unique_ptr<passes::IbrResolvePass> resolve_;
   passes::IbrSceneBuffer scene_;
   passes::IbrSceneTable table_;

@@ -46,6 +46,11 @@ const config::KnobTable<IbrSettings>& ibr_knobs() {
        KnobKind::Choice, 0, 0, {"ulr", "lumi"},
        [](const IbrSettings& s) { return s.blending == IbrBlending::Ulr ? 0.0 : 1.0; },
        [](IbrSettings& s, double v) { s.blending = v == 0 ? IbrBlending::Ulr : IbrBlending::Lumi; }},
+      {"split-warp",
+       "Warp each view into its own image, then blend (the per-view images a window's F2 and F3 show); "
+       "lumigraph blending otherwise warps and blends in one pass, Lumi-Net always splits",
+       KnobKind::Flag, 0, 1, {}, [](const IbrSettings& s) { return s.split_warp ? 1.0 : 0.0; },
+       [](IbrSettings& s, double v) { s.split_warp = v != 0; }},
       {"lumi-weights", "--blend lumi: the network's weights file (scripts/train-lumi writes it)", KnobKind::Text, 0, 0, {},
        {}, {}, [](const IbrSettings& s) { return lumi_weights_path(s).string(); },
        [](IbrSettings& s, const std::string& path) { s.lumi_weights = path; }},

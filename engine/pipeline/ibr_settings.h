@@ -40,6 +40,10 @@ struct IbrSettings {
   passes::WarpSettings warp;
   passes::BlendSettings blend;
   IbrBlending blending = IbrBlending::Ulr;
+  // Warp every view into its own image first, then blend (ibr_warp, then ibr_blend or Lumi-Net):
+  // the per-view images that export lumi and a window's F2 and F3 read. Lumi-Net always splits;
+  // lumigraph blending otherwise warps and blends in one pass (ibr_warp_blend).
+  bool split_warp = false;
   std::filesystem::path lumi_weights;  // Lumi-Net's weights file; empty: the committed one
 };
 
@@ -49,7 +53,7 @@ const char* blending_name(IbrBlending blending);
 std::filesystem::path lumi_weights_path(const IbrSettings& settings);
 
 // views, fusion, carve, refine, best-views, average-tolerance, edge-inset, portrait-supersample,
-// blend, lumi-weights.
+// blend, split-warp, lumi-weights.
 const config::KnobTable<IbrSettings>& ibr_knobs();
 
 // Every knob of `settings` as JSON (keys as in a site config's "ibr" object), for metrics files.

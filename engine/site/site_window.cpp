@@ -94,7 +94,10 @@ bool SiteWindowDisplay::take_keys() {
 void SiteWindowDisplay::present() {
   View view = current_view();
   if (!view.image) {  // this run has no such image: say so on the composite
-    std::cerr << "site " << common_.name << ": window: no " << view.label << " in this run, showing the composite\n";
+    const bool per_view = view_ == 1 || view_ == 2;
+    std::cerr << "site " << common_.name << ": window: no " << view.label << " in this run"
+              << (per_view ? " (warp and blend ran as one pass; --split-warp keeps each view's warp)" : "")
+              << ", showing the composite\n";
     view_ = 7;
     view = current_view();
   }

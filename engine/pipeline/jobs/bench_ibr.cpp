@@ -3,8 +3,10 @@
 // 640x360, 1280x720 and 2560x1440, from the frame graph's timestamps, each pass as a fraction of
 // the roofline measured in the same run (pipeline/roofline.h), and next to the same warp and
 // lumigraph blend run on the CPU with OpenCV (pipeline/ibr_cpu_peer.h) from the same surface, on
-// the same cores: the figure a user would compare the GPU path with. The input is one frame of
-// the clap scene rendered by the simulator at the site's full resolution.
+// the same cores: the figure a user would compare the GPU path with. With lumigraph blending the
+// other GPU path runs on the same frame too (one pass against warp-then-blend), timed and
+// compared. The input is one frame of the clap scene rendered by the simulator at the site's
+// full resolution.
 #include "pipeline/jobs.h"
 
 #include <chrono>
@@ -52,6 +54,37 @@ nlohmann::json compare_portraits(const cv::Mat& peer, const HostImage& gpu) {
           {"alpha_differs_fraction", covered ? double(alpha_differs) / covered : 0.0}};
 }
 
+// The GPU's warp and blend: ibr_warp_blend, or ibr_warp + ibr_blend on the split path.
+double warp_and_blend_ms(const std::vector<vk::PassTiming>& timings) {
+  double ms = 0;
+  for (const auto& timing : timings)
+    if (timing.name == "ibr_warp_blend" || timing.name == "ibr_warp" || timing.name == "ibr_blend") ms += timing.median_ms;
+  return ms;
+}
+
+// Runs `renderer`'s prepared frame `frames` times after a warm-up; the frames' wall ms, sorted.
+std::vector<double> run_timed(GpuSession& session, IbrRenderer& renderer, uint32_t frames) {
+  std::vector<double> wall_ms;
+  for (uint32_t i = 0; i < kWarmUpFrames + frames; ++i) {
+    if (i == kWarmUpFrames) renderer.graph().reset_timings();
+    const auto start = std::chrono::steady_clock::now();
+    session.run_frame(renderer.graph(), i);
+    if (i >= kWarmUpFrames)
+      wall_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::sort(wall_ms.begin(), wall_ms.end());
+  return wall_ms;
+}
+
+// The largest difference of any channel between two portraits of one size.
+double max_difference(const HostImage& a, const HostImage& b) {
+  double largest = 0;
+  for (uint32_t y = 0; y < a.height; ++y)
+    for (uint32_t x = 0; x < a.width; ++x)
+      for (uint32_t c = 0; c < 4; ++c) largest = std::max(largest, double(std::abs(a.at(x, y, c) - b.at(x, y, c))));
+  return largest;
+}
+
 }  // namespace
 
 int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views_given) {
@@ -95,15 +128,7 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
       const Camera target = target_view_camera(eye, scene.at(Site::A).site.screen, width, height);
       const auto selection = ibr::select_cameras(positions, ibr::TouchingHand::Right, views);
       renderer.prepare(frame.cameras, selection, target);
-      std::vector<double> wall_ms;
-      for (uint32_t i = 0; i < kWarmUpFrames + options.frames; ++i) {
-        if (i == kWarmUpFrames) renderer.graph().reset_timings();
-        const auto start = std::chrono::steady_clock::now();
-        session.run_frame(renderer.graph(), i);
-        if (i >= kWarmUpFrames)
-          wall_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-      }
-      std::sort(wall_ms.begin(), wall_ms.end());
+      const std::vector<double> wall_ms = run_timed(session, renderer, options.frames);
       const auto timings = renderer.graph().timings();
       double ibr_ms = 0;
       nlohmann::json run = {{"width", width}, {"height", height}, {"views", views}};
@@ -118,6 +143,7 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
                   run["wall_ms_per_frame"].get<double>(), format_profile(timings, roofline).c_str());
 
       // The CPU peer from the surface the GPU warped through, timed over as many frames.
+      const bool split = settings.split_warp || settings.blending == IbrBlending::Lumi;
       IbrRenderer::WarpInputs warp = renderer.warp_inputs();
       const IbrCpuPeerInputs peer_inputs = cpu_peer_inputs(warp.table, vk::download(context, warp.depth),
                                                            vk::download(context, warp.color), vk::download(context, warp.points));
@@ -130,9 +156,7 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
         blend_ms.push_back(peer.times.blend_ms);
         peer_ms.push_back(peer.times.total());
       }
-      double gpu_warp_blend_ms = 0;
-      for (const auto& timing : timings)
-        if (timing.name == "ibr_warp" || timing.name == "ibr_blend") gpu_warp_blend_ms += timing.median_ms;
+      const double gpu_warp_blend_ms = warp_and_blend_ms(timings);
       const double peer_total = median_of(peer_ms);
       run["cpu_peer"] = {{"opencv_threads", cv::getNumThreads()},
                          {"ms_maps", median_of(maps_ms)},
@@ -148,15 +172,37 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
         run["cpu_peer"]["against_gpu_portrait"] = compare_portraits(peer.portrait, portrait);
       const nlohmann::json& p = run["cpu_peer"];
       std::printf("CPU peer (OpenCV, %d threads): warp and blend %.2f ms (maps %.2f, remap %.2f, blend %.2f) against the "
-                  "GPU's ibr_warp + ibr_blend %.2f ms: GPU %.2fx the peer's speed",
+                  "GPU's %s %.2f ms: GPU %.2fx the peer's speed",
                   cv::getNumThreads(), peer_total, p["ms_maps"].get<double>(), p["ms_remap"].get<double>(),
-                  p["ms_blend"].get<double>(), gpu_warp_blend_ms, p["peer_over_gpu"].get<double>());
+                  p["ms_blend"].get<double>(), split ? "ibr_warp + ibr_blend" : "ibr_warp_blend", gpu_warp_blend_ms,
+                  p["peer_over_gpu"].get<double>());
       if (p["against_gpu_portrait"].is_null())
         std::printf(" (portraits not compared: the GPU's is supersampled)\n");
       else
         std::printf("; portraits agree to %.1f dB, alpha differs on %.2f %% of the covered pixels\n",
                     p["against_gpu_portrait"]["psnr_db"].get<double>(),
                     100.0 * p["against_gpu_portrait"]["alpha_differs_fraction"].get<double>());
+
+      // Lumigraph blending's other path on the GPU, the same frame: what the one-pass warp and
+      // blend saves over writing every view's warp and reading it back.
+      if (settings.blending == IbrBlending::Ulr) {
+        IbrSettings other = settings;
+        other.split_warp = !split;
+        IbrRenderer peer_renderer(context, cameras, other);
+        peer_renderer.prepare(frame.cameras, selection, target);
+        (void)run_timed(session, peer_renderer, options.frames);
+        const double other_ms = warp_and_blend_ms(peer_renderer.graph().timings());
+        const HostImage other_portrait = vk::download(context, peer_renderer.portrait());
+        const double fused_ms = split ? other_ms : gpu_warp_blend_ms, split_ms = split ? gpu_warp_blend_ms : other_ms;
+        run["split_against_fused"] = {{"gpu_ms_fused", fused_ms},
+                                      {"gpu_ms_split", split_ms},
+                                      {"split_over_fused", fused_ms > 0 ? split_ms / fused_ms : 0.0},
+                                      {"max_difference", max_difference(portrait, other_portrait)}};
+        std::printf("GPU warp and blend: one pass (ibr_warp_blend) %.2f ms, split (ibr_warp + ibr_blend) %.2f ms: one "
+                    "pass %.2fx the split's speed; portraits differ by at most %.2g\n",
+                    fused_ms, split_ms, run["split_against_fused"]["split_over_fused"].get<double>(),
+                    run["split_against_fused"]["max_difference"].get<double>());
+      }
       report["runs"].push_back(run);
     }
   std::filesystem::create_directories(options.out);

@@ -87,6 +87,7 @@ int run_bench_lumi(const RunOptions& options, const IbrSettings& base, const std
     settings.height = height;
     settings.views = kOnnxViews;
     settings.blending = blending;
+    settings.split_warp = true;  // lumigraph blending as its own pass, to set beside the network's
     auto renderer = std::make_unique<IbrRenderer>(context, cameras, settings);
     renderer->prepare(frame.cameras, selection, target);
     for (uint32_t i = 0; i < kWarmUpFrames + options.frames; ++i) {

@@ -67,6 +67,7 @@ int run_export_lumi(const RunOptions& options, const ExportLumiOptions& e) {
   settings.width = options.width;
   settings.height = options.height;
   if (settings.supersample != 1) throw std::invalid_argument("export lumi: the network runs on unsupersampled portraits");
+  settings.split_warp = true;  // the network's inputs are the per-view warps
   IbrRenderer renderer(context, simulator.renderer().camera_models(), settings);
 
   std::filesystem::create_directories(options.out);
