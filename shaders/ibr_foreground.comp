@@ -21,38 +21,46 @@ layout(binding = 1, rgba32f) uniform readonly image2D depth_rays;  // x/z, y/z, 
 layout(binding = 2, rgba32f) uniform writeonly image2D points;    // site xyz, camera z; 0 = none
 layout(push_constant) uniform Push { IbrForegroundParams params; };
 
-// Camera z (metres) of a depth pixel that lies in the volume, else 0.
-float volume_depth(ivec2 pixel, int band, ivec2 size, int view) {
-  if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, size))) return 0.0;
+// A depth pixel's site point and camera z (metres) when it lies in the volume, else 0.
+vec4 volume_point(ivec2 pixel, int band, ivec2 size, int view) {
+  if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, size))) return vec4(0.0);
   ivec2 texel = ivec2(pixel.x, pixel.y + band);
   uint millimetres = imageLoad(depth_mm, texel).r;
   vec4 ray = imageLoad(depth_rays, texel);
-  if (millimetres == 0u || ray.z == 0.0) return 0.0;
+  if (millimetres == 0u || ray.z == 0.0) return vec4(0.0);
   float z = float(millimetres) * 0.001;
   vec3 site = transform_point(cameras[view].site_from_camera, vec3(ray.xy * z, z));
   bool inside = all(greaterThanEqual(site, params.volume_min.xyz)) && all(lessThanEqual(site, params.volume_max.xyz));
-  return inside ? z : 0.0;
+  return inside ? vec4(site, z) : vec4(0.0);
 }
+
+// The workgroup's pixels and a one-pixel border, each unprojected once: every pixel's support
+// test reads its nine from here instead of loading and transforming them again.
+const int kTileWidth = RT_TILE_X + 2, kTileHeight = RT_TILE_Y + 2;
+shared vec4 tile[kTileHeight * kTileWidth];
 
 void main() {
   int view = int(gl_GlobalInvocationID.z);
   ivec2 size = ivec2(lens_size(cameras[view].depth));
+  int band = view * size.y;
+  ivec2 origin = ivec2(gl_WorkGroupID.xy) * ivec2(RT_TILE_X, RT_TILE_Y) - 1;
+  for (int i = int(gl_LocalInvocationIndex); i < kTileWidth * kTileHeight; i += RT_TILE_X * RT_TILE_Y)
+    tile[i] = volume_point(origin + ivec2(i % kTileWidth, i / kTileWidth), band, size, view);
+  barrier();
+
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, size))) return;
-  int band = view * size.y;
-  float z = volume_depth(pixel, band, size, view);
+  ivec2 local = ivec2(gl_LocalInvocationID.xy) + 1;
+  vec4 centre = tile[local.y * kTileWidth + local.x];
+  float z = centre.w;
   int support = 0;
   if (z > 0.0)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         if (dx == 0 && dy == 0) continue;
-        float neighbour = volume_depth(pixel + ivec2(dx, dy), band, size, view);
+        float neighbour = tile[(local.y + dy) * kTileWidth + local.x + dx].w;
         if (neighbour > 0.0 && abs(neighbour - z) <= edge_tolerance_m) ++support;
       }
-  vec4 point = vec4(0.0);
-  if (z > 0.0 && support >= min_support) {
-    vec2 xy = imageLoad(depth_rays, ivec2(pixel.x, pixel.y + band)).xy;
-    point = vec4(transform_point(cameras[view].site_from_camera, vec3(xy * z, z)), z);
-  }
+  vec4 point = z > 0.0 && support >= min_support ? centre : vec4(0.0);
   imageStore(points, ivec2(pixel.x, pixel.y + band), point);
 }
