@@ -179,14 +179,16 @@ void Receiver::display_loop() {
       if (common_.write_frames) shown = vk::download(*common_.context, compositor->display);
       on_screen = monotonic_now_us();
       receiver_wall_.add(double(on_screen - start) / 1000.0);
-      // Appearance adaption (Eq. 3) compares this portrait with the hand posed for its moment in its
-      // view, on every shown portrait where the cameras see the hand (beyond d_max, or closer
-      // until a frame there has fitted, as adapt_appearance_from decides); the adapted texture is
-      // what the next renders sample.
-      if (with_hand && hand->appearance_adaption_possible()) {
-        vk::upload(*common_.context, *portrait_depth, message.depth);
-        adapted = hand->adapt_appearance_from(portrait, *portrait_depth);
-      }
+    }
+    // Appearance adaption (Eq. 3) compares this portrait with the hand posed for its moment in its
+    // view, on every shown portrait where the cameras see the hand (beyond d_max, or closer
+    // until a frame there has fitted, as adapt_appearance_from decides); the adapted texture is
+    // what the next renders sample. The frame is on screen already: this waits its turn behind
+    // the sender's work rather than ahead of it.
+    if (with_hand && hand->appearance_adaption_possible()) {
+      std::lock_guard turn(common_.gpu_turn);
+      vk::upload(*common_.context, *portrait_depth, message.depth);
+      adapted = hand->adapt_appearance_from(portrait, *portrait_depth);
     }
     if (adapted) ++appearance_adaptions_;
     // Counted in displayed frames, not seconds: the fit goes stale by frames shown without one.

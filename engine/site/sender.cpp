@@ -148,11 +148,8 @@ void Sender::capture_loop() {
       std::this_thread::sleep_for(std::chrono::microseconds(due_us > now ? due_us - now : 0));
       continue;
     }
-    const uint64_t index = *due;
-    last_index = index;
-    last_scene_frame_ = index;
+    uint64_t index = *due;
     CapturedFrame captured;
-    captured.index = index;
     HostImage truth;
     std::optional<pipeline::LimbTruth> limb;
     if (replay_) {
@@ -163,6 +160,10 @@ void Sender::capture_loop() {
     } else {
       std::lock_guard turn(common_.gpu_turn);
       const uint64_t start = monotonic_now_us();
+      // The turn may have come only after the image-based model's: the cameras show the moment
+      // the simulator renders, not the one when this loop asked for the turn (an older frame
+      // would only add its wait to the latency).
+      index = std::max(index, std::min<uint64_t>(uint64_t(std::floor(common_.scene_time_s(start) * fps)), common_.scene.frame_count - 1));
       simulator_->seek(index);
       std::optional<sim::RgbdFrame> frame = simulator_->next_frame();
       if (!frame) break;
@@ -177,6 +178,9 @@ void Sender::capture_loop() {
       }
       simulator_wall_.add(double(monotonic_now_us() - start) / 1000.0);
     }
+    last_index = index;
+    last_scene_frame_ = index;
+    captured.index = index;
     // Stamped with the moment the images show, as a camera stamps its exposure, not when the
     // simulator or the files had them ready (hundreds of milliseconds later on lavapipe): the
     // receiver poses the remote hand for this moment, from skeletons stamped when tracked.

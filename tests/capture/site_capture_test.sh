@@ -22,7 +22,7 @@ for site in A B; do
   [ -s "$sender" ] || fail "site $site: no sender capture ($sender)"
   [ -s "$receiver" ] || fail "site $site: no receiver capture ($receiver)"
   grep -q "RenderDoc capture of site $site's sender at frame 2: $sender" "$out.log" || fail "site $site does not say where its capture is"
-  "$here/check_capture.sh" "$sender" --passes "image-based model" ibr_warp ibr_splat ibr_fuse ibr_blend \
+  "$here/check_capture.sh" "$sender" --passes "image-based model" ibr_foreground ibr_splat ibr_fuse ibr_warp_blend \
     --resources portrait
   "$here/check_capture.sh" "$receiver" --passes "receiver frame" hand_alpha overlay composite \
     --resources portrait "hand alpha" display
