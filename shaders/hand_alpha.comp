@@ -4,7 +4,7 @@
 // alpha_g = (d_max - clip(d, d_min, d_max)) / (d_max - d_min) on hand pixels, 0 elsewhere.
 // The mask is read as coverage in [0, 1] so an anti-aliased mask edge fades too.
 #include "shared/config.h"
-#include "common/numeric.glsl"
+#include "common/receiver_layers.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
 
@@ -19,15 +19,9 @@ layout(push_constant) uniform Push { HandAlphaParams params; };
 layout(binding = 0, r32f) uniform readonly image2D hand_mask;
 layout(binding = 1, r32f) uniform writeonly image2D hand_alpha;
 
-float fusion_alpha(float d) {
-  // A NaN or infinite distance means "no geometry hand", never a NaN pixel.
-  if (!is_finite(d)) return 0.0;
-  return (d_max_m - clamp(d, d_min_m, d_max_m)) / (d_max_m - d_min_m);
-}
-
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, imageSize(hand_alpha)))) return;
   float coverage = unit_or_zero(imageLoad(hand_mask, pixel).r);
-  imageStore(hand_alpha, pixel, vec4(fusion_alpha(params.hand_distance_m) * coverage));
+  imageStore(hand_alpha, pixel, vec4(fusion_alpha(params.hand_distance_m, d_min_m, d_max_m) * coverage));
 }

@@ -6,7 +6,7 @@
 // The result is stored premultiplied (c_f alpha_f, alpha_f): the division disappears, and
 // where alpha_f = 0 the pixel is (0, 0, 0, 0) instead of 0/0.
 #include "shared/config.h"
-#include "common/numeric.glsl"
+#include "common/receiver_layers.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
 
@@ -18,14 +18,7 @@ layout(binding = 3, rgba32f) uniform writeonly image2D fused;      // premultipl
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, imageSize(fused)))) return;
-  vec3 c_g = unit_or_zero(imageLoad(hand_color, pixel).rgb);
-  float a_g = unit_or_zero(imageLoad(hand_alpha, pixel).r);
-  vec4 image_layer = imageLoad(portrait, pixel);
-  vec3 c_i = unit_or_zero(image_layer.rgb);
-  float a_i = unit_or_zero(image_layer.a);
-
-  float portrait_weight = a_i * (1.0 - a_g);
-  float a_f = a_g + portrait_weight;
-  vec3 premultiplied = c_g * a_g + c_i * portrait_weight;
-  imageStore(fused, pixel, vec4(premultiplied, a_f));
+  vec4 fused_layer = overlay_layers(imageLoad(hand_color, pixel).rgb, imageLoad(hand_alpha, pixel).r,
+                                    imageLoad(portrait, pixel));
+  imageStore(fused, pixel, fused_layer);
 }

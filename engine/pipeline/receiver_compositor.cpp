@@ -2,16 +2,17 @@
 
 namespace rt::pipeline {
 
-ReceiverCompositor::ReceiverCompositor(vk::Context& context, uint32_t width, uint32_t height)
-    : ReceiverCompositor(context, make_demo_layers(width, height)) {}
+ReceiverCompositor::ReceiverCompositor(vk::Context& context, uint32_t width, uint32_t height, bool keep_layers)
+    : ReceiverCompositor(context, make_demo_layers(width, height), keep_layers) {}
 
-ReceiverCompositor::ReceiverCompositor(vk::Context& context, const HostImage& background_image)
+ReceiverCompositor::ReceiverCompositor(vk::Context& context, const HostImage& background_image, bool keep_layers)
     : ReceiverCompositor(context, DemoLayers{HostImage(background_image.width, background_image.height, PixelFormat::RGBA32F),
                                              HostImage(background_image.width, background_image.height, PixelFormat::RGBA32F),
                                              HostImage(background_image.width, background_image.height, PixelFormat::R32F),
-                                             background_image}) {}
+                                             background_image},
+                         keep_layers) {}
 
-ReceiverCompositor::ReceiverCompositor(vk::Context& context, const DemoLayers& layers)
+ReceiverCompositor::ReceiverCompositor(vk::Context& context, const DemoLayers& layers, bool keep)
     : portrait(context, {"portrait", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
       hand_color(context, {"hand color", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
       hand_mask(context, {"hand mask", layers.portrait.width, layers.portrait.height, PixelFormat::R32F}),
@@ -19,9 +20,11 @@ ReceiverCompositor::ReceiverCompositor(vk::Context& context, const DemoLayers& l
       hand_alpha(context, {"hand alpha", layers.portrait.width, layers.portrait.height, PixelFormat::R32F}),
       fused(context, {"fused", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
       display(context, {"display", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA8}),
+      keep_layers(keep),
       hand_alpha_pass(context),
       overlay_pass(context),
-      composite_pass(context) {
+      composite_pass(context),
+      one_pass(context) {
   vk::upload(context, portrait, layers.portrait);
   vk::upload(context, hand_color, layers.hand_color);
   vk::upload(context, hand_mask, layers.hand_mask);
@@ -29,6 +32,10 @@ ReceiverCompositor::ReceiverCompositor(vk::Context& context, const DemoLayers& l
 }
 
 void ReceiverCompositor::add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m) {
+  if (!keep_layers) {
+    one_pass.add_to(graph, hand_mask, hand_color, portrait, background, display, std::move(hand_distance_m));
+    return;
+  }
   hand_alpha_pass.add_to(graph, hand_mask, hand_alpha, std::move(hand_distance_m));
   overlay_pass.add_to(graph, hand_color, hand_alpha, portrait, fused);
   composite_pass.add_to(graph, fused, background, display);

@@ -1,33 +1,39 @@
 #pragma once
 // The receiver's compositing, one chain for the site's display, `compose` and the benchmark:
-// hand_alpha (Eq. 4) -> overlay (Eq. 5) -> composite over the background -> display.
+// Eq. 4, Eq. 5 and the composite over the background in one pass (receiver_composite), or,
+// with the layers kept for inspection, hand_alpha (Eq. 4) -> overlay (Eq. 5) -> composite, each
+// writing its layer (the same display).
 #include <functional>
 
 #include "pipeline/demo_layers.h"
 #include "passes/composite.h"
 #include "passes/hand_alpha.h"
 #include "passes/overlay.h"
+#include "passes/receiver_composite.h"
 #include "vulkan/frame_graph.h"
 
 namespace rt::pipeline {
 
 struct ReceiverCompositor {
   // Creates the images at this size and uploads the generated layers into them (compose, bench).
-  ReceiverCompositor(vk::Context& context, uint32_t width, uint32_t height);
+  // `keep_layers`: hand_alpha and fused hold each frame's layers (else they are never written).
+  ReceiverCompositor(vk::Context& context, uint32_t width, uint32_t height, bool keep_layers = false);
   // For a site: no portrait and no hand yet, over `background` (rgba32f at this size).
-  ReceiverCompositor(vk::Context& context, const HostImage& background);
-  // Adds the three passes; hand_distance_m is read when each frame is recorded.
+  ReceiverCompositor(vk::Context& context, const HostImage& background, bool keep_layers = false);
+  // Adds the passes; hand_distance_m is read when each frame is recorded.
   void add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m);
 
   vk::Image portrait, hand_color, hand_mask, background;  // inputs
   vk::Image hand_alpha, fused, display;                   // outputs of the passes
+  const bool keep_layers;
   passes::HandAlphaPass hand_alpha_pass;
   passes::OverlayPass overlay_pass;
   passes::CompositePass composite_pass;
+  passes::ReceiverCompositePass one_pass;
 
  private:
   // The images at the layers' size, holding them.
-  ReceiverCompositor(vk::Context& context, const DemoLayers& layers);
+  ReceiverCompositor(vk::Context& context, const DemoLayers& layers, bool keep_layers);
 };
 
 }  // namespace rt::pipeline

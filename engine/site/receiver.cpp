@@ -59,7 +59,9 @@ void Receiver::display_loop() {
   float hand_distance_m = NAN;
   {
     std::lock_guard turn(common_.gpu_turn);
-    compositor = std::make_unique<pipeline::ReceiverCompositor>(*common_.context, common_.background);
+    // A window's views show the hand's alpha: only then are the layers written.
+    compositor = std::make_unique<pipeline::ReceiverCompositor>(*common_.context, common_.background,
+                                                                common_.window != nullptr);
     compositor->add_to(graph, [&] { return hand_distance_m; });
     hand = std::make_unique<pipeline::HandRenderer>(*common_.context, config::assets_dir() / "hand", common_.width,
                                                     common_.height, common_.options.hand);

@@ -16,7 +16,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
   --out "$out" 2>&1 | tee "$out.log"
 for site in A B; do
   grep -q "\[site $site\] site $site, ibr: GPU ms per pass" "$out.log" || fail "site $site printed no profile of its ibr graph"
-  grep -Eq "\[site $site\]   composite +[0-9]+\.[0-9]+" "$out.log" || fail "site $site's profile has no composite pass"
+  grep -Eq "\[site $site\]   receiver_composite +[0-9]+\.[0-9]+" "$out.log" || fail "site $site's profile has no receiver_composite pass"
   sender=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['capture']['sender'] or '')" "$out/site_$site/metrics.json")
   receiver=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['capture']['receiver'] or '')" "$out/site_$site/metrics.json")
   [ -s "$sender" ] || fail "site $site: no sender capture ($sender)"
@@ -24,7 +24,7 @@ for site in A B; do
   grep -q "RenderDoc capture of site $site's sender at frame 2: $sender" "$out.log" || fail "site $site does not say where its capture is"
   "$here/check_capture.sh" "$sender" --passes "image-based model" ibr_foreground ibr_splat ibr_fuse ibr_warp_blend \
     --resources portrait
-  "$here/check_capture.sh" "$receiver" --passes "receiver frame" hand_alpha overlay composite \
-    --resources portrait "hand alpha" display
+  "$here/check_capture.sh" "$receiver" --passes "receiver frame" receiver_composite \
+    --resources portrait "hand mask" display
 done
 echo "both sites captured their sender and receiver iterations"

@@ -18,7 +18,7 @@ int run_compose(const RunOptions& options) {
   vk::Context& context = session.context();
   const uint32_t width = options.width, height = options.height;
 
-  ReceiverCompositor chain(context, width, height);
+  ReceiverCompositor chain(context, width, height, /*keep_layers=*/true);  // each equation's layer, to look at
   vk::FrameGraph graph(context, "compose frame");
   float hand_distance_m = 0.0f;
   chain.add_to(graph, [&] { return hand_distance_m; });

@@ -152,7 +152,7 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
       run.adapts_appearance = *path != HandPath::NoAppearance;
       hands.emplace(*path, std::move(run));
     }
-    ReceiverCompositor compositor(context, HostImage(width, height, PixelFormat::RGBA32F));
+    ReceiverCompositor compositor(context, HostImage(width, height, PixelFormat::RGBA32F), /*keep_layers=*/true);
     vk::FrameGraph receiver_graph(context, "eval dual receiver");
     float fusion_distance_m = NAN;
     compositor.add_to(receiver_graph, [&] { return fusion_distance_m; });
