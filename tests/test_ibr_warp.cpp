@@ -137,13 +137,7 @@ TEST_CASE("ibr_warp hard cases", "[ibr_warp][gpu]") {
     // behind a camera projects where a point in front of it would; where that lands inside the
     // view's images and the depth test accepts anything (every own depth valid, 10 m tolerance),
     // only the test on the camera-frame depth rejects it.
-    test::IbrRig ahead = rig;
-    for (auto& camera : ahead.cameras) {
-      const Eigen::Vector3d position = camera.depth.position_in_site();
-      camera.depth.camera_from_site = sim::camera_from_site_looking_at(position, position + Eigen::Vector3d::UnitZ());
-      camera.color.camera_from_site = camera.depth.camera_from_site;
-    }
-    ahead.table = passes::make_scene_table(ahead.target, ahead.cameras);
+    const test::IbrRig ahead = test::turned_away(rig);
     const HostImage fused(29, 19, PixelFormat::R32F, 0.3f);
     const HostImage valid_everywhere(41, 37 * 2, PixelFormat::RGBA32F, 0.7f);
     passes::WarpSettings accept_any;

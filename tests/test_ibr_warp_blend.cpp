@@ -141,13 +141,7 @@ TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
     require_close(gpu.depth, nothing.depth, 0.0, 0);
   }
   SECTION("surface points behind every camera are seen by none") {
-    test::IbrRig ahead = rig;
-    for (auto& camera : ahead.cameras) {
-      const Eigen::Vector3d position = camera.depth.position_in_site();
-      camera.depth.camera_from_site = sim::camera_from_site_looking_at(position, position + Eigen::Vector3d::UnitZ());
-      camera.color.camera_from_site = camera.depth.camera_from_site;
-    }
-    ahead.table = passes::make_scene_table(ahead.target, ahead.cameras);
+    const test::IbrRig ahead = test::turned_away(rig);
     Inputs in = random;
     in.fused = HostImage(29, 19, PixelFormat::R32F, 0.3f);
     in.points = HostImage(41, 37 * 3, PixelFormat::RGBA32F, 0.7f);

@@ -71,4 +71,14 @@ HostImage random_fused_depth(std::mt19937& rng, uint32_t width, uint32_t height)
   return depth;
 }
 
+IbrRig turned_away(IbrRig rig) {
+  for (auto& camera : rig.cameras) {
+    const Eigen::Vector3d position = camera.depth.position_in_site();
+    camera.depth.camera_from_site = sim::camera_from_site_looking_at(position, position + Eigen::Vector3d::UnitZ());
+    camera.color.camera_from_site = camera.depth.camera_from_site;
+  }
+  rig.table = passes::make_scene_table(rig.target, rig.cameras);
+  return rig;
+}
+
 }  // namespace rt::test

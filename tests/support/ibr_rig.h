@@ -19,6 +19,10 @@ struct IbrRig {
 IbrRig ibr_rig(uint32_t views, uint32_t color_w, uint32_t color_h, uint32_t depth_w, uint32_t depth_h,
                uint32_t target_w, uint32_t target_h, bool distortion = true);
 
+// `rig` with every camera turned to look straight ahead (+z, away from the eye), where the
+// target's surface lies behind all of them.
+IbrRig turned_away(IbrRig rig);
+
 // R16U atlas: each view sees a surface about 0.5-0.9 m away; `hole_fraction` of pixels are 0.
 HostImage random_depth_atlas(std::mt19937& rng, const IbrRig& rig, float hole_fraction = 0.1f);
 
