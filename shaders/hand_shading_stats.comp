@@ -24,7 +24,17 @@ layout(push_constant) uniform Push { ColorStatsParams params; };
 
 shared float sums[RT_SHADING_SUM_TERMS][RT_SHADING_STATS_GROUP];
 
-void add_pixel(uint i, inout float values[RT_SHADING_SUM_TERMS]) {
+// One invocation's sums over its pixels, in whole vectors and matrices rather than an array of
+// 55 floats: summed term by term through loops, an array stays in indexed memory per lane,
+// which cost the pass most of its time. The basis in three blocks b_I = b[3I..3I+2];
+// m_IJ[col][row] = sum b_I[row] b_J[col].
+struct NormalSums {
+  float count;
+  mat3 m00, m01, m02, m11, m12, m22;
+  vec3 y0, y1, y2;  // sum b_I y
+};
+
+void add_pixel(uint i, inout NormalSums s) {
   ivec2 pixel = ivec2(i % params.width, i / params.width);
   vec4 image = imageLoad(portrait_color, pixel);
   vec4 mesh = imageLoad(mesh_color, pixel);
@@ -37,24 +47,46 @@ void add_pixel(uint i, inout float values[RT_SHADING_SUM_TERMS]) {
   float y = (image.r + image.g + image.b) / (mesh.r + mesh.g + mesh.b);
   float b[RT_SHADING_TERMS];
   shading_basis(n, b);
-  values[0] += 1.0;
-  int t = 1;
-  for (int r = 0; r < RT_SHADING_TERMS; ++r)
-    for (int c = r; c < RT_SHADING_TERMS; ++c) values[t++] += b[r] * b[c];
-  for (int k = 0; k < RT_SHADING_TERMS; ++k) values[1 + RT_SHADING_MATRIX_TERMS + k] += b[k] * y;
+  vec3 b0 = vec3(b[0], b[1], b[2]), b1 = vec3(b[3], b[4], b[5]), b2 = vec3(b[6], b[7], b[8]);
+  s.count += 1.0;
+  s.m00 += outerProduct(b0, b0);
+  s.m01 += outerProduct(b0, b1);
+  s.m02 += outerProduct(b0, b2);
+  s.m11 += outerProduct(b1, b1);
+  s.m12 += outerProduct(b1, b2);
+  s.m22 += outerProduct(b2, b2);
+  s.y0 += b0 * y;
+  s.y1 += b1 * y;
+  s.y2 += b2 * y;
+}
+
+// Term r <= c of the matrix: sum b[r] b[c], from block (r / 3, c / 3).
+float matrix_term(NormalSums s, int r, int c) {
+  int block = (r / 3) * 3 + c / 3;  // 0 01 02 / - 4 5 / - - 8
+  mat3 m = block == 0 ? s.m00 : block == 1 ? s.m01 : block == 2 ? s.m02 : block == 4 ? s.m11 : block == 5 ? s.m12 : s.m22;
+  return m[c % 3][r % 3];
 }
 
 void main() {
   uint lid = gl_LocalInvocationID.x;
-  float values[RT_SHADING_SUM_TERMS];
-  for (int k = 0; k < RT_SHADING_SUM_TERMS; ++k) values[k] = 0.0;
+  NormalSums own = NormalSums(0.0, mat3(0.0), mat3(0.0), mat3(0.0), mat3(0.0), mat3(0.0), mat3(0.0), vec3(0.0),
+                              vec3(0.0), vec3(0.0));
   // Neighbouring invocations read neighbouring pixels in each step.
   uint base = gl_WorkGroupID.x * RT_SHADING_STATS_GROUP * RT_SHADING_STATS_PIXELS_PER_THREAD + lid;
   for (uint k = 0; k < RT_SHADING_STATS_PIXELS_PER_THREAD; ++k) {
     uint i = base + k * RT_SHADING_STATS_GROUP;
-    if (i < params.pixel_count) add_pixel(i, values);
+    if (i < params.pixel_count) add_pixel(i, own);
   }
-  for (int k = 0; k < RT_SHADING_SUM_TERMS; ++k) sums[k][lid] = values[k];
+  // The terms in the partials' order: the count, the matrix's upper triangle row by row, sum b y.
+  sums[0][lid] = own.count;
+  int t = 1;
+  for (int r = 0; r < RT_SHADING_TERMS; ++r)
+    for (int c = r; c < RT_SHADING_TERMS; ++c) sums[t++][lid] = matrix_term(own, r, c);
+  for (int k = 0; k < 3; ++k) {
+    sums[1 + RT_SHADING_MATRIX_TERMS + k][lid] = own.y0[k];
+    sums[4 + RT_SHADING_MATRIX_TERMS + k][lid] = own.y1[k];
+    sums[7 + RT_SHADING_MATRIX_TERMS + k][lid] = own.y2[k];
+  }
   for (uint stride = RT_SHADING_STATS_GROUP / 2; stride > 0; stride >>= 1) {
     barrier();
     if (lid < stride)
