@@ -13,7 +13,6 @@
 #include "passes/ibr_foreground.h"
 #include "passes/ibr_warp.h"
 #include "passes/ibr_warp_blend.h"
-#include "sim/default_site.h"
 #include "support/gpu_test.h"
 #include "support/ibr_rig.h"
 #include "support/pass_harness.h"
