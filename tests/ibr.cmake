@@ -12,6 +12,9 @@ add_cli_test(cli_eval_ibr_bad_fusion 105 "--fusion: median not in" ${rt} eval ib
 add_cli_test(cli_eval_ibr_bad_edge_inset 105 "--edge-inset: Value 0.5 not in range" ${rt} eval ibr --edge-inset 0.5)
 add_cli_test(cli_bench_ibr 0 "roofline .*buffer transfer.*host memcpy.*FMA peak.*6 views: image-based model.*% roofline.*CPU peer \\(OpenCV.*GPU [0-9.]+x the peer.s speed; portraits agree to [0-9.]+ dB"
              ${rt} bench ibr --frames 1 --width 65 --height 33 --out ${CMAKE_BINARY_DIR}/test-out/bench-ibr)
+# --split-warp: the peer is then the split path, and the other GPU path is the one pass.
+add_cli_test(cli_bench_ibr_split_warp 0 "ibr_warp .*ibr_blend .*GPU's ibr_warp \\+ ibr_blend .*one pass \\(ibr_warp_blend\\) [0-9.]+ ms, split \\(ibr_warp \\+ ibr_blend\\) [0-9.]+ ms.*differ by at most"
+             ${rt} bench ibr --split-warp --views 2 --frames 1 --width 33 --height 17 --out ${CMAKE_BINARY_DIR}/test-out/bench-ibr-split)
 # The dual hand at the glass: the receiver's whole chain per touch phase and variant, small.
 add_test(NAME cli_eval_dual_outputs
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/eval_dual_outputs.sh $<TARGET_FILE:remotetouch> ${CMAKE_BINARY_DIR}/test-out/eval-dual)
