@@ -70,7 +70,7 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   IbrSettings rendered = settings_;
   rendered.width *= settings_.supersample;
   rendered.height *= settings_.supersample;
-  const bool split = settings_.split_warp || settings_.blending == IbrBlending::Lumi;
+  const bool split = splits_warp(settings_);
   images_ = std::make_unique<Images>(context, cameras_[0], rendered, split);
   if (settings_.blending == IbrBlending::Lumi)
     lumi_ = std::make_unique<LumiNetBlender>(context, ibr::load_lumi_net(lumi_weights_path(settings_)), rendered.width,

@@ -58,6 +58,8 @@ const config::KnobTable<IbrSettings>& ibr_knobs() {
   return table;
 }
 
+bool splits_warp(const IbrSettings& settings) { return settings.split_warp || settings.blending == IbrBlending::Lumi; }
+
 const char* blending_name(IbrBlending blending) { return blending == IbrBlending::Lumi ? "lumi" : "ulr"; }
 
 std::filesystem::path lumi_weights_path(const IbrSettings& settings) {

@@ -47,6 +47,9 @@ struct IbrSettings {
   std::filesystem::path lumi_weights;  // Lumi-Net's weights file; empty: the committed one
 };
 
+// Whether the model warps every view into its own image before blending: asked for, or Lumi-Net.
+bool splits_warp(const IbrSettings& settings);
+
 // "ulr" or "lumi", as metrics name the blend that ran.
 const char* blending_name(IbrBlending blending);
 // settings.lumi_weights, or the committed weights (ibr::default_lumi_net_path()) when empty.

@@ -17,14 +17,17 @@ ReceiverCompositor::ReceiverCompositor(vk::Context& context, const DemoLayers& l
       hand_color(context, {"hand color", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
       hand_mask(context, {"hand mask", layers.portrait.width, layers.portrait.height, PixelFormat::R32F}),
       background(context, {"background", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
-      hand_alpha(context, {"hand alpha", layers.portrait.width, layers.portrait.height, PixelFormat::R32F}),
-      fused(context, {"fused", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA32F}),
-      display(context, {"display", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA8}),
-      keep_layers(keep),
-      hand_alpha_pass(context),
-      overlay_pass(context),
-      composite_pass(context),
-      one_pass(context) {
+      display(context, {"display", layers.portrait.width, layers.portrait.height, PixelFormat::RGBA8}) {
+  const uint32_t width = layers.portrait.width, height = layers.portrait.height;
+  if (keep) {
+    hand_alpha = std::make_unique<vk::Image>(context, vk::ImageDesc{"hand alpha", width, height, PixelFormat::R32F});
+    fused = std::make_unique<vk::Image>(context, vk::ImageDesc{"fused", width, height, PixelFormat::RGBA32F});
+    hand_alpha_pass.emplace(context);
+    overlay_pass.emplace(context);
+    composite_pass.emplace(context);
+  } else {
+    one_pass.emplace(context);
+  }
   vk::upload(context, portrait, layers.portrait);
   vk::upload(context, hand_color, layers.hand_color);
   vk::upload(context, hand_mask, layers.hand_mask);
@@ -32,13 +35,13 @@ ReceiverCompositor::ReceiverCompositor(vk::Context& context, const DemoLayers& l
 }
 
 void ReceiverCompositor::add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m) {
-  if (!keep_layers) {
-    one_pass.add_to(graph, hand_mask, hand_color, portrait, background, display, std::move(hand_distance_m));
+  if (one_pass) {
+    one_pass->add_to(graph, hand_mask, hand_color, portrait, background, display, std::move(hand_distance_m));
     return;
   }
-  hand_alpha_pass.add_to(graph, hand_mask, hand_alpha, std::move(hand_distance_m));
-  overlay_pass.add_to(graph, hand_color, hand_alpha, portrait, fused);
-  composite_pass.add_to(graph, fused, background, display);
+  hand_alpha_pass->add_to(graph, hand_mask, *hand_alpha, std::move(hand_distance_m));
+  overlay_pass->add_to(graph, hand_color, *hand_alpha, portrait, *fused);
+  composite_pass->add_to(graph, *fused, background, display);
 }
 
 }  // namespace rt::pipeline

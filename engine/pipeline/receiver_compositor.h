@@ -4,6 +4,8 @@
 // with the layers kept for inspection, hand_alpha (Eq. 4) -> overlay (Eq. 5) -> composite, each
 // writing its layer (the same display).
 #include <functional>
+#include <memory>
+#include <optional>
 
 #include "pipeline/demo_layers.h"
 #include "passes/composite.h"
@@ -16,7 +18,7 @@ namespace rt::pipeline {
 
 struct ReceiverCompositor {
   // Creates the images at this size and uploads the generated layers into them (compose, bench).
-  // `keep_layers`: hand_alpha and fused hold each frame's layers (else they are never written).
+  // `keep_layers`: hand_alpha and fused exist and hold each frame's layers (else they are null).
   ReceiverCompositor(vk::Context& context, uint32_t width, uint32_t height, bool keep_layers = false);
   // For a site: no portrait and no hand yet, over `background` (rgba32f at this size).
   ReceiverCompositor(vk::Context& context, const HostImage& background, bool keep_layers = false);
@@ -24,12 +26,13 @@ struct ReceiverCompositor {
   void add_to(vk::FrameGraph& graph, std::function<float()> hand_distance_m);
 
   vk::Image portrait, hand_color, hand_mask, background;  // inputs
-  vk::Image hand_alpha, fused, display;                   // outputs of the passes
-  const bool keep_layers;
-  passes::HandAlphaPass hand_alpha_pass;
-  passes::OverlayPass overlay_pass;
-  passes::CompositePass composite_pass;
-  passes::ReceiverCompositePass one_pass;
+  vk::Image display;                                       // the output
+  std::unique_ptr<vk::Image> hand_alpha, fused;            // the layers, when kept
+  // The three passes when the layers are kept, else the one.
+  std::optional<passes::HandAlphaPass> hand_alpha_pass;
+  std::optional<passes::OverlayPass> overlay_pass;
+  std::optional<passes::CompositePass> composite_pass;
+  std::optional<passes::ReceiverCompositePass> one_pass;
 
  private:
   // The images at the layers' size, holding them.

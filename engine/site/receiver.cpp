@@ -73,7 +73,7 @@ void Receiver::display_loop() {
         *common_.context, vk::ImageDesc{"adaption portrait depth", common_.width, common_.height, PixelFormat::R32F});
     if (common_.window)
       window = std::make_unique<SiteWindowDisplay>(
-          common_, ReceiverImages{compositor->portrait, compositor->hand_mask, compositor->hand_alpha, compositor->hand_color,
+          common_, ReceiverImages{compositor->portrait, compositor->hand_mask, *compositor->hand_alpha, compositor->hand_color,
                                   compositor->display});
   }
   vk::Image& portrait = compositor->portrait;

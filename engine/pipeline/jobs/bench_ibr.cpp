@@ -143,7 +143,7 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
                   run["wall_ms_per_frame"].get<double>(), format_profile(timings, roofline).c_str());
 
       // The CPU peer from the surface the GPU warped through, timed over as many frames.
-      const bool split = settings.split_warp || settings.blending == IbrBlending::Lumi;
+      const bool split = splits_warp(settings);
       IbrRenderer::WarpInputs warp = renderer.warp_inputs();
       const IbrCpuPeerInputs peer_inputs = cpu_peer_inputs(warp.table, vk::download(context, warp.depth),
                                                            vk::download(context, warp.color), vk::download(context, warp.points));

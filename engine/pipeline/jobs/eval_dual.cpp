@@ -210,7 +210,7 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
         }
         fusion_distance_m = with_hand ? fusion_distance(name, tracked_distance_m) : NAN;
         receiver_graph.run();
-        const HostImage fused = vk::download(context, compositor.fused);
+        const HostImage fused = vk::download(context, *compositor.fused);
         const evaluation::FrameScore score = evaluation::score_frame(fused, truth_color, region);
         const std::optional<double> tip = with_hand ? tip_error_px(*run->renderer, truth.hand, target) : std::nullopt;
         if (phase) totals[{*phase, name}].add(score, tip);
