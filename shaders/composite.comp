@@ -5,7 +5,7 @@
 #include "shared/config.h"
 #include "common/receiver_layers.glsl"
 
-layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
+layout(local_size_x = RT_ROW_X, local_size_y = 1) in;
 
 layout(binding = 0, rgba32f) uniform readonly image2D fused;       // premultiplied
 layout(binding = 1, rgba32f) uniform readonly image2D background;  // rgb, alpha ignored

@@ -3,7 +3,7 @@
 // A plain image copy: the bandwidth roofline the benchmarks compare every pass against.
 #include "shared/config.h"
 
-layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
+layout(local_size_x = RT_ROW_X, local_size_y = 1) in;
 
 layout(binding = 0, rgba32f) uniform readonly image2D source;
 layout(binding = 1, rgba32f) uniform writeonly image2D destination;

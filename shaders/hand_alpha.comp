@@ -6,7 +6,7 @@
 #include "shared/config.h"
 #include "common/receiver_layers.glsl"
 
-layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
+layout(local_size_x = RT_ROW_X, local_size_y = 1) in;
 
 // Knobs, all set by HandAlphaPass, from FusionRamp (passes/hand_alpha.h), where their defaults
 // live: a kernel refuses to build while one is unset, so the initial values below are placeholders

@@ -7,7 +7,7 @@
 #include "shared/config.h"
 #include "common/receiver_layers.glsl"
 
-layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
+layout(local_size_x = RT_ROW_X, local_size_y = 1) in;
 // Set by ReceiverCompositePass from its FusionRamp (passes/hand_alpha.h), where the defaults
 // live; the initial values are placeholders that GLSL requires, never used.
 layout(constant_id = 0) const float d_min_m = 0.0;
