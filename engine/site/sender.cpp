@@ -171,11 +171,6 @@ void Sender::capture_loop() {
       captured.scene_time_s = double(index) / fps;
       // The eye this site sends now, against where its user's eyes truly are in this frame.
       eye_error_.add(eye_finder_->eye(), sim::true_eyes(simulator_->last_pose()).midpoint());
-      if (write_truth) {
-        truth = simulator_->renderer().target_color();
-        limb = limb_truth_->measure(simulator_->last_pose(), common_.scene.at(common_.options.site).user, truth,
-                                    simulator_->renderer().target_depth_m(), simulator_->renderer().target_part());
-      }
       simulator_wall_.add(double(monotonic_now_us() - start) / 1000.0);
     }
     last_index = index;
@@ -189,6 +184,15 @@ void Sender::capture_loop() {
     if (eye_finder_->wants_frame()) eye_finder_->offer(captured.capture_us, captured.frame.cameras);
     ++frames_captured_;
     captured_.put(std::move(captured));
+    // The ground truth is for the evaluation, not the call: measured after the frame has gone to
+    // the image-based model, so that it does not wait for it. Only this loop renders the
+    // simulator, so its target view still holds this frame.
+    if (write_truth && !replay_) {
+      std::lock_guard turn(common_.gpu_turn);
+      truth = simulator_->renderer().target_color();
+      limb = limb_truth_->measure(simulator_->last_pose(), common_.scene.at(common_.options.site).user, truth,
+                                  simulator_->renderer().target_depth_m(), simulator_->renderer().target_part());
+    }
     if (!truth.texels.empty()) {
       write_image(common_.out / "truth" / frame_name(index), truth_over_background(truth, common_.background));
       if (limb) truth_regions_->write(index, limb->region, limb->distance_m, limb->phase);
