@@ -139,6 +139,7 @@ void Receiver::display_loop() {
       }
       continue;
     }
+    portrait_queue_wait_.add(double(int64_t(monotonic_now_us()) - int64_t(received->arrival_us)) / 1000.0);
     const net::PortraitMessage& message = received->message;
     if (message.width != common_.width || message.height != common_.height) {
       if (portraits_wrong_size_++ == 0)
@@ -158,7 +159,9 @@ void Receiver::display_loop() {
     HostImage shown;
     uint64_t on_screen = 0;
     {
+      const uint64_t asked_us = monotonic_now_us();
       session::UrgentTurn turn(common_.gpu_turn);
+      display_turn_wait_.add(double(monotonic_now_us() - asked_us) / 1000.0);
       const SiteCapture::Scope capture = common_.capture->scope(SiteCapture::Stage::Receiver, portraits_shown++);
       if (drawn) {  // in the turn: a new template or shape uploads its mesh
         hand->set_pose(*drawn, portrait_camera(message));
@@ -262,6 +265,8 @@ void Receiver::add_metrics(nlohmann::json& m, double wall_s) const {
   }
   m["stage_wall_ms"]["hand_render"] = hand_wall_.to_json();
   m["stage_wall_ms"]["receiver_render_and_readback"] = receiver_wall_.to_json();
+  m["stage_wall_ms"]["portrait_queue_wait"] = portrait_queue_wait_.to_json();
+  m["stage_wall_ms"]["display_turn_wait"] = display_turn_wait_.to_json();
   m["latency_ms"]["capture_to_portrait_received"] = portrait_network_.to_json();
   m["latency_ms"]["capture_to_portrait_on_screen"] = portrait_on_screen_.to_json();
   m["latency_ms"]["skeleton_to_hand_on_screen"] = hand_on_screen_.to_json();

@@ -63,6 +63,9 @@ class Receiver {
   session::LatencyStats skeleton_to_portrait_gap_;
   session::LatencyStats portrait_network_, portrait_on_screen_, hand_on_screen_;
   session::LatencyStats hand_wall_, receiver_wall_;  // wall time of the GPU turn (upload, run, download)
+  // Where a received portrait waits before its turn begins: in the queue while this loop does the
+  // previous frame's work, then for the GPU turn held by another thread.
+  session::LatencyStats portrait_queue_wait_, display_turn_wait_;
 };
 
 }  // namespace rt::site

@@ -33,6 +33,12 @@ for site in "AB":
     final, mean = m["psnr_db"][site]["final_db"], m["psnr_db"][site]["mean_db"]
     print(f"site {site}: PSNR final {final} dB, mean {mean} dB over {m['psnr_db'][site]['frames']} frames")
     assert final is not None and final > 15 and mean > 15
+    # A portrait's waits before its turn are part of its capture-to-screen latency, frame by frame.
+    stages, latency = m["sites"][site]["stage_wall_ms"], m["sites"][site]["latency_ms"]
+    on_screen = latency["capture_to_portrait_on_screen"]
+    for wait in ("portrait_queue_wait", "display_turn_wait"):
+        assert stages[wait]["count"] >= on_screen["count"] > 0, (site, wait, stages[wait], on_screen)
+        assert 0 <= stages[wait]["median_ms"] <= on_screen["median_ms"], (site, wait, stages[wait], on_screen)
 PY
 grep -q '"capture_to_portrait_on_screen"' "$out/metrics.json" || fail "no portrait latency in metrics.json"
 grep -q "touch_to_motor_command median ms" "$out.log" || fail "no summary table"
