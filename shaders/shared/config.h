@@ -20,9 +20,9 @@ namespace rt::shader_abi {
 // size we meet (lavapipe 8, NVIDIA 32, AMD 64).
 #define RT_TILE_X 8
 #define RT_TILE_Y 8
-// Workgroup of the passes that touch each pixel once and nothing around it: a run of whole row
-// pixels, so that each workgroup streams contiguous memory (on llvmpipe the memory-bound receiver
-// ran in two thirds of the time it takes in square tiles; a GPU coalesces a row as well).
+// Workgroup of the passes that touch each pixel once and nothing around it: a run of pixels
+// along one row, so that each workgroup streams contiguous memory. llvmpipe streams square tiles
+// worse, and a GPU coalesces a row as well.
 #define RT_ROW_X 256
 
 // Paper Eq. 4: the geometry hand fades in between these distances of the hand to the screen.
