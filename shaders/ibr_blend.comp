@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 // Unstructured lumigraph blending (Buehler et al. 2001, common/ulr_blend.glsl) of the warp's
 // atlases into the portrait. Alpha is the coverage: 0 where no view sees the surface point
 // (never a NaN), 1 where one does; the feather only shapes weights.

@@ -13,6 +13,7 @@
 // the far side by rounding alone) is not carved.
 #include "shared/config.h"
 #include "common/numeric.glsl"
+#define RT_IBR_SCENE_VARYING_VIEW
 #include "common/ibr_camera.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;

@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 // Background removal (paper 3.1.1): each depth pixel of every view is unprojected into the site
 // frame; it is foreground when it lies in the user's volume in front of the screen and enough of
 // its neighbours do too at a similar depth. That last test cleans the silhouette: flying pixels
@@ -22,14 +23,14 @@ layout(binding = 2, rgba32f) uniform writeonly image2D points;    // site xyz, c
 layout(push_constant) uniform Push { IbrForegroundParams params; };
 
 // A depth pixel's site point and camera z (metres) when it lies in the volume, else 0.
-vec4 volume_point(ivec2 pixel, int band, ivec2 size, int view) {
+vec4 volume_point(ivec2 pixel, int band, ivec2 size, mat4 site_from_camera) {
   if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, size))) return vec4(0.0);
   ivec2 texel = ivec2(pixel.x, pixel.y + band);
   uint millimetres = imageLoad(depth_mm, texel).r;
   vec4 ray = imageLoad(depth_rays, texel);
   if (millimetres == 0u || ray.z == 0.0) return vec4(0.0);
   float z = float(millimetres) * 0.001;
-  vec3 site = transform_point(cameras[view].site_from_camera, vec3(ray.xy * z, z));
+  vec3 site = transform_point(site_from_camera, vec3(ray.xy * z, z));
   bool inside = all(greaterThanEqual(site, params.volume_min.xyz)) && all(lessThanEqual(site, params.volume_max.xyz));
   return inside ? vec4(site, z) : vec4(0.0);
 }
@@ -39,13 +40,25 @@ vec4 volume_point(ivec2 pixel, int band, ivec2 size, int view) {
 const int kTileWidth = RT_TILE_X + 2, kTileHeight = RT_TILE_Y + 2;
 shared vec4 tile[kTileHeight * kTileWidth];
 
+// cameras[view].site_from_camera for the dispatch's view, which is not a constant: every camera's
+// is read at a constant index and the view's kept by selection, before any branch
+// (common/ibr_camera.glsl says why).
+mat4 site_from_view_camera(int view) {
+  mat4 chosen = cameras[0].site_from_camera;
+  [[unroll]] for (int v = 1; v < RT_IBR_MAX_VIEWS; ++v)
+    [[unroll]] for (int column = 0; column < 4; ++column)
+      chosen[column] = mix(chosen[column], cameras[v].site_from_camera[column], bvec4(view == v));
+  return chosen;
+}
+
 void main() {
   int view = int(gl_GlobalInvocationID.z);
+  mat4 site_from_camera = site_from_view_camera(view);
   ivec2 size = ivec2(lens_size(cameras[view].depth));
   int band = view * size.y;
   ivec2 origin = ivec2(gl_WorkGroupID.xy) * ivec2(RT_TILE_X, RT_TILE_Y) - 1;
   for (int i = int(gl_LocalInvocationIndex); i < kTileWidth * kTileHeight; i += RT_TILE_X * RT_TILE_Y)
-    tile[i] = volume_point(origin + ivec2(i % kTileWidth, i / kTileWidth), band, size, view);
+    tile[i] = volume_point(origin + ivec2(i % kTileWidth, i / kTileWidth), band, size, site_from_camera);
   barrier();
 
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

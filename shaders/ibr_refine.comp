@@ -7,6 +7,7 @@
 // of sight a hand blocks does not score the hand's color); the best-scoring depth wins, ties
 // going to the fused depth.
 #include "shared/config.h"
+#define RT_IBR_SCENE_VARYING_VIEW
 #include "common/ibr_camera.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;

@@ -27,23 +27,23 @@ layout(std430, binding = 1) buffer Fusion { uint fusion[]; };
 
 // Where a foreground point lands in the target view: (pixel x, pixel y, camera z); false when
 // it is missing, behind the eye or far outside the image.
-bool project_point(ivec2 pixel, int view, ivec2 size, out vec3 projected) {
+bool project_point(IbrTarget eye_view, ivec2 pixel, int view, ivec2 size, out vec3 projected) {
   projected = vec3(0.0);
   if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, size))) return false;
   vec4 point = imageLoad(points, ivec2(pixel.x, pixel.y + view * size.y));
   if (point.w <= 0.0) return false;
-  vec3 p = transform_point(target.camera_from_site, point.xyz);
+  vec3 p = transform_point(eye_view.camera_from_site, point.xyz);
   if (p.z <= 1e-4) return false;
-  projected = vec3(target.pinhole.xy * (p.xy / p.z) + target.pinhole.zw, p.z);
+  projected = vec3(eye_view.pinhole.xy * (p.xy / p.z) + eye_view.pinhole.zw, p.z);
   return is_finite(projected.x) && is_finite(projected.y);
 }
 
 // The neighbour at `neighbour` when it lies on the same surface as `centre`: its offset from
 // `centre` in target pixels and depth.
-bool surface_neighbour(ivec2 neighbour, int view, ivec2 size, vec3 centre, out vec3 offset) {
+bool surface_neighbour(IbrTarget eye_view, ivec2 neighbour, int view, ivec2 size, vec3 centre, out vec3 offset) {
   vec3 q;
   offset = vec3(0.0);
-  if (!project_point(neighbour, view, size, q) || abs(q.z - centre.z) > plane_tolerance_m) return false;
+  if (!project_point(eye_view, neighbour, view, size, q) || abs(q.z - centre.z) > plane_tolerance_m) return false;
   offset = q - centre;
   return true;
 }
@@ -79,18 +79,19 @@ bool quarter_depth(vec2 offset, float z0, vec3 step_right, vec3 step_left, vec3 
 }
 
 void main() {
+  IbrTarget eye_view = target;  // read before the first branch (common/ibr_camera.glsl says why)
   int view = int(gl_GlobalInvocationID.z);
   ivec2 size = ivec2(lens_size(cameras[view].depth));
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, size))) return;
   vec4 point = imageLoad(points, ivec2(pixel.x, pixel.y + view * size.y));
   if (point.w <= 0.0) return;
-  vec3 p = transform_point(target.camera_from_site, point.xyz);
+  vec3 p = transform_point(eye_view.camera_from_site, point.xyz);
   if (p.z <= 1e-4) return;  // behind the eye: not in the target view
-  vec2 centre = target.pinhole.xy * (p.xy / p.z) + target.pinhole.zw;
+  vec2 centre = eye_view.pinhole.xy * (p.xy / p.z) + eye_view.pinhole.zw;
   // Far outside the image (grazing the eye plane): skip before converting to integers.
   if (!is_finite(centre.x) || !is_finite(centre.y)) return;
-  if (any(lessThan(centre, vec2(-max_footprint_px))) || any(greaterThan(centre, target.size.xy + max_footprint_px))) return;
+  if (any(lessThan(centre, vec2(-max_footprint_px))) || any(greaterThan(centre, eye_view.size.xy + max_footprint_px))) return;
   // The splat is the depth pixel's own piece of the surface: the four quarters between it and
   // its neighbours in the depth image, half-way to each, each quarter on the plane through the
   // point and the two neighbours that bound it. Neighbouring splats of one surface then tile the
@@ -101,10 +102,10 @@ void main() {
   // steeply so where the eye grazes it, and the min-filter keeps exactly those errors.
   vec3 here = vec3(centre, p.z);
   vec3 to_right, to_left, to_below, to_above;
-  bool right = surface_neighbour(pixel + ivec2(1, 0), view, size, here, to_right);
-  bool left = surface_neighbour(pixel - ivec2(1, 0), view, size, here, to_left);
-  bool below = surface_neighbour(pixel + ivec2(0, 1), view, size, here, to_below);
-  bool above = surface_neighbour(pixel - ivec2(0, 1), view, size, here, to_above);
+  bool right = surface_neighbour(eye_view, pixel + ivec2(1, 0), view, size, here, to_right);
+  bool left = surface_neighbour(eye_view, pixel - ivec2(1, 0), view, size, here, to_left);
+  bool below = surface_neighbour(eye_view, pixel + ivec2(0, 1), view, size, here, to_below);
+  bool above = surface_neighbour(eye_view, pixel - ivec2(0, 1), view, size, here, to_above);
   // One step each way along each axis of the depth image; a side without its neighbour mirrors
   // the other side's step (the surface continued, up to where it ends).
   vec3 step_right = right ? to_right : -to_left, step_left = left ? to_left : -to_right;
@@ -120,10 +121,10 @@ void main() {
     // its depth (point.w / fx_depth metres) as the eye sees it, at least a pixel, at one depth.
     // Not inset: which side of the square faces the missing neighbour is not known, and shrinking
     // all of it would break a thin line of squares (a finger a depth pixel wide) into dots.
-    float footprint = footprint_scale * (point.w / cameras[view].depth.pinhole.x) * target.pinhole.x / p.z;
+    float footprint = footprint_scale * (point.w / cameras[view].depth.pinhole.x) * eye_view.pinhole.x / p.z;
     half_extent = vec2(0.5 * clamp(footprint, 1.0, max_footprint_px));
   }
-  ivec2 target_size = ivec2(target.size.xy);
+  ivec2 target_size = ivec2(eye_view.size.xy);
   ivec2 first = max(ivec2(ceil(centre - half_extent)), ivec2(0));
   ivec2 last = min(ivec2(floor(centre + half_extent)), target_size - 1);
   float patch_limit = 0.5 * footprint_scale + 1e-3;  // a hair over half-way: no cracks between neighbours

@@ -7,6 +7,7 @@
 // inputs (common/ibr_warp_sample.glsl). The lumigraph blending skips these atlases: it runs
 // fused with the warp (ibr_warp_blend).
 #include "shared/config.h"
+#define RT_IBR_SCENE_VARYING_VIEW
 #include "common/ibr_camera.glsl"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;

@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 // Warping and unstructured lumigraph blending in one pass (paper 3.1.1): each target pixel's
 // surface point is sampled by every view (common/ibr_warp_sample.glsl) and blended
 // (common/ulr_blend.glsl) in registers, so that no per-view atlas is written and read back.
@@ -35,25 +36,31 @@ layout(push_constant) uniform Push { IbrBlendParams params; };
 void main() {
   ivec2 size = imageSize(portrait);
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, size))) return;
+  // No early return for the pixels past the edge: every load of the scene table below must come
+  // before the first branch on the pixel (common/ibr_warp_sample.glsl says why).
+  bool in_image = all(lessThan(pixel, size));
   float penalty[RT_IBR_MAX_VIEWS];  // -1: not a candidate
   float feather[RT_IBR_MAX_VIEWS];
   vec3 colors[RT_IBR_MAX_VIEWS];
   bool seen = false;
-  float z = imageLoad(fused_depth, pixel).r;
+  vec3 eye = target_eye();
+  float z = in_image ? imageLoad(fused_depth, pixel).r : 0.0;
   vec3 site = z > 0.0 ? target_surface_point(pixel, z) : vec3(0.0);
-  for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
+  // Unrolled, so that each view's index is a constant and its camera is loaded as a whole.
+  [[unroll]] for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
+    IbrCamera camera = cameras[v];
     penalty[v] = -1.0;
     feather[v] = 0.0;
     colors[v] = vec3(0.0);
     if (v >= int(params.view_count) || !(z > 0.0)) continue;
-    WarpSample s = warp_sample(v, site, visibility_tolerance_m, visibility_tolerance_rel, feather_px);
+    WarpSample s = warp_sample_with(camera, eye, v, site, visibility_tolerance_m, visibility_tolerance_rel, feather_px);
     penalty[v] = ulr_penalty(s.features, resolution_weight);
     if (penalty[v] < 0.0) continue;
     feather[v] = s.features.z;
     colors[v] = s.color;
     seen = true;
   }
+  if (!in_image) return;
   vec4 result = vec4(0.0);
   float depth = 0.0;
   if (seen) {

@@ -61,7 +61,12 @@ constexpr size_t kTableBytes = sizeof(shader_abi::IbrTarget) + RT_IBR_MAX_VIEWS 
 }
 
 IbrSceneBuffer::IbrSceneBuffer(vk::Context& context)
-    : buffer_(context, {.name = "ibr camera table", .size = kTableBytes, .host_visible = true}) {
+    // Bound as a uniform buffer or a storage buffer, as each shader declares it
+    // (shaders/common/ibr_camera.glsl says why).
+    : buffer_(context, {.name = "ibr camera table",
+                        .size = kTableBytes,
+                        .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                        .host_visible = true}) {
   write(IbrSceneTable{});
 }
 

@@ -4,7 +4,18 @@
 #define REMOTETOUCH_IBR_CAMERA_GLSL
 #include "shared/config.h"
 
+// Read as a uniform buffer by default: llvmpipe reads a uniform buffer at a constant offset once
+// for all invocations, where no invocation is masked off. So those shaders read what they need
+// of the table before their first branch on the pixel, with constant view indices (unrolled
+// loops). A shader that indexes the cameras by a varying view (a loop counter, a dispatch's z)
+// defines RT_IBR_SCENE_VARYING_VIEW first and reads it as a storage buffer, which llvmpipe
+// gathers faster per invocation. The layout is the same in std140 as in std430: every member is
+// a vec4 or a mat4.
+#ifdef RT_IBR_SCENE_VARYING_VIEW
 layout(std430, binding = 15) readonly buffer IbrSceneTable {
+#else
+layout(std140, binding = 15) uniform IbrSceneTable {
+#endif
   IbrTarget target;
   IbrCamera cameras[RT_IBR_MAX_VIEWS];
 };

@@ -24,9 +24,12 @@ vec3 target_surface_point(ivec2 pixel, float z) {
 
 // A view sees a surface point when it lies in front of the camera, projects inside its color
 // and depth images, and its own depth there agrees within the tolerance.
-WarpSample warp_sample(int view, vec3 site, float tolerance_m, float tolerance_rel, float feather_px) {
+// `camera` is cameras[view] and `eye` the target camera's centre in the site frame, passed in so
+// that a caller can read them before its first branch on the pixel (common/ibr_camera.glsl says
+// why).
+WarpSample warp_sample_with(IbrCamera camera, vec3 eye, int view, vec3 site, float tolerance_m, float tolerance_rel,
+                            float feather_px) {
   WarpSample result = WarpSample(vec3(0.0), vec4(0.0));
-  IbrCamera camera = cameras[view];
   vec3 q = transform_point(camera.camera_from_site, site);
   if (!(q.z > 1e-4)) return result;
   vec2 color_size = lens_size(camera.color);
@@ -36,7 +39,6 @@ WarpSample warp_sample(int view, vec3 site, float tolerance_m, float tolerance_r
   // Tested in float before the conversion to integers, which is undefined far outside.
   if (!inside_image(color_pixel, color_size, 0.0) || !inside_image(depth_pixel, depth_size, 0.0)) return result;
   if (!view_sees(view, int(depth_size.y), depth_pixel, q.z, tolerance_m, tolerance_rel)) return result;
-  vec3 eye = transform_point(target.site_from_camera, vec3(0.0));
   vec3 centre = transform_point(camera.site_from_camera, vec3(0.0));
   vec3 to_eye = site - eye, to_camera = site - centre;
   float cosine = dot(to_eye, to_camera) / max(length(to_eye) * length(to_camera), 1e-12);
@@ -49,6 +51,12 @@ WarpSample warp_sample(int view, vec3 site, float tolerance_m, float tolerance_r
   result.color = bilinear_rgb(color_pixel, view * color_band_size.y, color_band_size);
   result.features = vec4(angle, resolution, feather, 1.0);
   return result;
+}
+
+vec3 target_eye() { return transform_point(target.site_from_camera, vec3(0.0)); }
+
+WarpSample warp_sample(int view, vec3 site, float tolerance_m, float tolerance_rel, float feather_px) {
+  return warp_sample_with(cameras[view], target_eye(), view, site, tolerance_m, tolerance_rel, feather_px);
 }
 
 #endif

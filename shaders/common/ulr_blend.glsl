@@ -6,6 +6,10 @@
 #include "shared/config.h"
 #include "common/numeric.glsl"
 
+// The including shader enables GL_EXT_control_flow_attributes: the loops over the views are
+// unrolled so that the per-view arrays stay in registers (llvmpipe keeps an array indexed by a
+// loop counter in memory, one copy per invocation).
+
 // A view's penalty from its warp features (angle, resolution, feather, visible): its angle
 // penalty plus a weighted resolution penalty, or -1 when it is no candidate. Written so that
 // NaN features count as not visible.
@@ -22,7 +26,7 @@ vec3 ulr_color(float penalty[RT_IBR_MAX_VIEWS], float feather[RT_IBR_MAX_VIEWS],
                int best_views) {
   int candidates = 0;
   float largest = 0.0;
-  for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v)
+  [[unroll]] for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v)
     if (penalty[v] >= 0.0) {
       largest = max(largest, penalty[v]);
       ++candidates;
@@ -31,10 +35,10 @@ vec3 ulr_color(float penalty[RT_IBR_MAX_VIEWS], float feather[RT_IBR_MAX_VIEWS],
   if (candidates >= best_views) {
     // The k-th smallest penalty: the one with exactly k-1 candidates strictly below it (ties
     // broken by index, so that equal penalties still count once each).
-    for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
+    [[unroll]] for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
       if (penalty[v] < 0.0) continue;
       int below = 0;
-      for (int u = 0; u < RT_IBR_MAX_VIEWS; ++u)
+      [[unroll]] for (int u = 0; u < RT_IBR_MAX_VIEWS; ++u)
         if (penalty[u] >= 0.0 && (penalty[u] < penalty[v] || (penalty[u] == penalty[v] && u < v))) ++below;
       if (below == best_views - 1) threshold = penalty[v];
     }
@@ -42,7 +46,7 @@ vec3 ulr_color(float penalty[RT_IBR_MAX_VIEWS], float feather[RT_IBR_MAX_VIEWS],
   vec3 color_sum = vec3(0.0);
   float weight_sum = 0.0, best_penalty = 1e30;
   vec3 best_color = vec3(0.0);
-  for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
+  [[unroll]] for (int v = 0; v < RT_IBR_MAX_VIEWS; ++v) {
     if (penalty[v] < 0.0) continue;
     vec3 c = unit_or_zero(color[v]);
     float w = threshold > 0.0 ? max(0.0, 1.0 - penalty[v] / threshold) * feather[v] : feather[v];
