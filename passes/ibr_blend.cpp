@@ -104,4 +104,13 @@ Portrait ibr_blend_reference(const HostImage& fused_depth, const HostImage& warp
   return out;
 }
 
+double ulr_blend_flops(uint64_t candidates, uint64_t covered_pixels) {
+  // Per candidate: its penalty (a multiply-add), its weight (a division, a subtraction and a
+  // multiplication), the weighted colour (three multiply-adds) and the weight sum (an addition).
+  constexpr double kPerCandidate = 2 + 3 + 6 + 1;
+  // Per covered pixel: the threshold (a multiply-add) and the normalisation (three divisions).
+  constexpr double kPerCoveredPixel = 2 + 3;
+  return kPerCandidate * double(candidates) + kPerCoveredPixel * double(covered_pixels);
+}
+
 }  // namespace rt::passes

@@ -34,4 +34,8 @@ struct Portrait {
 Portrait ibr_blend_reference(const HostImage& fused_depth, const HostImage& warped, const HostImage& features,
                              uint32_t view_count, const BlendSettings& settings = {});
 
+// The lumigraph blend's floating-point operations for a frame with `candidates` visible view
+// samples over `covered_pixels` pixels (counted as passes::WarpWork::flops counts).
+double ulr_blend_flops(uint64_t candidates, uint64_t covered_pixels);
+
 }  // namespace rt::passes

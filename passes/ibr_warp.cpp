@@ -46,8 +46,27 @@ void IbrWarpPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image
   });
 }
 
+double WarpWork::flops() const {
+  // Per surface pixel: its target-camera point (two subtractions, divisions and multiplications)
+  // and that point in the site frame (three rows of three multiply-adds).
+  constexpr double kPerSurfacePixel = 6 + 18;
+  // Per sample: the point in the view's camera frame.
+  constexpr double kPerSample = 18;
+  // In front: two lens projections (the perspective division, r^2, the two radial polynomials
+  // and their quotient, the tangential terms, the pinhole) and the image bounds.
+  constexpr double kPerInFront = 2 * (2 + 3 + 6 + 6 + 1 + 20 + 4) + 4;
+  // Inside: the nearest depth texel and the tolerance test.
+  constexpr double kPerInside = 5;
+  // Seen: the two rays, their dot product, lengths and cosine, the arc cosine, the resolution
+  // penalty, the border and feather, and the bilinear colour (three lerps of rgb, the unorm scale).
+  constexpr double kPerSeen = 6 + 5 + 12 + 2 + 1 + 1 + 7 + 29 + 12;
+  return kPerSurfacePixel * double(surface_pixels) + kPerSample * double(samples) + kPerInFront * double(in_front) +
+         kPerInside * double(inside) + kPerSeen * double(seen);
+}
+
 WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fused_depth, const HostImage& color,
-                               const HostImage& points, const WarpSettings& s) {
+                               const HostImage& points, const WarpSettings& s, WarpWork* work) {
+  WarpWork counted;
   const uint32_t width = fused_depth.width, height = fused_depth.height;
   WarpedViews out{HostImage(width, height * table.camera_count, PixelFormat::RGBA32F),
                   HostImage(width, height * table.camera_count, PixelFormat::RGBA32F)};
@@ -62,15 +81,19 @@ WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fuse
       for (uint32_t x = 0; x < width; ++x) {
         const float z = fused_depth.at(x, y);
         if (!(z > 0.0f)) continue;
+        ++counted.samples;
         const Float3 target_point{(float(x) - target.pinhole[2]) / target.pinhole[0] * z,
                                   (float(y) - target.pinhole[3]) / target.pinhole[1] * z, z};
         const Float3 site = transform_point(target.site_from_camera, target_point);
         const Float3 q = transform_point(camera.camera_from_site, site);
         if (!(q.z > 1e-4f)) continue;
+        ++counted.in_front;
         const Float2 color_pixel = lens_project(camera.color, q);
         const Float2 depth_pixel = lens_project(camera.depth, q);
         if (!inside_image(color_pixel, color_size, 0.0f) || !inside_image(depth_pixel, depth_size, 0.0f)) continue;
+        ++counted.inside;
         if (!view_sees(points, view, uint32_t(depth_size.y), depth_pixel, q.z, s.visibility)) continue;
+        ++counted.seen;
         const Float3 to_eye{site.x - eye.x, site.y - eye.y, site.z - eye.z};
         const Float3 to_camera{site.x - centre.x, site.y - centre.y, site.z - centre.z};
         const float cosine = (to_eye.x * to_camera.x + to_eye.y * to_camera.y + to_eye.z * to_camera.z) /
@@ -88,6 +111,18 @@ WarpedViews ibr_warp_reference(const IbrSceneTable& table, const HostImage& fuse
         features[2] = std::clamp(border / s.feather_px, 1e-3f, 1.0f);
         features[3] = 1.0f;
       }
+  }
+  if (work) {
+    for (uint32_t y = 0; y < height; ++y)
+      for (uint32_t x = 0; x < width; ++x) {
+        if (!(fused_depth.at(x, y) > 0.0f)) continue;
+        ++counted.surface_pixels;
+        bool seen = false;
+        for (uint32_t view = 0; view < table.camera_count; ++view)
+          seen = seen || out.features.at(x, y + view * height, 3) > 0.0f;
+        if (seen) ++counted.covered;
+      }
+    *work = counted;
   }
   return out;
 }

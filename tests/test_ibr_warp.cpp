@@ -5,6 +5,7 @@
 // No NaN or Inf.
 #include <limits>
 
+#include "passes/ibr_blend.h"
 #include "passes/ibr_foreground.h"
 #include "passes/ibr_warp.h"
 #include "sim/default_site.h"
@@ -182,5 +183,66 @@ TEST_CASE("ibr_warp hard cases", "[ibr_warp][gpu]") {
         }
     INFO(samples << " samples of the grazing view, " << near_right_angle << " within 10 degrees of 90");
     REQUIRE(near_right_angle > 30);
+  }
+}
+
+TEST_CASE("ibr_warp_reference counts how far its samples get", "[ibr_warp]") {
+  std::mt19937 rng(33);
+  SECTION("random inputs: each stage's count is the one before it, thinned") {
+    const test::IbrRig rig = test::ibr_rig(3, 37, 21, 41, 37, 31, 23);
+    const HostImage fused = test::random_fused_depth(rng, 31, 23);
+    const HostImage color = test::random_image(rng, 37, 21 * 3, PixelFormat::RGBA8);
+    HostImage points = points_agreeing_with(rng, rig);
+    for (size_t i = 3; i < points.texels.size(); i += 4)
+      if (points.texels[i] > 0.0f) points.texels[i] = std::uniform_real_distribution<float>(0.55f, 0.85f)(rng);
+    passes::WarpWork work;
+    const passes::WarpedViews reference =
+        passes::ibr_warp_reference(rig.table, fused, color, points, passes::WarpSettings{}, &work);
+    size_t surface = 0, covered = 0;
+    for (uint32_t y = 0; y < 23; ++y)
+      for (uint32_t x = 0; x < 31; ++x) {
+        if (!(fused.at(x, y) > 0.0f)) continue;
+        ++surface;
+        bool seen = false;
+        for (uint32_t view = 0; view < 3; ++view) seen = seen || reference.features.at(x, y + view * 23, 3) > 0.0f;
+        covered += seen;
+      }
+    REQUIRE(work.surface_pixels == surface);
+    REQUIRE(work.samples == 3 * surface);
+    REQUIRE(work.seen == visible(reference.features));
+    REQUIRE(work.covered == covered);
+    REQUIRE(work.seen > 20);
+    REQUIRE(work.samples >= work.in_front);
+    REQUIRE(work.in_front >= work.inside);
+    REQUIRE(work.inside > work.seen);
+    REQUIRE(work.flops() > 200.0 * double(work.seen));
+  }
+  SECTION("no surface, or a surface behind every camera: only the stages before the test count") {
+    const test::IbrRig rig = test::ibr_rig(2, 37, 21, 41, 37, 29, 19);
+    const HostImage color = test::random_image(rng, 37, 42, PixelFormat::RGBA8);
+    const HostImage points = points_agreeing_with(rng, rig);
+    HostImage bad(29, 19, PixelFormat::R32F);
+    const float values[] = {kNaN, std::numeric_limits<float>::infinity(), -1.0f, 0.0f};
+    for (size_t i = 0; i < bad.texels.size(); ++i) bad.texels[i] = values[i % 4];
+    passes::WarpWork work;
+    (void)passes::ibr_warp_reference(rig.table, bad, color, points, passes::WarpSettings{}, &work);
+    // An infinite depth is a surface (it is > 0) whose point is no number: in front of no camera.
+    const uint64_t infinite = (29 * 19 + 2) / 4;
+    REQUIRE(work.surface_pixels == infinite);
+    REQUIRE(work.samples == 2 * infinite);
+    REQUIRE(work.in_front == 0);
+    REQUIRE(work.covered == 0);
+    REQUIRE(work.flops() == (6 + 18) * double(infinite) + 18 * double(2 * infinite));
+
+    const test::IbrRig ahead = test::turned_away(rig);
+    (void)passes::ibr_warp_reference(ahead.table, HostImage(29, 19, PixelFormat::R32F, 0.3f), color, points,
+                                     passes::WarpSettings{}, &work);
+    REQUIRE(work.surface_pixels == 29 * 19);
+    REQUIRE(work.in_front == 0);
+    REQUIRE(work.flops() == (6 + 18) * 29.0 * 19 + 18 * 2.0 * 29 * 19);
+  }
+  SECTION("the lumigraph blend's count") {
+    REQUIRE(passes::ulr_blend_flops(0, 0) == 0.0);
+    REQUIRE(passes::ulr_blend_flops(3, 1) == 3 * 12.0 + 5.0);
   }
 }

@@ -120,18 +120,36 @@ Roofline measure_roofline(vk::Context& context, uint64_t bytes, uint32_t frames)
 
 namespace rt::pipeline {
 
-std::string format_profile(const std::vector<vk::PassTiming>& timings, const Roofline& roofline) {
+namespace {
+
+// GFLOP/s of `timing` when `flops` counts its pass, else 0.
+double gflops_of(const vk::PassTiming& timing, const PassFlops& flops) {
+  const auto counted = flops.find(timing.name);
+  return counted != flops.end() && timing.median_ms > 0 ? counted->second / (timing.median_ms * 1e-3) / 1e9 : 0.0;
+}
+
+}  // namespace
+
+std::string format_profile(const std::vector<vk::PassTiming>& timings, const Roofline& roofline,
+                           const PassFlops& flops) {
   std::string out;
-  char line[160];
-  std::snprintf(line, sizeof line, "%-22s %10s %8s %12s %10s %10s\n", "pass", "median ms", "frames", "MB moved", "GB/s",
-                "% roofline");
+  char line[200];
+  std::snprintf(line, sizeof line, "%-22s %10s %8s %12s %10s %10s%s\n", "pass", "median ms", "frames", "MB moved", "GB/s",
+                "% roofline", flops.empty() ? "" : "    GFLOP/s     % peak");
   out += line;
   double total = 0.0;
   for (const vk::PassTiming& timing : timings) {
     const double gbps = timing.gigabytes_per_second();
-    std::snprintf(line, sizeof line, "%-22s %10.3f %8zu %12.2f %10.2f %10.1f\n", timing.name.c_str(), timing.median_ms,
+    std::snprintf(line, sizeof line, "%-22s %10.3f %8zu %12.2f %10.2f %10.1f", timing.name.c_str(), timing.median_ms,
                   timing.frames, double(timing.bytes_moved) / 1e6, gbps, 100.0 * roofline.fraction(gbps));
     out += line;
+    if (flops.count(timing.name)) {
+      const double gflops = gflops_of(timing, flops);
+      std::snprintf(line, sizeof line, " %10.2f %10.1f", gflops,
+                    roofline.peak_gflops > 0 ? 100.0 * gflops / roofline.peak_gflops : 0.0);
+      out += line;
+    }
+    out += "\n";
     total += timing.median_ms;
   }
   std::snprintf(line, sizeof line, "%-22s %10.3f\n", "sum of medians", total);
@@ -139,13 +157,22 @@ std::string format_profile(const std::vector<vk::PassTiming>& timings, const Roo
   return out;
 }
 
-nlohmann::json timings_against_roofline(const std::vector<vk::PassTiming>& timings, const Roofline& roofline) {
+nlohmann::json timings_against_roofline(const std::vector<vk::PassTiming>& timings, const Roofline& roofline,
+                                        const PassFlops& flops) {
   nlohmann::json passes = nlohmann::json::object();
-  for (const vk::PassTiming& timing : timings)
-    passes[timing.name] = {{"gpu_ms", timing.median_ms},
-                           {"mb_moved", double(timing.bytes_moved) / 1e6},
-                           {"gbps", timing.gigabytes_per_second()},
-                           {"roofline_fraction", roofline.fraction(timing.gigabytes_per_second())}};
+  for (const vk::PassTiming& timing : timings) {
+    nlohmann::json& pass = passes[timing.name];
+    pass = {{"gpu_ms", timing.median_ms},
+            {"mb_moved", double(timing.bytes_moved) / 1e6},
+            {"gbps", timing.gigabytes_per_second()},
+            {"roofline_fraction", roofline.fraction(timing.gigabytes_per_second())}};
+    if (const auto counted = flops.find(timing.name); counted != flops.end()) {
+      const double gflops = gflops_of(timing, flops);
+      pass["gflop_per_frame"] = counted->second / 1e9;
+      pass["gflops"] = gflops;
+      pass["peak_fraction"] = roofline.peak_gflops > 0 ? gflops / roofline.peak_gflops : 0.0;
+    }
+  }
   return passes;
 }
 

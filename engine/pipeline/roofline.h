@@ -6,6 +6,7 @@
 // the best bandwidth; a compute-bound pass's is its FLOP/s over the peak.
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -41,9 +42,16 @@ struct PassTiming;
 
 namespace rt::pipeline {
 
-// vk::format_profile's table with each pass's bandwidth as a percentage of the roofline.
-std::string format_profile(const std::vector<vk::PassTiming>& timings, const Roofline& roofline);
-// Per pass: GPU ms, GB/s and the fraction of the roofline, for a benchmark's JSON.
-nlohmann::json timings_against_roofline(const std::vector<vk::PassTiming>& timings, const Roofline& roofline);
+// Floating-point operations a frame of a pass does, by pass name, where the benchmark counts them.
+using PassFlops = std::map<std::string, double>;
+
+// vk::format_profile's table with each pass's bandwidth as a percentage of the roofline and,
+// for the passes in `flops`, its GFLOP/s as a percentage of the arithmetic peak.
+std::string format_profile(const std::vector<vk::PassTiming>& timings, const Roofline& roofline,
+                           const PassFlops& flops = {});
+// Per pass: GPU ms, GB/s and the fraction of the roofline (and GFLOP/s and the fraction of the
+// peak where counted), for a benchmark's JSON.
+nlohmann::json timings_against_roofline(const std::vector<vk::PassTiming>& timings, const Roofline& roofline,
+                                        const PassFlops& flops = {});
 
 }  // namespace rt::pipeline

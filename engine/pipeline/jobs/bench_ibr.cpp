@@ -62,6 +62,18 @@ double warp_and_blend_ms(const std::vector<vk::PassTiming>& timings) {
   return ms;
 }
 
+// The warp's and the lumigraph blend's arithmetic on this frame, as the references count it, for
+// each GPU pass that does it.
+PassFlops warp_and_blend_flops(const passes::WarpWork& work) {
+  const double warp = work.flops(), blend = passes::ulr_blend_flops(work.seen, work.covered);
+  return {{"ibr_warp", warp}, {"ibr_warp_blend", warp + blend}, {"ibr_blend", blend}};
+}
+
+nlohmann::json work_json(const passes::WarpWork& work) {
+  return {{"surface_pixels", work.surface_pixels}, {"samples", work.samples}, {"in_front", work.in_front},
+          {"inside", work.inside},   {"seen", work.seen},       {"covered_pixels", work.covered}};
+}
+
 // Runs `renderer`'s prepared frame `frames` times after a warm-up; the frames' wall ms, sorted.
 std::vector<double> run_timed(GpuSession& session, IbrRenderer& renderer, uint32_t frames) {
   std::vector<double> wall_ms;
@@ -130,23 +142,34 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
       renderer.prepare(frame.cameras, selection, target);
       const std::vector<double> wall_ms = run_timed(session, renderer, options.frames);
       const auto timings = renderer.graph().timings();
+      // The warp's inputs as the GPU had them, for the arithmetic count and the CPU peer.
+      const bool split = splits_warp(settings);
+      IbrRenderer::WarpInputs warp = renderer.warp_inputs();
+      const HostImage fused_depth = vk::download(context, warp.depth), color = vk::download(context, warp.color),
+                      points = vk::download(context, warp.points);
+      passes::WarpWork work;
+      (void)passes::ibr_warp_reference(warp.table, fused_depth, color, points, settings.warp, &work);
+      const PassFlops flops = warp_and_blend_flops(work);
       double ibr_ms = 0;
       nlohmann::json run = {{"width", width}, {"height", height}, {"views", views}};
       for (const auto& timing : timings) {
         run["gpu_ms"][timing.name] = timing.median_ms;
         ibr_ms += timing.median_ms;
       }
-      run["passes"] = timings_against_roofline(timings, roofline);
+      run["passes"] = timings_against_roofline(timings, roofline, flops);
+      run["warp_work"] = work_json(work);
       run["gpu_ms_image_based_model"] = ibr_ms;
       run["wall_ms_per_frame"] = wall_ms[wall_ms.size() / 2];
       std::printf("\n%ux%u, %u views: image-based model %.2f GPU ms, frame wall %.1f ms\n%s", width, height, views, ibr_ms,
-                  run["wall_ms_per_frame"].get<double>(), format_profile(timings, roofline).c_str());
+                  run["wall_ms_per_frame"].get<double>(), format_profile(timings, roofline, flops).c_str());
+      std::printf("warp's arithmetic (as the reference counts it): %llu of %u pixels with a surface, %llu view samples, "
+                  "%llu in front of their camera, %llu inside its images, %llu seen; %.1f MFLOP with the blend\n",
+                  (unsigned long long)work.surface_pixels, width * height, (unsigned long long)work.samples,
+                  (unsigned long long)work.in_front, (unsigned long long)work.inside, (unsigned long long)work.seen,
+                  (work.flops() + passes::ulr_blend_flops(work.seen, work.covered)) * 1e-6);
 
       // The CPU peer from the surface the GPU warped through, timed over as many frames.
-      const bool split = splits_warp(settings);
-      IbrRenderer::WarpInputs warp = renderer.warp_inputs();
-      const IbrCpuPeerInputs peer_inputs = cpu_peer_inputs(warp.table, vk::download(context, warp.depth),
-                                                           vk::download(context, warp.color), vk::download(context, warp.points));
+      const IbrCpuPeerInputs peer_inputs = cpu_peer_inputs(warp.table, fused_depth, color, points);
       std::vector<double> maps_ms, sample_ms, blend_ms, peer_ms;
       IbrCpuPeerResult peer;
       for (uint32_t i = 0; i < options.frames; ++i) {
