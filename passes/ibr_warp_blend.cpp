@@ -7,21 +7,31 @@
 
 namespace rt::passes {
 
-IbrWarpBlendPass::IbrWarpBlendPass(vk::Context& context, const WarpSettings& warp, const BlendSettings& blend)
-    : kernel_(context, "ibr_warp_blend", ibr_warp_blend_comp_spirv,
+namespace {
+
+uint32_t checked_view_count(uint32_t view_count) {
+  if (view_count == 0 || view_count > RT_IBR_MAX_VIEWS)
+    throw std::invalid_argument("ibr_warp_blend: 1 to " + std::to_string(RT_IBR_MAX_VIEWS) + " views");
+  return view_count;
+}
+
+}  // namespace
+
+IbrWarpBlendPass::IbrWarpBlendPass(vk::Context& context, uint32_t view_count, const WarpSettings& warp,
+                                   const BlendSettings& blend)
+    : view_count_(checked_view_count(view_count)),
+      kernel_(context, "ibr_warp_blend", ibr_warp_blend_comp_spirv,
               {{"visibility_tolerance_m", checked_warp_settings(warp).visibility.metres},
                {"visibility_tolerance_rel", warp.visibility.relative},
                {"feather_px", warp.feather_px},
                {"best_views", int32_t(checked_blend_settings(blend).best_views)},
-               {"resolution_weight", blend.resolution_weight}}) {}
+               {"resolution_weight", blend.resolution_weight},
+               {"view_count", int32_t(view_count)}}) {}
 
 void IbrWarpBlendPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& color,
-                              vk::Image& points, vk::Image& portrait, vk::Image& portrait_depth,
-                              uint32_t view_count) const {
-  if (view_count == 0 || view_count > RT_IBR_MAX_VIEWS)
-    throw std::invalid_argument("ibr_warp_blend: 1 to " + std::to_string(RT_IBR_MAX_VIEWS) + " views");
-  if (color.height() % view_count != 0 || points.height() % view_count != 0)
-    throw std::invalid_argument("ibr_warp_blend: the color and points atlases must hold " + std::to_string(view_count) +
+                              vk::Image& points, vk::Image& portrait, vk::Image& portrait_depth) const {
+  if (color.height() % view_count_ != 0 || points.height() % view_count_ != 0)
+    throw std::invalid_argument("ibr_warp_blend: the color and points atlases must hold " + std::to_string(view_count_) +
                                 " bands");
   for (const vk::Image* image : {&portrait, &portrait_depth})
     if (image->width() != fused_depth.width() || image->height() != fused_depth.height())
@@ -32,8 +42,6 @@ void IbrWarpBlendPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::
       .bindings = {{"fused_depth", &fused_depth}, {"color", &color}, {"points", &points}, {"portrait", &portrait},
                    {"portrait_depth", &portrait_depth}, {"IbrSceneTable", &scene.buffer()}},
       .threads = {fused_depth.width(), fused_depth.height(), 1},
-      .push_constants = vk::push_constants_from<shader_abi::IbrBlendParams>(
-          [view_count] { return shader_abi::IbrBlendParams{view_count}; }),
   });
 }
 

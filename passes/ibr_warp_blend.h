@@ -16,11 +16,14 @@ namespace rt::passes {
 
 class IbrWarpBlendPass {
  public:
-  IbrWarpBlendPass(vk::Context& context, const WarpSettings& warp = {}, const BlendSettings& blend = {});
+  // `view_count` views (1 to RT_IBR_MAX_VIEWS) in the atlases' bands, built into the kernel.
+  IbrWarpBlendPass(vk::Context& context, uint32_t view_count, const WarpSettings& warp = {},
+                   const BlendSettings& blend = {});
   void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& color,
-              vk::Image& points, vk::Image& portrait, vk::Image& portrait_depth, uint32_t view_count) const;
+              vk::Image& points, vk::Image& portrait, vk::Image& portrait_depth) const;
 
  private:
+  uint32_t view_count_;
   vk::ComputeKernel kernel_;
 };
 

@@ -19,6 +19,9 @@ layout(constant_id = 1) const float visibility_tolerance_rel = 0.0;   // of the 
 layout(constant_id = 2) const float feather_px = 0.0;                  // border band of the color image
 layout(constant_id = 3) const int best_views = 0;                      // k
 layout(constant_id = 4) const float resolution_weight = 0.0;           // radians of penalty per metre
+// Views in the atlases' bands: a constant, so that the views past it cost nothing. llvmpipe runs
+// every instruction for every group of invocations, whatever their mask.
+layout(constant_id = 5) const int view_count = 0;
 
 layout(binding = 0, r32f) uniform readonly image2D fused_depth;   // target view, 0 = nothing
 layout(binding = 1, rgba8) uniform readonly image2D color;       // views stacked in bands
@@ -31,7 +34,6 @@ layout(binding = 2, rgba32f) uniform readonly image2D points;     // w: each vie
 #include "common/ulr_blend.glsl"
 layout(binding = 3, rgba32f) uniform writeonly image2D portrait;        // straight color, alpha
 layout(binding = 4, r32f) uniform writeonly image2D portrait_depth;     // metres, 0 = nothing
-layout(push_constant) uniform Push { IbrBlendParams params; };
 
 void main() {
   ivec2 size = imageSize(portrait);
@@ -52,7 +54,7 @@ void main() {
     penalty[v] = -1.0;
     feather[v] = 0.0;
     colors[v] = vec3(0.0);
-    if (v >= int(params.view_count) || !(z > 0.0)) continue;
+    if (v >= view_count || !(z > 0.0)) continue;
     WarpSample s = warp_sample_with(camera, eye, v, site, visibility_tolerance_m, visibility_tolerance_rel, feather_px);
     penalty[v] = ulr_penalty(s.features, resolution_weight);
     if (penalty[v] < 0.0) continue;

@@ -43,14 +43,14 @@ Inputs random_inputs(std::mt19937& rng, const test::IbrRig& rig, uint32_t width,
 
 passes::Portrait run_fused(const test::IbrRig& rig, const Inputs& in, const passes::BlendSettings& blend = {},
                            const passes::WarpSettings& warp = {}) {
-  const passes::IbrWarpBlendPass pass(test::gpu(), warp, blend);
+  const passes::IbrWarpBlendPass pass(test::gpu(), uint32_t(rig.cameras.size()), warp, blend);
   passes::IbrSceneBuffer scene(test::gpu());
   scene.write(rig.table);
   test::PassHarness gpu("ibr_warp_blend");
   const uint32_t w = in.fused.width, h = in.fused.height;
   pass.add_to(gpu.graph(), scene, gpu.input("fused depth", in.fused), gpu.input("color", in.color),
               gpu.input("points", in.points), gpu.output("portrait", w, h, PixelFormat::RGBA32F),
-              gpu.output("portrait depth", w, h, PixelFormat::R32F), uint32_t(rig.cameras.size()));
+              gpu.output("portrait depth", w, h, PixelFormat::R32F));
   const test::PassOutputs out = gpu.run();
   return {out.image("portrait"), out.image("portrait depth")};
 }
@@ -150,4 +150,9 @@ TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
     // With one candidate its weight is its feather over itself: the color is the sample's.
     RT_REQUIRE_MOSTLY_MATCHES(gpu.color, warped.warped, 2e-3, 1e-5, 1 + 29 * 19 / 200);
   }
+}
+
+TEST_CASE("ibr_warp_blend refuses a view count it cannot hold", "[ibr_warp_blend][gpu]") {
+  REQUIRE_THROWS_WITH(passes::IbrWarpBlendPass(test::gpu(), 0), Catch::Contains("1 to 6 views"));
+  REQUIRE_THROWS_WITH(passes::IbrWarpBlendPass(test::gpu(), RT_IBR_MAX_VIEWS + 1), Catch::Contains("1 to 6 views"));
 }

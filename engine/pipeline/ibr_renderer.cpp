@@ -78,7 +78,7 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   else if (split)
     blend_ = std::make_unique<passes::IbrBlendPass>(context, settings_.blend);
   else
-    warp_blend_ = std::make_unique<passes::IbrWarpBlendPass>(context, settings_.warp, settings_.blend);
+    warp_blend_ = std::make_unique<passes::IbrWarpBlendPass>(context, settings_.views, settings_.warp, settings_.blend);
   if (split) warp_ = std::make_unique<passes::IbrWarpPass>(context, settings_.warp);
   portrait_ = std::make_unique<vk::Image>(context, vk::ImageDesc{"portrait", settings_.width, settings_.height});
   portrait_depth_ = std::make_unique<vk::Image>(
@@ -114,7 +114,7 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   else if (blend_)
     blend_->add_to(*graph_, *depth, *i.warped, *i.features, blended, blended_depth, views);
   else
-    warp_blend_->add_to(*graph_, scene_, *depth, i.color, i.points, blended, blended_depth, views);
+    warp_blend_->add_to(*graph_, scene_, *depth, i.color, i.points, blended, blended_depth);
   if (resolve_) resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, *portrait_, *portrait_depth_);
 }
 
