@@ -29,19 +29,22 @@ IbrWarpBlendPass::IbrWarpBlendPass(vk::Context& context, uint32_t view_count, co
                {"view_count", int32_t(view_count)}}) {}
 
 void IbrWarpBlendPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& color,
-                              vk::Image& points, vk::Image& portrait, vk::Image& portrait_depth) const {
+                              vk::Image& points, IbrTiles& tiles, vk::Image& portrait,
+                              vk::Image& portrait_depth) const {
   if (color.height() % view_count_ != 0 || points.height() % view_count_ != 0)
     throw std::invalid_argument("ibr_warp_blend: the color and points atlases must hold " + std::to_string(view_count_) +
                                 " bands");
   for (const vk::Image* image : {&portrait, &portrait_depth})
     if (image->width() != fused_depth.width() || image->height() != fused_depth.height())
       throw std::invalid_argument("ibr_warp_blend: '" + image->name() + "' differs in size from the fused depth");
+  if (tiles.width() != fused_depth.width() || tiles.height() != fused_depth.height())
+    throw std::invalid_argument("ibr_warp_blend: the tile list differs in size from the fused depth");
   graph.add_compute_pass({
       .name = "ibr_warp_blend",
       .kernel = &kernel_,
       .bindings = {{"fused_depth", &fused_depth}, {"color", &color}, {"points", &points}, {"portrait", &portrait},
-                   {"portrait_depth", &portrait_depth}, {"IbrSceneTable", &scene.buffer()}},
-      .threads = {fused_depth.width(), fused_depth.height(), 1},
+                   {"portrait_depth", &portrait_depth}, {"IbrSceneTable", &scene.buffer()}, {"Tiles", &tiles.tiles()}},
+      .indirect = &tiles.dispatch(),
   });
 }
 

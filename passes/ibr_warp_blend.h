@@ -4,11 +4,13 @@
 // blended in registers, so no per-view atlas is written and read back. Its result is that of
 // ibr_warp followed by ibr_blend (a learned blending still takes that split path).
 //   in:  fused_depth r32f, color rgba8 atlas (views in bands), points rgba32f atlas (each view's
-//        own depth in w), the camera table
+//        own depth in w), the camera table, the tiles with a surface (ibr_tiles, which also
+//        zeroed the portrait: this pass writes those tiles alone)
 //   out: portrait rgba32f (straight color, alpha 1 where a view sees the surface, else 0),
 //        portrait_depth r32f (metres, 0 = nothing)
 #include "passes/common/ibr_scene.h"
 #include "passes/ibr_blend.h"
+#include "passes/ibr_tiles.h"
 #include "passes/ibr_warp.h"
 #include "vulkan/frame_graph.h"
 
@@ -20,7 +22,7 @@ class IbrWarpBlendPass {
   IbrWarpBlendPass(vk::Context& context, uint32_t view_count, const WarpSettings& warp = {},
                    const BlendSettings& blend = {});
   void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& fused_depth, vk::Image& color,
-              vk::Image& points, vk::Image& portrait, vk::Image& portrait_depth) const;
+              vk::Image& points, IbrTiles& tiles, vk::Image& portrait, vk::Image& portrait_depth) const;
 
  private:
   uint32_t view_count_;

@@ -43,14 +43,19 @@ Inputs random_inputs(std::mt19937& rng, const test::IbrRig& rig, uint32_t width,
 
 passes::Portrait run_fused(const test::IbrRig& rig, const Inputs& in, const passes::BlendSettings& blend = {},
                            const passes::WarpSettings& warp = {}) {
+  const passes::IbrTilesPass tiling(test::gpu());
   const passes::IbrWarpBlendPass pass(test::gpu(), uint32_t(rig.cameras.size()), warp, blend);
   passes::IbrSceneBuffer scene(test::gpu());
   scene.write(rig.table);
   test::PassHarness gpu("ibr_warp_blend");
   const uint32_t w = in.fused.width, h = in.fused.height;
-  pass.add_to(gpu.graph(), scene, gpu.input("fused depth", in.fused), gpu.input("color", in.color),
-              gpu.input("points", in.points), gpu.output("portrait", w, h, PixelFormat::RGBA32F),
-              gpu.output("portrait depth", w, h, PixelFormat::R32F));
+  passes::IbrTiles tiles(test::gpu(), w, h);
+  vk::Image& fused = gpu.input("fused depth", in.fused);
+  vk::Image& portrait = gpu.output("portrait", w, h, PixelFormat::RGBA32F);
+  vk::Image& portrait_depth = gpu.output("portrait depth", w, h, PixelFormat::R32F);
+  tiling.add_to(gpu.graph(), fused, tiles, portrait, portrait_depth);
+  pass.add_to(gpu.graph(), scene, fused, gpu.input("color", in.color), gpu.input("points", in.points), tiles, portrait,
+              portrait_depth);
   const test::PassOutputs out = gpu.run();
   return {out.image("portrait"), out.image("portrait depth")};
 }

@@ -25,6 +25,7 @@ struct IbrRenderer::Images {
   vk::Buffer fusion;
   vk::Image fused_depth, carved_depth, refined_depth;  // target sized
   std::unique_ptr<vk::Image> warped, features;         // the split path's: target sized, views in bands
+  std::unique_ptr<passes::IbrTiles> tiles;             // the one pass's: the tiles with a surface
 
   // `s.width` x `s.height` here are the rendered (supersampled) size.
   Images(vk::Context& context, const passes::IbrCameraModel& camera, const IbrSettings& s, bool split)
@@ -40,7 +41,10 @@ struct IbrRenderer::Images {
         fused_depth(context, {"ibr fused depth", s.width, s.height, PixelFormat::R32F}),
         carved_depth(context, {"ibr carved depth", s.width, s.height, PixelFormat::R32F}),
         refined_depth(context, {"ibr refined depth", s.width, s.height, PixelFormat::R32F}) {
-    if (!split) return;
+    if (!split) {
+      tiles = std::make_unique<passes::IbrTiles>(context, s.width, s.height);
+      return;
+    }
     warped = std::make_unique<vk::Image>(context, vk::ImageDesc{"ibr warped", s.width, s.height * s.views, PixelFormat::RGBA32F});
     features =
         std::make_unique<vk::Image>(context, vk::ImageDesc{"ibr features", s.width, s.height * s.views, PixelFormat::RGBA32F});
@@ -77,8 +81,10 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
                                              rendered.height, settings_.views);
   else if (split)
     blend_ = std::make_unique<passes::IbrBlendPass>(context, settings_.blend);
-  else
+  else {
+    tiles_ = std::make_unique<passes::IbrTilesPass>(context);
     warp_blend_ = std::make_unique<passes::IbrWarpBlendPass>(context, settings_.views, settings_.warp, settings_.blend);
+  }
   if (split) warp_ = std::make_unique<passes::IbrWarpPass>(context, settings_.warp);
   portrait_ = std::make_unique<vk::Image>(context, vk::ImageDesc{"portrait", settings_.width, settings_.height});
   portrait_depth_ = std::make_unique<vk::Image>(
@@ -113,8 +119,10 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     lumi_->add_to(*graph_, *depth, *i.warped, *i.features, blended, blended_depth, views);
   else if (blend_)
     blend_->add_to(*graph_, *depth, *i.warped, *i.features, blended, blended_depth, views);
-  else
-    warp_blend_->add_to(*graph_, scene_, *depth, i.color, i.points, blended, blended_depth);
+  else {
+    tiles_->add_to(*graph_, *depth, *i.tiles, blended, blended_depth);
+    warp_blend_->add_to(*graph_, scene_, *depth, i.color, i.points, *i.tiles, blended, blended_depth);
+  }
   if (resolve_) resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, *portrait_, *portrait_depth_);
 }
 

@@ -71,10 +71,11 @@ class IbrRenderer {
   passes::IbrFusePass fuse_;
   std::unique_ptr<passes::IbrCarvePass> carve_;
   std::unique_ptr<passes::IbrRefinePass> refine_;
-  // Split: warp_ and one of blend_ and lumi_, as settings.blending says; else warp_blend_ alone.
+  // Split: warp_ and one of blend_ and lumi_, as settings.blending says; else tiles_ and warp_blend_.
   std::unique_ptr<passes::IbrWarpPass> warp_;
   std::unique_ptr<passes::IbrBlendPass> blend_;
   std::unique_ptr<LumiNetBlender> lumi_;
+  std::unique_ptr<passes::IbrTilesPass> tiles_;
   std::unique_ptr<passes::IbrWarpBlendPass> warp_blend_;
   std::unique_ptr<passes::IbrResolvePass> resolve_;
   passes::IbrSceneBuffer scene_;

@@ -201,9 +201,13 @@ void FrameGraph::add_compute_pass(ComputePassDecl decl) {
   std::vector<ResourceUse> uses;
   BoundList bound = resolve_bindings(decl.name, kernel.interface(), decl.bindings, uses);
   check_push_given(decl.name, kernel.interface(), decl.push_constants);
+  if (decl.indirect) {
+    if (decl.indirect->size() < 3 * sizeof(uint32_t)) throw fail("the indirect buffer holds fewer than three uints");
+    uses.push_back({decl.indirect, access::indirect_read});
+  }
   const auto groups = kernel.group_count(decl.threads);
   const auto& limits = context_.properties().limits;
-  for (int axis = 0; axis < 3; ++axis) {
+  for (int axis = 0; decl.indirect == nullptr && axis < 3; ++axis) {
     if (decl.threads[axis] == 0) throw fail("a thread count of 0 on axis " + std::to_string(axis));
     if (groups[axis] > limits.maxComputeWorkGroupCount[axis])
       throw fail(std::to_string(groups[axis]) + " workgroups on axis " + std::to_string(axis) + " exceed the device's " +
@@ -211,9 +215,12 @@ void FrameGraph::add_compute_pass(ComputePassDecl decl) {
   }
   const Context& context = context_;
   auto record = [&context, &kernel, bound = std::move(bound), groups, name = decl.name,
-                 push = std::move(decl.push_constants)](VkCommandBuffer commands) {
+                 push = std::move(decl.push_constants), indirect = decl.indirect](VkCommandBuffer commands) {
     bind_pipeline(context, commands, name, kernel.interface(), bound, push);
-    vkCmdDispatch(commands, groups[0], groups[1], groups[2]);
+    if (indirect)
+      vkCmdDispatchIndirect(commands, indirect->buffer(), 0);
+    else
+      vkCmdDispatch(commands, groups[0], groups[1], groups[2]);
   };
   add_pass({decl.name, std::move(uses), std::move(record)});
 }

@@ -53,6 +53,10 @@ struct ComputePassDecl {
   std::array<uint32_t, 3> threads{1, 1, 1};  // invocations per axis, e.g. {width, height, 1}
   // Called when each frame is recorded; its size must equal the shader's push-constant block.
   std::function<std::vector<std::byte>()> push_constants{};
+  // When set, the workgroup counts are the buffer's first three uints as an earlier pass wrote
+  // them (vkCmdDispatchIndirect; the buffer needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT), and
+  // `threads` is not used.
+  Buffer* indirect = nullptr;
 };
 
 struct ColorTarget {
