@@ -30,17 +30,27 @@ IbrForegroundPass::IbrForegroundPass(vk::Context& context, const ForegroundSetti
               {{"min_support", int32_t(settings.min_support)}, {"edge_tolerance_m", settings.edge_tolerance_m}}) {}
 
 void IbrForegroundPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& depth_mm,
-                               vk::Image& depth_rays, vk::Image& points, uint32_t view_count) const {
+                               vk::Image& depth_rays, vk::Image& points, IbrTiles& point_tiles,
+                               uint32_t view_count) const {
   if (view_count == 0 || depth_mm.height() % view_count != 0)
     throw std::invalid_argument("ibr_foreground: the depth atlas does not hold " + std::to_string(view_count) + " bands");
   for (const vk::Image* image : {&depth_rays, &points})
     if (image->width() != depth_mm.width() || image->height() != depth_mm.height())
       throw std::invalid_argument("ibr_foreground: '" + image->name() + "' differs in size from the depth atlas");
+  if (point_tiles.width() != depth_mm.width() || point_tiles.height() * view_count != depth_mm.height() ||
+      point_tiles.layers() != view_count)
+    throw std::invalid_argument("ibr_foreground: the tile list is not one of " + std::to_string(view_count) +
+                                " views of the depth atlas's bands");
+  add_tile_reset(graph, "ibr_point_tiles_reset", point_tiles);
   graph.add_compute_pass({
       .name = "ibr_foreground",
       .kernel = &kernel_,
-      .bindings = {{"depth_mm", &depth_mm}, {"depth_rays", &depth_rays}, {"points", &points},
-                   {"IbrSceneTable", &scene.buffer()}},
+      .bindings = {{"depth_mm", &depth_mm},
+                   {"depth_rays", &depth_rays},
+                   {"points", &points},
+                   {"IbrSceneTable", &scene.buffer()},
+                   {"TileDispatch", &point_tiles.dispatch()},
+                   {"Tiles", &point_tiles.tiles()}},
       .threads = {depth_mm.width(), depth_mm.height() / view_count, view_count},
       .push_constants = vk::push_constants_from<shader_abi::IbrForegroundParams>(
           [params = params_of(settings_)] { return params; }),

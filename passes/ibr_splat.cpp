@@ -44,10 +44,14 @@ IbrSplatPass::IbrSplatPass(vk::Context& context, const SplatSettings& settings)
       nearest_(context, "ibr_splat", ibr_splat_comp_spirv, knobs(settings, false)),
       average_(context, "ibr_splat_average", ibr_splat_comp_spirv, knobs(settings, true)) {}
 
-void IbrSplatPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& points, vk::Buffer& fusion,
-                          uint32_t view_count) const {
+void IbrSplatPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& points, IbrTiles& point_tiles,
+                          vk::Buffer& fusion, uint32_t view_count) const {
   if (view_count == 0 || points.height() % view_count != 0)
     throw std::invalid_argument("ibr_splat: the points atlas does not hold " + std::to_string(view_count) + " bands");
+  if (point_tiles.width() != points.width() || point_tiles.height() * view_count != points.height() ||
+      point_tiles.layers() != view_count)
+    throw std::invalid_argument("ibr_splat: the tile list is not one of " + std::to_string(view_count) +
+                                " views of the points atlas's bands");
   const uint32_t pixel_count = uint32_t(fusion.size() / (3 * sizeof(uint32_t)));
   graph.add_pass({
       .name = "ibr_fusion_clear",
@@ -59,11 +63,12 @@ void IbrSplatPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Imag
             vkCmdFillBuffer(commands, fusion.buffer(), nearest_bytes, 2 * nearest_bytes, 0u);
           },
   });
-  const std::array<uint32_t, 3> threads{points.width(), points.height() / view_count, view_count};
-  const std::vector<vk::Binding> bindings{{"points", &points}, {"Fusion", &fusion}, {"IbrSceneTable", &scene.buffer()}};
-  graph.add_compute_pass({.name = "ibr_splat", .kernel = &nearest_, .bindings = bindings, .threads = threads});
+  const std::vector<vk::Binding> bindings{
+      {"points", &points}, {"Fusion", &fusion}, {"IbrSceneTable", &scene.buffer()}, {"Tiles", &point_tiles.tiles()}};
+  vk::Buffer* dispatch = &point_tiles.dispatch();
+  graph.add_compute_pass({.name = "ibr_splat", .kernel = &nearest_, .bindings = bindings, .indirect = dispatch});
   if (settings_.fusion == DepthFusion::Average)
-    graph.add_compute_pass({.name = "ibr_splat_average", .kernel = &average_, .bindings = bindings, .threads = threads});
+    graph.add_compute_pass({.name = "ibr_splat_average", .kernel = &average_, .bindings = bindings, .indirect = dispatch});
 }
 
 namespace {

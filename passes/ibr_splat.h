@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "passes/common/ibr_scene.h"
+#include "passes/ibr_tiles.h"
 #include "vulkan/frame_graph.h"
 
 namespace rt::passes {
@@ -43,8 +44,9 @@ vk::BufferDesc fusion_buffer_desc(uint32_t target_width, uint32_t target_height)
 class IbrSplatPass {
  public:
   IbrSplatPass(vk::Context& context, const SplatSettings& settings = {});
-  void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& points, vk::Buffer& fusion,
-              uint32_t view_count) const;
+  // Runs over the tiles of `points` that point_tiles lists (ibr_foreground's).
+  void add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Image& points, IbrTiles& point_tiles,
+              vk::Buffer& fusion, uint32_t view_count) const;
   const SplatSettings& settings() const { return settings_; }
 
  private:

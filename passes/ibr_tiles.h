@@ -8,6 +8,7 @@
 //        portrait_depth r32f set to 0
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "image/host_image.h"
@@ -15,24 +16,30 @@
 
 namespace rt::passes {
 
-// The listed tiles of a target view of `width` x `height` and the dispatch over them.
+// The listed tiles of an image of `width` x `height` pixels per layer (a view's band of an
+// atlas), `layers` of them, and the dispatch over them. Each entry is a uvec4: the tile's column,
+// row and layer, and 0.
 class IbrTiles {
  public:
-  IbrTiles(vk::Context& context, uint32_t width, uint32_t height);
+  IbrTiles(vk::Context& context, uint32_t width, uint32_t height, uint32_t layers = 1);
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
+  uint32_t layers() const { return layers_; }
   vk::Buffer& dispatch() { return dispatch_; }  // three uints: tiles listed, 1, 1
-  vk::Buffer& tiles() { return tiles_; }        // uvec2 per listed tile, in no order
+  vk::Buffer& tiles() { return tiles_; }        // per listed tile, in no order
 
  private:
-  uint32_t width_, height_;
+  uint32_t width_, height_, layers_;
   vk::Buffer dispatch_, tiles_;
 };
+
+// Adds a pass `name` that sets the count of listed tiles to 0, before the pass that lists them.
+void add_tile_reset(vk::FrameGraph& graph, const std::string& name, IbrTiles& tiles);
 
 class IbrTilesPass {
  public:
   explicit IbrTilesPass(vk::Context& context);
-  // Adds the reset of the tile count and the listing.
+  // Adds the reset of the tile count with the portrait's clear, and the listing.
   void add_to(vk::FrameGraph& graph, vk::Image& fused_depth, IbrTiles& tiles, vk::Image& portrait,
               vk::Image& portrait_depth) const;
 
@@ -40,7 +47,11 @@ class IbrTilesPass {
   vk::ComputeKernel kernel_;
 };
 
-// The tiles whose pixels have a fused depth > 0 (NaN is none, +Inf is one), by row then column.
-std::vector<std::array<uint32_t, 2>> ibr_tiles_reference(const HostImage& fused_depth);
+using TileIndex = std::array<uint32_t, 3>;  // column, row, layer
+
+// The tiles with a pixel whose channel `channel` is > 0 (NaN is not, +Inf is), the image's rows
+// in `layers` bands of equal height; by layer, row, then column. With the defaults, the tiles
+// ibr_tiles lists from a fused depth.
+std::vector<TileIndex> ibr_tiles_reference(const HostImage& image, uint32_t layers = 1, uint32_t channel = 0);
 
 }  // namespace rt::passes

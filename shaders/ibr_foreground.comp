@@ -20,6 +20,10 @@ layout(constant_id = 1) const float edge_tolerance_m = 0.0;   // neighbours clos
 layout(binding = 0, r16ui) uniform readonly uimage2D depth_mm;   // views stacked in bands, 0 = invalid
 layout(binding = 1, rgba32f) uniform readonly image2D depth_rays;  // x/z, y/z, valid
 layout(binding = 2, rgba32f) uniform writeonly image2D points;    // site xyz, camera z; 0 = none
+// The tiles of the points atlas that hold a point, for ibr_splat to run over them alone (see
+// ibr_tiles.comp): the splat's workgroup counts (x reset to 0 before this pass) and the tiles.
+layout(std430, binding = 3) buffer TileDispatch { uint tile_dispatch[3]; };
+layout(std430, binding = 4) writeonly buffer Tiles { uvec4 tiles[]; };  // column, row, view, 0
 layout(push_constant) uniform Push { IbrForegroundParams params; };
 
 // A depth pixel's site point and camera z (metres) when it lies in the volume, else 0.
@@ -39,6 +43,7 @@ vec4 volume_point(ivec2 pixel, int band, ivec2 size, mat4 site_from_camera) {
 // test reads its nine from here instead of loading and transforming them again.
 const int kTileWidth = RT_TILE_X + 2, kTileHeight = RT_TILE_Y + 2;
 shared vec4 tile[kTileHeight * kTileWidth];
+shared uint tile_has_point;
 
 // cameras[view].site_from_camera for the dispatch's view, which is not a constant: every camera's
 // is read at a constant index and the view's kept by selection, before any branch
@@ -57,12 +62,13 @@ void main() {
   ivec2 size = ivec2(lens_size(cameras[view].depth));
   int band = view * size.y;
   ivec2 origin = ivec2(gl_WorkGroupID.xy) * ivec2(RT_TILE_X, RT_TILE_Y) - 1;
+  if (gl_LocalInvocationIndex == 0u) tile_has_point = 0u;
   for (int i = int(gl_LocalInvocationIndex); i < kTileWidth * kTileHeight; i += RT_TILE_X * RT_TILE_Y)
     tile[i] = volume_point(origin + ivec2(i % kTileWidth, i / kTileWidth), band, size, site_from_camera);
   barrier();
 
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, size))) return;
+  bool in_image = all(lessThan(pixel, size));  // no return: a barrier follows
   ivec2 local = ivec2(gl_LocalInvocationID.xy) + 1;
   vec4 centre = tile[local.y * kTileWidth + local.x];
   float z = centre.w;
@@ -75,5 +81,11 @@ void main() {
         if (neighbour > 0.0 && abs(neighbour - z) <= edge_tolerance_m) ++support;
       }
   vec4 point = z > 0.0 && support >= min_support ? centre : vec4(0.0);
-  imageStore(points, ivec2(pixel.x, pixel.y + band), point);
+  if (in_image) {
+    imageStore(points, ivec2(pixel.x, pixel.y + band), point);
+    if (point.w > 0.0) atomicOr(tile_has_point, 1u);
+  }
+  barrier();
+  if (gl_LocalInvocationIndex == 0u && tile_has_point != 0u)
+    tiles[atomicAdd(tile_dispatch[0], 1u)] = uvec4(gl_WorkGroupID.xy, uint(view), 0u);
 }

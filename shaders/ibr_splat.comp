@@ -24,6 +24,9 @@ layout(constant_id = 5) const float edge_inset = 0.0;           // of a depth pi
 layout(binding = 0, rgba32f) uniform readonly image2D points;  // site xyz, camera z; 0 = none
 // [0, n): nearest depth bits; [n, 2n): sum of agreeing depths (10 micrometre units); [2n, 3n): their count.
 layout(std430, binding = 1) buffer Fusion { uint fusion[]; };
+// The tiles of the points atlas that hold a point (ibr_foreground): one workgroup each, as on
+// llvmpipe a tile without one would cost as much as one with (see ibr_tiles.comp).
+layout(std430, binding = 2) readonly buffer Tiles { uvec4 tiles[]; };  // column, row, view, 0
 
 // Where a foreground point lands in the target view: (pixel x, pixel y, camera z); false when
 // it is missing, behind the eye or far outside the image.
@@ -80,9 +83,10 @@ bool quarter_depth(vec2 offset, float z0, vec3 step_right, vec3 step_left, vec3 
 
 void main() {
   IbrTarget eye_view = target;  // read before the first branch (common/ibr_camera.glsl says why)
-  int view = int(gl_GlobalInvocationID.z);
+  uvec4 listed = tiles[gl_WorkGroupID.x];
+  int view = int(listed.z);
   ivec2 size = ivec2(lens_size(cameras[view].depth));
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 pixel = ivec2(listed.xy * uvec2(RT_TILE_X, RT_TILE_Y) + gl_LocalInvocationID.xy);
   if (any(greaterThanEqual(pixel, size))) return;
   vec4 point = imageLoad(points, ivec2(pixel.x, pixel.y + view * size.y));
   if (point.w <= 0.0) return;

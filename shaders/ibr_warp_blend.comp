@@ -35,11 +35,11 @@ layout(binding = 2, rgba32f) uniform readonly image2D points;     // w: each vie
 layout(binding = 3, rgba32f) uniform writeonly image2D portrait;        // straight color, alpha
 layout(binding = 4, r32f) uniform writeonly image2D portrait_depth;     // metres, 0 = nothing
 // The tiles with a surface (ibr_tiles, which zeroed the rest of the portrait): one workgroup each.
-layout(std430, binding = 5) readonly buffer Tiles { uvec2 tiles[]; };
+layout(std430, binding = 5) readonly buffer Tiles { uvec4 tiles[]; };
 
 void main() {
   ivec2 size = imageSize(portrait);
-  ivec2 pixel = ivec2(tiles[gl_WorkGroupID.x] * uvec2(RT_TILE_X, RT_TILE_Y) + gl_LocalInvocationID.xy);
+  ivec2 pixel = ivec2(tiles[gl_WorkGroupID.x].xy * uvec2(RT_TILE_X, RT_TILE_Y) + gl_LocalInvocationID.xy);
   // No early return for the pixels past the edge: every load of the scene table below must come
   // before the first branch on the pixel (common/ibr_warp_sample.glsl says why).
   bool in_image = all(lessThan(pixel, size));

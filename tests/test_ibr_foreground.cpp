@@ -18,9 +18,14 @@ HostImage run_gpu(const test::IbrRig& rig, const HostImage& depth_mm, const Host
   passes::IbrSceneBuffer scene(test::gpu());
   scene.write(rig.table);
   test::PassHarness gpu("ibr_foreground");
+  const uint32_t views = uint32_t(rig.cameras.size());
+  passes::IbrTiles tiles(test::gpu(), depth_mm.width, depth_mm.height / views, views);
   pass.add_to(gpu.graph(), scene, gpu.input("depth mm", depth_mm), gpu.input("depth rays", rays),
-              gpu.output("points", depth_mm.width, depth_mm.height, PixelFormat::RGBA32F), uint32_t(rig.cameras.size()));
-  return gpu.run().image("points");
+              gpu.output("points", depth_mm.width, depth_mm.height, PixelFormat::RGBA32F), tiles, views);
+  const HostImage points = gpu.run(2).image("points");  // a second frame lists each tile once again
+  // The tiles listed for the splat are those holding a point, each once.
+  REQUIRE(test::listed_tiles(tiles) == passes::ibr_tiles_reference(points, views, 3));
+  return points;
 }
 
 size_t foreground_pixels(const HostImage& points) {

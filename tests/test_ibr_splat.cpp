@@ -34,7 +34,10 @@ SplatResult run_gpu(const test::IbrRig& rig, const HostImage& points, const pass
   const uint32_t tw = rig.target.intrinsics.width, th = rig.target.intrinsics.height;
   const vk::BufferDesc fusion_desc = passes::fusion_buffer_desc(tw, th);
   vk::Buffer& fusion = gpu.buffer(fusion_desc, {}, true);
-  splat_pass.add_to(gpu.graph(), scene, gpu.input("points", points), fusion, uint32_t(rig.cameras.size()));
+  const uint32_t views = uint32_t(rig.cameras.size());
+  passes::IbrTiles tiles(test::gpu(), points.width, points.height / views, views);
+  test::upload_tiles(tiles, passes::ibr_tiles_reference(points, views, 3));
+  splat_pass.add_to(gpu.graph(), scene, gpu.input("points", points), tiles, fusion, views);
   fuse_pass.add_to(gpu.graph(), fusion, gpu.output("fused depth", tw, th, PixelFormat::R32F));
   const test::PassOutputs out = gpu.run(2);  // a second frame must clear the buffer first, not accumulate
   return {out.values<uint32_t>(fusion_desc.name), out.image("fused depth")};

@@ -9,13 +9,14 @@
 #include "passes/ibr_tiles.h"
 #include "shared/config.h"
 #include "support/gpu_test.h"
+#include "support/ibr_rig.h"
 #include "support/pass_harness.h"
 
 using namespace rt;
 
 namespace {
 
-using Tile = std::array<uint32_t, 2>;
+using Tile = passes::TileIndex;
 
 struct Listed {
   std::array<uint32_t, 3> dispatch{};
@@ -39,13 +40,7 @@ Listed run_gpu(const HostImage& fused) {
   Listed listed{{}, {}, out.image("portrait"), out.image("portrait depth")};
   const std::vector<std::byte> dispatch = vk::download(test::gpu(), tiles.dispatch());
   std::memcpy(listed.dispatch.data(), dispatch.data(), sizeof listed.dispatch);
-  const std::vector<std::byte> bytes = vk::download(test::gpu(), tiles.tiles());
-  const size_t count = std::min<size_t>(listed.dispatch[0], bytes.size() / sizeof(Tile));
-  listed.tiles.resize(count);
-  std::memcpy(listed.tiles.data(), bytes.data(), count * sizeof(Tile));
-  std::sort(listed.tiles.begin(), listed.tiles.end(), [](const Tile& a, const Tile& b) {
-    return a[1] != b[1] ? a[1] < b[1] : a[0] < b[0];
-  });
+  listed.tiles = test::listed_tiles(tiles);
   return listed;
 }
 
@@ -87,7 +82,7 @@ TEST_CASE("ibr_tiles hard cases", "[ibr_tiles][gpu]") {
     fused.texels[fused.index(3, 3)] = nan;
     fused.texels[fused.index(12, 3)] = -1.0f;
     fused.texels[fused.index(20, 12)] = inf;
-    REQUIRE(passes::ibr_tiles_reference(fused) == std::vector<Tile>{{20 / RT_TILE_X, 12 / RT_TILE_Y}});
+    REQUIRE(passes::ibr_tiles_reference(fused) == std::vector<Tile>{{20 / RT_TILE_X, 12 / RT_TILE_Y, 0}});
     require_matches_reference(fused);
   }
   SECTION("a surface only in the partial tiles of the last column and row") {

@@ -25,6 +25,7 @@ struct IbrRenderer::Images {
   vk::Buffer fusion;
   vk::Image fused_depth, carved_depth, refined_depth;  // target sized
   std::unique_ptr<vk::Image> warped, features;         // the split path's: target sized, views in bands
+  passes::IbrTiles point_tiles;                        // of the points atlas, one layer per view
   std::unique_ptr<passes::IbrTiles> tiles;             // the one pass's: the tiles with a surface
 
   // `s.width` x `s.height` here are the rendered (supersampled) size.
@@ -40,7 +41,8 @@ struct IbrRenderer::Images {
         fusion(context, passes::fusion_buffer_desc(s.width, s.height)),
         fused_depth(context, {"ibr fused depth", s.width, s.height, PixelFormat::R32F}),
         carved_depth(context, {"ibr carved depth", s.width, s.height, PixelFormat::R32F}),
-        refined_depth(context, {"ibr refined depth", s.width, s.height, PixelFormat::R32F}) {
+        refined_depth(context, {"ibr refined depth", s.width, s.height, PixelFormat::R32F}),
+        point_tiles(context, camera.depth.intrinsics.width, camera.depth.intrinsics.height, s.views) {
     if (!split) {
       tiles = std::make_unique<passes::IbrTiles>(context, s.width, s.height);
       return;
@@ -99,8 +101,8 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   graph_ = std::make_unique<vk::FrameGraph>(context, "image-based model");
   Images& i = *images_;
   const uint32_t views = settings_.views;
-  foreground_.add_to(*graph_, scene_, i.depth_mm, i.depth_rays, i.points, views);
-  splat_.add_to(*graph_, scene_, i.points, i.fusion, views);
+  foreground_.add_to(*graph_, scene_, i.depth_mm, i.depth_rays, i.points, i.point_tiles, views);
+  splat_.add_to(*graph_, scene_, i.points, i.point_tiles, i.fusion, views);
   fuse_.add_to(*graph_, i.fusion, i.fused_depth);
   vk::Image* depth = &i.fused_depth;
   if (carve_) {

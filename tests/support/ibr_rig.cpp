@@ -1,9 +1,14 @@
 #include "support/ibr_rig.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <span>
+#include <tuple>
 
 #include "geometry/target_view.h"
 #include "sim/default_site.h"
+#include "support/gpu_test.h"
 
 namespace rt::test {
 namespace {
@@ -79,6 +84,31 @@ IbrRig turned_away(IbrRig rig) {
   }
   rig.table = passes::make_scene_table(rig.target, rig.cameras);
   return rig;
+}
+
+std::vector<passes::TileIndex> listed_tiles(passes::IbrTiles& tiles) {
+  const std::vector<std::byte> dispatch = vk::download(test::gpu(), tiles.dispatch());
+  uint32_t count = 0;
+  std::memcpy(&count, dispatch.data(), sizeof count);
+  const std::vector<std::byte> bytes = vk::download(test::gpu(), tiles.tiles());
+  std::vector<std::array<uint32_t, 4>> entries(std::min<size_t>(count, bytes.size() / 16));
+  std::memcpy(entries.data(), bytes.data(), entries.size() * 16);
+  std::vector<passes::TileIndex> listed;
+  for (const auto& e : entries) listed.push_back({e[0], e[1], e[2]});
+  std::sort(listed.begin(), listed.end(), [](const passes::TileIndex& a, const passes::TileIndex& b) {
+    return std::tie(a[2], a[1], a[0]) < std::tie(b[2], b[1], b[0]);
+  });
+  return listed;
+}
+
+void upload_tiles(passes::IbrTiles& tiles, const std::vector<passes::TileIndex>& listed) {
+  std::vector<uint32_t> entries;
+  for (const auto& t : listed) entries.insert(entries.end(), {t[0], t[1], t[2], 0u});
+  entries.resize(std::max<size_t>(entries.size(), tiles.tiles().size() / sizeof(uint32_t)), 0u);
+  entries.resize(tiles.tiles().size() / sizeof(uint32_t));
+  vk::upload(test::gpu(), tiles.tiles(), std::as_bytes(std::span(entries)));
+  const std::array<uint32_t, 3> dispatch{uint32_t(listed.size()), 1, 1};
+  vk::upload(test::gpu(), tiles.dispatch(), std::as_bytes(std::span(dispatch)));
 }
 
 }  // namespace rt::test

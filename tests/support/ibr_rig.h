@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "passes/common/ibr_scene.h"
+#include "passes/ibr_tiles.h"
 
 namespace rt::test {
 
@@ -28,5 +29,10 @@ HostImage random_depth_atlas(std::mt19937& rng, const IbrRig& rig, float hole_fr
 
 // R32F target-view depth of a surface 1.3-1.5 m from the eye, 15% of pixels holes (0).
 HostImage random_fused_depth(std::mt19937& rng, uint32_t width, uint32_t height);
+
+// The tiles `tiles` lists on the GPU (read back), sorted as passes::ibr_tiles_reference sorts them.
+std::vector<passes::TileIndex> listed_tiles(passes::IbrTiles& tiles);
+// Writes `listed` and its dispatch into `tiles`, for a pass that runs over a list made elsewhere.
+void upload_tiles(passes::IbrTiles& tiles, const std::vector<passes::TileIndex>& listed);
 
 }  // namespace rt::test
