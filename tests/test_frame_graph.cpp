@@ -112,6 +112,11 @@ TEST_CASE("bindings are checked against the shader's reflection", "[frame_graph]
                                             .bindings = {{"source", &images.a}, {"destination", &images.b}},
                                             .threads = {0, 1, 1}}),
                     Catch::Contains("thread count of 0"));
+  vk::Buffer short_indirect(context, {"short indirect", 8, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT});
+  CHECK_THROWS_WITH(graph.add_compute_pass({.name = "indirect", .kernel = &copy,
+                                            .bindings = {{"source", &images.a}, {"destination", &images.b}},
+                                            .indirect = &short_indirect}),
+                    Catch::Contains("fewer than three uints"));
   CHECK(graph.execution_order().empty());  // nothing half-added
 }
 
