@@ -1,8 +1,8 @@
 #pragma once
 // Pass: the target view's tiles (RT_TILE_X x RT_TILE_Y pixels) that hold a surface, listed with
-// the warp's workgroup counts, and the portrait zeroed (shaders/ibr_tiles.comp), so that
-// ibr_warp_blend runs over those tiles alone: on llvmpipe every invocation of a dispatch costs
-// the same, whatever its branches skip.
+// the warp's workgroup counts (shaders/ibr_tiles.comp), after a transfer that clears the
+// portrait, so that ibr_warp_blend runs over those tiles alone: on llvmpipe every invocation of
+// a dispatch costs the same, whatever its branches skip.
 //   in:  fused_depth r32f (0 = nothing)
 //   out: IbrTiles (the dispatch's workgroup counts, the tiles), portrait rgba32f and
 //        portrait_depth r32f set to 0
