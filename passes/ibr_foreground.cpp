@@ -37,8 +37,7 @@ void IbrForegroundPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk:
   for (const vk::Image* image : {&depth_rays, &points})
     if (image->width() != depth_mm.width() || image->height() != depth_mm.height())
       throw std::invalid_argument("ibr_foreground: '" + image->name() + "' differs in size from the depth atlas");
-  if (point_tiles.width() != depth_mm.width() || point_tiles.height() * view_count != depth_mm.height() ||
-      point_tiles.layers() != view_count)
+  if (point_tiles.layers() != view_count || !point_tiles.lists_bands_of(depth_mm))
     throw std::invalid_argument("ibr_foreground: the tile list is not one of " + std::to_string(view_count) +
                                 " views of the depth atlas's bands");
   add_tile_reset(graph, "ibr_point_tiles_reset", point_tiles);

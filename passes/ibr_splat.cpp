@@ -48,8 +48,7 @@ void IbrSplatPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::Imag
                           vk::Buffer& fusion, uint32_t view_count) const {
   if (view_count == 0 || points.height() % view_count != 0)
     throw std::invalid_argument("ibr_splat: the points atlas does not hold " + std::to_string(view_count) + " bands");
-  if (point_tiles.width() != points.width() || point_tiles.height() * view_count != points.height() ||
-      point_tiles.layers() != view_count)
+  if (point_tiles.layers() != view_count || !point_tiles.lists_bands_of(points))
     throw std::invalid_argument("ibr_splat: the tile list is not one of " + std::to_string(view_count) +
                                 " views of the points atlas's bands");
   const uint32_t pixel_count = uint32_t(fusion.size() / (3 * sizeof(uint32_t)));

@@ -18,14 +18,14 @@ void record_tile_reset(VkCommandBuffer commands, vk::Buffer& dispatch) {
 
 }  // namespace
 
-IbrTiles::IbrTiles(vk::Context& context, uint32_t width, uint32_t height, uint32_t layers)
+IbrTiles::IbrTiles(vk::Context& context, const std::string& name, uint32_t width, uint32_t height, uint32_t layers)
     : width_(width),
       height_(height),
       layers_(layers),
-      dispatch_(context, {.name = "ibr tile dispatch",
+      dispatch_(context, {.name = name + " dispatch",
                           .size = 3 * sizeof(uint32_t),
                           .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT}),
-      tiles_(context, {.name = "ibr tiles",
+      tiles_(context, {.name = name,
                        .size = std::max<VkDeviceSize>(1, VkDeviceSize(tiles_across(width, RT_TILE_X)) *
                                                              tiles_across(height, RT_TILE_Y) * layers) *
                                4 * sizeof(uint32_t)}) {
@@ -45,7 +45,7 @@ void IbrTilesPass::add_to(vk::FrameGraph& graph, vk::Image& fused_depth, IbrTile
   for (const vk::Image* image : {&portrait, &portrait_depth})
     if (image->width() != fused_depth.width() || image->height() != fused_depth.height())
       throw std::invalid_argument("ibr_tiles: '" + image->name() + "' differs in size from the fused depth");
-  if (tiles.width() != fused_depth.width() || tiles.height() != fused_depth.height())
+  if (!tiles.lists_bands_of(fused_depth))
     throw std::invalid_argument("ibr_tiles: the tile list is for " + std::to_string(tiles.width()) + "x" +
                                 std::to_string(tiles.height()) + ", the fused depth is " +
                                 std::to_string(fused_depth.width()) + "x" + std::to_string(fused_depth.height()));

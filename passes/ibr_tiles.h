@@ -18,13 +18,17 @@ namespace rt::passes {
 
 // The listed tiles of an image of `width` x `height` pixels per layer (a view's band of an
 // atlas), `layers` of them, and the dispatch over them. Each entry is a uvec4: the tile's column,
-// row and layer, and 0.
+// row and layer, and 0. `name` names both buffers (captures and validation messages show it).
 class IbrTiles {
  public:
-  IbrTiles(vk::Context& context, uint32_t width, uint32_t height, uint32_t layers = 1);
+  IbrTiles(vk::Context& context, const std::string& name, uint32_t width, uint32_t height, uint32_t layers = 1);
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
   uint32_t layers() const { return layers_; }
+  // Whether these are the tiles of `atlas`, its rows in `layers()` bands of `height()` each.
+  bool lists_bands_of(const vk::Image& atlas) const {
+    return atlas.width() == width_ && atlas.height() == height_ * layers_;
+  }
   vk::Buffer& dispatch() { return dispatch_; }  // three uints: tiles listed, 1, 1
   vk::Buffer& tiles() { return tiles_; }        // per listed tile, in no order
 

@@ -37,7 +37,7 @@ void IbrWarpBlendPass::add_to(vk::FrameGraph& graph, IbrSceneBuffer& scene, vk::
   for (const vk::Image* image : {&portrait, &portrait_depth})
     if (image->width() != fused_depth.width() || image->height() != fused_depth.height())
       throw std::invalid_argument("ibr_warp_blend: '" + image->name() + "' differs in size from the fused depth");
-  if (tiles.width() != fused_depth.width() || tiles.height() != fused_depth.height())
+  if (tiles.layers() != 1 || !tiles.lists_bands_of(fused_depth))
     throw std::invalid_argument("ibr_warp_blend: the tile list differs in size from the fused depth");
   graph.add_compute_pass({
       .name = "ibr_warp_blend",

@@ -19,7 +19,7 @@ HostImage run_gpu(const test::IbrRig& rig, const HostImage& depth_mm, const Host
   scene.write(rig.table);
   test::PassHarness gpu("ibr_foreground");
   const uint32_t views = uint32_t(rig.cameras.size());
-  passes::IbrTiles tiles(test::gpu(), depth_mm.width, depth_mm.height / views, views);
+  passes::IbrTiles tiles(test::gpu(), "point tiles", depth_mm.width, depth_mm.height / views, views);
   pass.add_to(gpu.graph(), scene, gpu.input("depth mm", depth_mm), gpu.input("depth rays", rays),
               gpu.output("points", depth_mm.width, depth_mm.height, PixelFormat::RGBA32F), tiles, views);
   const HostImage points = gpu.run(2).image("points");  // a second frame lists each tile once again

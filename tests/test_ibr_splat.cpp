@@ -35,7 +35,7 @@ SplatResult run_gpu(const test::IbrRig& rig, const HostImage& points, const pass
   const vk::BufferDesc fusion_desc = passes::fusion_buffer_desc(tw, th);
   vk::Buffer& fusion = gpu.buffer(fusion_desc, {}, true);
   const uint32_t views = uint32_t(rig.cameras.size());
-  passes::IbrTiles tiles(test::gpu(), points.width, points.height / views, views);
+  passes::IbrTiles tiles(test::gpu(), "point tiles", points.width, points.height / views, views);
   test::upload_tiles(tiles, passes::ibr_tiles_reference(points, views, 3));
   splat_pass.add_to(gpu.graph(), scene, gpu.input("points", points), tiles, fusion, views);
   fuse_pass.add_to(gpu.graph(), fusion, gpu.output("fused depth", tw, th, PixelFormat::R32F));

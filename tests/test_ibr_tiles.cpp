@@ -26,7 +26,7 @@ struct Listed {
 
 Listed run_gpu(const HostImage& fused) {
   const passes::IbrTilesPass pass(test::gpu());
-  passes::IbrTiles tiles(test::gpu(), fused.width, fused.height);
+  passes::IbrTiles tiles(test::gpu(), "surface tiles", fused.width, fused.height);
   test::PassHarness gpu("ibr_tiles");
   // Stale values from an earlier frame: the pass resets the count and overwrites the portrait.
   vk::Image& portrait = gpu.output("portrait", fused.width, fused.height, PixelFormat::RGBA32F);
@@ -100,7 +100,7 @@ TEST_CASE("ibr_tiles hard cases", "[ibr_tiles][gpu]") {
   }
   SECTION("a tile list of another size is refused") {
     const passes::IbrTilesPass pass(test::gpu());
-    passes::IbrTiles tiles(test::gpu(), 36, 21);
+    passes::IbrTiles tiles(test::gpu(), "surface tiles", 36, 21);
     test::PassHarness gpu("ibr_tiles");
     REQUIRE_THROWS_WITH(pass.add_to(gpu.graph(), gpu.scratch("fused depth", 37, 21, PixelFormat::R32F), tiles,
                                     gpu.scratch("portrait", 37, 21, PixelFormat::RGBA32F),

@@ -49,7 +49,7 @@ passes::Portrait run_fused(const test::IbrRig& rig, const Inputs& in, const pass
   scene.write(rig.table);
   test::PassHarness gpu("ibr_warp_blend");
   const uint32_t w = in.fused.width, h = in.fused.height;
-  passes::IbrTiles tiles(test::gpu(), w, h);
+  passes::IbrTiles tiles(test::gpu(), "surface tiles", w, h);
   vk::Image& fused = gpu.input("fused depth", in.fused);
   vk::Image& portrait = gpu.output("portrait", w, h, PixelFormat::RGBA32F);
   vk::Image& portrait_depth = gpu.output("portrait depth", w, h, PixelFormat::R32F);

@@ -42,9 +42,9 @@ struct IbrRenderer::Images {
         fused_depth(context, {"ibr fused depth", s.width, s.height, PixelFormat::R32F}),
         carved_depth(context, {"ibr carved depth", s.width, s.height, PixelFormat::R32F}),
         refined_depth(context, {"ibr refined depth", s.width, s.height, PixelFormat::R32F}),
-        point_tiles(context, camera.depth.intrinsics.width, camera.depth.intrinsics.height, s.views) {
+        point_tiles(context, "ibr point tiles", camera.depth.intrinsics.width, camera.depth.intrinsics.height, s.views) {
     if (!split) {
-      tiles = std::make_unique<passes::IbrTiles>(context, s.width, s.height);
+      tiles = std::make_unique<passes::IbrTiles>(context, "ibr surface tiles", s.width, s.height);
       return;
     }
     warped = std::make_unique<vk::Image>(context, vk::ImageDesc{"ibr warped", s.width, s.height * s.views, PixelFormat::RGBA32F});

@@ -166,7 +166,7 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
                   "%llu in front of their camera, %llu inside its images, %llu seen; %.1f MFLOP with the blend\n",
                   (unsigned long long)work.surface_pixels, width * height, (unsigned long long)work.samples,
                   (unsigned long long)work.in_front, (unsigned long long)work.inside, (unsigned long long)work.seen,
-                  (work.flops() + passes::ulr_blend_flops(work.seen, work.covered)) * 1e-6);
+                  flops.at("ibr_warp_blend") * 1e-6);
 
       // The CPU peer from the surface the GPU warped through, timed over as many frames.
       const IbrCpuPeerInputs peer_inputs = cpu_peer_inputs(warp.table, fused_depth, color, points);
