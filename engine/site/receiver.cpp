@@ -156,6 +156,9 @@ void Receiver::display_loop() {
     if (at.stale()) ++frames_no_hand_skeleton_gap_;
     const size_t drawn_index = drawn ? size_t(drawn - at.hands.data()) : 0;
     bool with_hand = false, adapted = false;
+    // What the drawn hand's texture was adapted from when it was drawn: the fit below, if any,
+    // only shows from the next frame on.
+    nlohmann::json drawn_appearance;
     HostImage shown;
     uint64_t on_screen = 0;
     {
@@ -171,6 +174,10 @@ void Receiver::display_loop() {
       if (with_hand) {
         const uint64_t start = monotonic_now_us();
         hand_graph.run();
+        const hand::AppearanceStatus status = hand->appearance_status();
+        drawn_appearance = {{"state", appearance_phase_name(status.phase)},
+                            {"frames_fitted", status.frames_fitted},
+                            {"provisional", status.provisional}};
         hand_wall_.add(double(monotonic_now_us() - start) / 1000.0);
         ++hand_renders_done_;
       }
@@ -230,7 +237,8 @@ void Receiver::display_loop() {
                  {"skeleton_gap_ms", skeleton_gap_ms ? nlohmann::json(*skeleton_gap_ms) : nlohmann::json()},
                  {"nearest_skeleton_ms", at.nearest_sample_gap_us ? nlohmann::json(double(*at.nearest_sample_gap_us) / 1000.0)
                                                                   : nlohmann::json()},
-                 {"appearance_adapted", adapted},
+                 {"appearance_fitted_from_this_frame", adapted},
+                 {"drawn_hand_appearance", drawn_appearance},
                  {"hand_distance_m", std::isfinite(hand_distance_m) ? nlohmann::json(hand_distance_m) : nlohmann::json()}},
                 repeat);
   }
