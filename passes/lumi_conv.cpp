@@ -94,7 +94,7 @@ void LumiConvPass::add_to(vk::FrameGraph& graph, const std::string& name, vk::Bu
         .name = g == 0 ? name : name + " outputs " + std::to_string(first_output),
         .kernel = &kernel_,
         .bindings = {{"Source", &source}, {"Weights", &weights.groups[g]}, {"Result", &result}},
-        .threads = {width, height, views},
+        .threads = {(width + RT_LUMI_CONV_PIXELS - 1) / RT_LUMI_CONV_PIXELS, height, views},
         .push_constants = vk::push_constants_from<shader_abi::LumiTensorParams>([=] {
           return shader_abi::LumiTensorParams{width, height, views, first_output};
         }),

@@ -1,14 +1,18 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 // One convolution layer of Lumi-Net, its bias and activation fused: zero padding, stride 1, the
 // same weights for every view (the views are the batch). One dispatch computes a group of
 // RT_LUMI_CONV_GROUP output channels. Each workgroup stages its tile of the input, with the
 // kernel's halo, in shared memory a chunk of channels at a time, so that each input value is read
-// from the buffer once per workgroup rather than once per tap; every invocation then keeps its
-// pixel's outputs in four vec4 accumulators. The group's weights come from a uniform buffer, laid
-// out so that one tap's weights for the whole group are four consecutive vec4s: a CPU driver then
-// loads them once for all the pixels it runs side by side, where from a storage buffer it loads
-// them lane by lane, and it would keep an indexed array of sums in memory rather than registers.
+// from the buffer once per workgroup rather than once per tap. Every invocation computes
+// RT_LUMI_CONV_PIXELS pixels of a row, each in four vec4 accumulators: each weight it loads feeds
+// all of them, and a row's staged values are read once for all the taps that use them. The
+// group's weights come from a uniform buffer, laid out so that one tap's weights for the whole
+// group are four consecutive vec4s. A CPU driver loads a weight at an offset that depends on a loop
+// counter lane by lane, so the weight loads, not the multiply-adds, are what more pixels per
+// invocation amortise. Fully unrolled (every offset a constant) the block layers ran slower: their
+// straight-line code outgrew what the CPU runs fast.
 #include "shared/config.h"
 #include "shared/lumi_net.h"
 
@@ -29,14 +33,16 @@ layout(std430, binding = 2) writeonly buffer Result { float result[]; };
 layout(push_constant) uniform Push { LumiTensorParams params; };
 
 const int radius = kernel_size / 2;
-const int tile_w = RT_TILE_X + 2 * radius;
+// Each invocation computes RT_LUMI_CONV_PIXELS neighbouring pixels of a row, so that each weight
+// it loads feeds that many pixels and neighbouring taps share their staged values.
+const int tile_w = RT_TILE_X * RT_LUMI_CONV_PIXELS + 2 * radius;
 const int tile_h = RT_TILE_Y + 2 * radius;
 // Sized for the largest kernel (3x3), so that the array's size is a plain constant.
-shared float tile[RT_LUMI_CONV_CHANNEL_CHUNK * (RT_TILE_X + 2) * (RT_TILE_Y + 2)];
+shared float tile[RT_LUMI_CONV_CHANNEL_CHUNK * (RT_TILE_X * RT_LUMI_CONV_PIXELS + 2) * (RT_TILE_Y + 2)];
 
 void store(int view, int o, ivec2 pixel, float value) {
-  if (o >= out_channels) return;
   const int width = int(params.width), height = int(params.height);
+  if (o >= out_channels || pixel.x >= width || pixel.y >= height) return;
   result[((view * out_channels + o) * height + pixel.y) * width + pixel.x] = relu ? max(value, 0.0) : value;
 }
 
@@ -44,12 +50,17 @@ void main() {
   const int width = int(params.width), height = int(params.height);
   const int view = int(gl_WorkGroupID.z);
   const int first_out = int(params.first_output);
-  const ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   const ivec2 local = ivec2(gl_LocalInvocationID.xy);
-  const ivec2 origin = ivec2(gl_WorkGroupID.xy) * ivec2(RT_TILE_X, RT_TILE_Y) - radius;
-  const bool inside = pixel.x < width && pixel.y < height;
+  const ivec2 origin = ivec2(gl_WorkGroupID.xy) * ivec2(RT_TILE_X * RT_LUMI_CONV_PIXELS, RT_TILE_Y) - radius;
+  const ivec2 pixel = origin + radius + ivec2(local.x * RT_LUMI_CONV_PIXELS, local.y);
+  const int group_vec4s = (out_channels + 3) / 4;
 
-  vec4 sum0 = weights[0], sum1 = weights[1], sum2 = weights[2], sum3 = weights[3];
+  // Pixel p's outputs 4g to 4g+3 in sum[p * 4 + g]. Invocations past the edge compute on the
+  // tile's zero padding like the others (a branch here would not be jumped over on a CPU driver,
+  // only add masking to every load) and store nothing.
+  vec4 sum[RT_LUMI_CONV_PIXELS * 4];
+  [[unroll]] for (int p = 0; p < RT_LUMI_CONV_PIXELS; ++p)
+    [[unroll]] for (int g = 0; g < 4; ++g) sum[p * 4 + g] = weights[g];
   for (int first = 0; first < in_channels; first += RT_LUMI_CONV_CHANNEL_CHUNK) {
     const int chunk = min(RT_LUMI_CONV_CHANNEL_CHUNK, in_channels - first);
     barrier();  // every invocation is done reading the previous chunk
@@ -63,25 +74,24 @@ void main() {
       tile[i] = value;
     }
     barrier();
-    // Invocations past the edge helped stage the tile; they compute nothing.
-    if (!inside) continue;
     for (int c = 0; c < chunk; ++c)
-      for (int ky = 0; ky < kernel_size; ++ky)
+      for (int ky = 0; ky < kernel_size; ++ky) {
+        const int row = (c * tile_h + local.y + ky) * tile_w + local.x * RT_LUMI_CONV_PIXELS;
+        // The row's staged values the pixels' taps read, each read once.
+        float values[RT_LUMI_CONV_PIXELS + 2];
+        [[unroll]] for (int x = 0; x < RT_LUMI_CONV_PIXELS + 2 * radius; ++x) values[x] = tile[row + x];
         for (int kx = 0; kx < kernel_size; ++kx) {
-          const float value = tile[(c * tile_h + local.y + ky) * tile_w + local.x + kx];
           const int tap = 4 + 4 * (((first + c) * kernel_size + ky) * kernel_size + kx);
           // Only the accumulators the layer's outputs need: a head of two does not pay for sixteen.
-          sum0 += weights[tap] * value;
-          if (out_channels > 4) sum1 += weights[tap + 1] * value;
-          if (out_channels > 8) sum2 += weights[tap + 2] * value;
-          if (out_channels > 12) sum3 += weights[tap + 3] * value;
+          [[unroll]] for (int g = 0; g < 4; ++g) {
+            if (g >= group_vec4s) break;
+            const vec4 w = weights[tap + g];
+            [[unroll]] for (int p = 0; p < RT_LUMI_CONV_PIXELS; ++p) sum[p * 4 + g] += w * values[p + kx];
+          }
         }
+      }
   }
-  if (!inside) return;
-  for (int k = 0; k < 4; ++k) {
-    store(view, first_out + k, pixel, sum0[k]);
-    store(view, first_out + 4 + k, pixel, sum1[k]);
-    store(view, first_out + 8 + k, pixel, sum2[k]);
-    store(view, first_out + 12 + k, pixel, sum3[k]);
-  }
+  [[unroll]] for (int p = 0; p < RT_LUMI_CONV_PIXELS; ++p)
+    [[unroll]] for (int k = 0; k < RT_LUMI_CONV_GROUP; ++k)
+      store(view, first_out + k, pixel + ivec2(p, 0), sum[p * 4 + k / 4][k % 4]);
 }

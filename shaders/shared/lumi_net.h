@@ -19,9 +19,12 @@ namespace rt::shader_abi {
 #define RT_LUMI_INPUT_CHANNELS 7
 // The head's outputs per view and pixel: the view's weight logit and its alpha logit.
 #define RT_LUMI_HEAD_CHANNELS 2
-// Input channels staged in shared memory per step of the 3x3 convolution: a 10x10 tile of 16
-// channels is 6.4 KiB, well inside the 32 KiB lavapipe offers, at any channel count.
+// Input channels staged in shared memory per step of the 3x3 convolution: an 18x10 tile (two
+// pixels an invocation) of 16 channels is 11.3 KiB, well inside the 32 KiB lavapipe offers, at any
+// channel count.
 #define RT_LUMI_CONV_CHANNEL_CHUNK 16
+// Pixels of a row one invocation of the convolution computes: four ran no faster than two on lavapipe.
+#define RT_LUMI_CONV_PIXELS 2
 // Output channels one dispatch of the convolution computes, each invocation in four vec4
 // accumulators: each staged input value then feeds this many multiply-adds.
 #define RT_LUMI_CONV_GROUP 16
