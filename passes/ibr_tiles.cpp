@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "ibr_tiles.comp.h"
 #include "shared/config.h"
@@ -38,38 +39,37 @@ void add_tile_reset(vk::FrameGraph& graph, const std::string& name, IbrTiles& ti
                   [&dispatch](VkCommandBuffer commands) { record_tile_reset(commands, dispatch); }});
 }
 
-IbrTilesPass::IbrTilesPass(vk::Context& context) : kernel_(context, "ibr_tiles", ibr_tiles_comp_spirv, {}) {}
+IbrTilesPass::IbrTilesPass(vk::Context& context, std::string name)
+    : name_(std::move(name)), kernel_(context, "ibr_tiles", ibr_tiles_comp_spirv, {}) {}
 
-void IbrTilesPass::add_to(vk::FrameGraph& graph, vk::Image& fused_depth, IbrTiles& tiles, vk::Image& portrait,
-                          vk::Image& portrait_depth) const {
-  for (const vk::Image* image : {&portrait, &portrait_depth})
-    if (image->width() != fused_depth.width() || image->height() != fused_depth.height())
-      throw std::invalid_argument("ibr_tiles: '" + image->name() + "' differs in size from the fused depth");
-  if (!tiles.lists_bands_of(fused_depth))
+void IbrTilesPass::add_to(vk::FrameGraph& graph, vk::Image& depth, IbrTiles& tiles,
+                          const std::vector<vk::Image*>& zeroed) const {
+  for (const vk::Image* image : zeroed)
+    if (image->width() != depth.width() || image->height() != depth.height())
+      throw std::invalid_argument("ibr_tiles: '" + image->name() + "' differs in size from '" + depth.name() + "'");
+  if (!tiles.lists_bands_of(depth))
     throw std::invalid_argument("ibr_tiles: the tile list is for " + std::to_string(tiles.width()) + "x" +
-                                std::to_string(tiles.height()) + ", the fused depth is " +
-                                std::to_string(fused_depth.width()) + "x" + std::to_string(fused_depth.height()));
+                                std::to_string(tiles.height()) + ", '" + depth.name() + "' is " +
+                                std::to_string(depth.width()) + "x" + std::to_string(depth.height()));
   if (tiles.layers() != 1) throw std::invalid_argument("ibr_tiles: a tile list of one layer is needed");
-  // The count reset and the portrait zeroed by transfers: a clear is a memset, where a kernel's
+  // The count reset and the images zeroed by transfers: a clear is a memset, where a kernel's
   // stores would cost llvmpipe a pass of its own.
   vk::Buffer& dispatch = tiles.dispatch();
-  graph.add_pass({"ibr_tiles_reset",
-                  {{&dispatch, vk::access::transfer_write},
-                   {&portrait, vk::access::transfer_write},
-                   {&portrait_depth, vk::access::transfer_write}},
-                  [&dispatch, &portrait, &portrait_depth](VkCommandBuffer commands) {
+  std::vector<vk::ResourceUse> uses{{&dispatch, vk::access::transfer_write}};
+  for (vk::Image* image : zeroed) uses.push_back({image, vk::access::transfer_write});
+  graph.add_pass({name_ + "_reset", std::move(uses), [&dispatch, zeroed](VkCommandBuffer commands) {
                     record_tile_reset(commands, dispatch);
                     const VkClearColorValue zero{};
                     const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-                    for (vk::Image* image : {&portrait, &portrait_depth})
+                    for (vk::Image* image : zeroed)
                       vkCmdClearColorImage(commands, image->image(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &zero, 1,
                                            &range);
                   }});
   graph.add_compute_pass({
-      .name = "ibr_tiles",
+      .name = name_,
       .kernel = &kernel_,
-      .bindings = {{"fused_depth", &fused_depth}, {"TileDispatch", &dispatch}, {"Tiles", &tiles.tiles()}},
-      .threads = {fused_depth.width(), fused_depth.height(), 1},
+      .bindings = {{"fused_depth", &depth}, {"TileDispatch", &dispatch}, {"Tiles", &tiles.tiles()}},
+      .threads = {depth.width(), depth.height(), 1},
   });
 }
 

@@ -1,11 +1,11 @@
 #pragma once
 // Pass: the target view's tiles (RT_TILE_X x RT_TILE_Y pixels) that hold a surface, listed with
-// the warp's workgroup counts (shaders/ibr_tiles.comp), after a transfer that clears the
-// portrait, so that ibr_warp_blend runs over those tiles alone: on llvmpipe every invocation of
-// a dispatch costs the same, whatever its branches skip.
-//   in:  fused_depth r32f (0 = nothing)
-//   out: IbrTiles (the dispatch's workgroup counts, the tiles), portrait rgba32f and
-//        portrait_depth r32f set to 0
+// the warp's workgroup counts (shaders/ibr_tiles.comp), after a transfer that clears the images
+// that the passes over the list write, so that ibr_warp_blend (and ibr_fill) run over those tiles
+// alone: on llvmpipe every invocation of a dispatch costs the same, whatever its branches skip.
+//   in:  depth r32f (0 = nothing): the fused depth, or a portrait's depth
+//   out: IbrTiles (the dispatch's workgroup counts, the tiles), the zeroed images (e.g. the
+//        portrait rgba32f and its depth r32f) set to 0
 #include <array>
 #include <cstdint>
 #include <string>
@@ -42,12 +42,14 @@ void add_tile_reset(vk::FrameGraph& graph, const std::string& name, IbrTiles& ti
 
 class IbrTilesPass {
  public:
-  explicit IbrTilesPass(vk::Context& context);
-  // Adds the reset of the tile count with the portrait's clear, and the listing.
-  void add_to(vk::FrameGraph& graph, vk::Image& fused_depth, IbrTiles& tiles, vk::Image& portrait,
-              vk::Image& portrait_depth) const;
+  // `name` names the listing pass, and with "_reset" its reset (a graph with two lists names them apart).
+  explicit IbrTilesPass(vk::Context& context, std::string name = "ibr_tiles");
+  // Adds the reset of the tile count with the clear of `zeroed` (images of the depth's size that
+  // passes over the listed tiles alone write, such as the portrait and its depth), and the listing.
+  void add_to(vk::FrameGraph& graph, vk::Image& depth, IbrTiles& tiles, const std::vector<vk::Image*>& zeroed) const;
 
  private:
+  std::string name_;
   vk::ComputeKernel kernel_;
 };
 

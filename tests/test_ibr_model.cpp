@@ -1,7 +1,8 @@
 // The image-based model end to end on a simulated frame (small sizes): the portrait resembles
 // the simulator's ground truth of the same target view, min and average fusion both run, one
-// view is enough to render, camera selection follows the paper, and bad input says what is
-// wrong. Thresholds are loose on purpose: eval ibr measures quality; this catches breakage.
+// view is enough to render, the portrait's holes are filled as ibr_fill's reference fills them,
+// camera selection follows the paper, and bad input says what is wrong. Thresholds are loose on
+// purpose: eval ibr measures quality; this catches breakage.
 #include "pipeline/ibr_renderer.h"
 #include "pipeline/site_simulator.h"
 #include "geometry/target_view.h"
@@ -100,6 +101,36 @@ TEST_CASE("the image-based model renders a simulated frame close to ground truth
       }
     INFO("pixels where the one-pass and split paths differ: " << differing);
     CHECK(differing <= size_t(w) * h / 1000 + 1);
+  }
+}
+
+TEST_CASE("the image-based model fills its portrait's enclosed holes as the reference does", "[ibr_model][gpu]") {
+  test::NoValidationErrors no_errors;
+  const uint32_t w = 161, h = 91;
+  Simulated s = simulate(w, h);
+  const Camera target = *s.simulator->renderer().target_view();
+  const auto selection = ibr::select_cameras(s.positions, ibr::TouchingHand::Right, 4);
+  for (uint32_t supersample : {1u, 2u}) {
+    INFO("supersample " << supersample);
+    pipeline::IbrSettings settings;
+    settings.width = w;
+    settings.height = h;
+    settings.supersample = supersample;
+    settings.fill_holes_px = 6;
+    pipeline::IbrRenderer renderer(test::gpu(), s.cameras, settings);
+    renderer.render(s.frame.cameras, selection, target);
+    const HostImage blended = vk::download(test::gpu(), renderer.portrait_before_fill());
+    const HostImage portrait = vk::download(test::gpu(), renderer.portrait());
+    REQUIRE(test::count_non_finite(portrait) == 0);
+    // Over the warp's surface tiles, or with a supersampled portrait over the tiles its depth has.
+    const HostImage listing = vk::download(test::gpu(), supersample == 1 ? renderer.warp_inputs().depth
+                                                                          : renderer.portrait_depth());
+    RT_REQUIRE_MATCHES(portrait, passes::ibr_fill_reference(blended, 6, passes::ibr_tiles_reference(listing)), 1e-5, 1e-5);
+    size_t filled = 0;
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x) filled += blended.at(x, y, 3) < 0.5f && portrait.at(x, y, 3) == 1.0f;
+    INFO("pixels filled: " << filled);
+    CHECK(filled > 0);  // the simulated frame has cracks between splats
   }
 }
 

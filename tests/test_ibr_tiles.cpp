@@ -33,7 +33,7 @@ Listed run_gpu(const HostImage& fused) {
   vk::Image& portrait_depth = gpu.output("portrait depth", fused.width, fused.height, PixelFormat::R32F);
   vk::upload(test::gpu(), portrait, HostImage(fused.width, fused.height, PixelFormat::RGBA32F, 0.5f));
   vk::upload(test::gpu(), portrait_depth, HostImage(fused.width, fused.height, PixelFormat::R32F, 0.5f));
-  pass.add_to(gpu.graph(), gpu.input("fused depth", fused), tiles, portrait, portrait_depth);
+  pass.add_to(gpu.graph(), gpu.input("fused depth", fused), tiles, {&portrait, &portrait_depth});
   const std::array<uint32_t, 3> stale_dispatch{7, 7, 7};
   vk::upload(test::gpu(), tiles.dispatch(), std::as_bytes(std::span(stale_dispatch)));
   const test::PassOutputs out = gpu.run();
@@ -103,8 +103,13 @@ TEST_CASE("ibr_tiles hard cases", "[ibr_tiles][gpu]") {
     passes::IbrTiles tiles(test::gpu(), "surface tiles", 36, 21);
     test::PassHarness gpu("ibr_tiles");
     REQUIRE_THROWS_WITH(pass.add_to(gpu.graph(), gpu.scratch("fused depth", 37, 21, PixelFormat::R32F), tiles,
-                                    gpu.scratch("portrait", 37, 21, PixelFormat::RGBA32F),
-                                    gpu.scratch("portrait depth", 37, 21, PixelFormat::R32F)),
+                                    {&gpu.scratch("portrait", 37, 21, PixelFormat::RGBA32F),
+                                     &gpu.scratch("portrait depth", 37, 21, PixelFormat::R32F)}),
                         Catch::Contains("the tile list is for 36x21"));
+    passes::IbrTiles fitting(test::gpu(), "surface tiles", 37, 21);
+    test::PassHarness other("ibr_tiles");
+    REQUIRE_THROWS_WITH(pass.add_to(other.graph(), other.scratch("fused depth", 37, 21, PixelFormat::R32F), fitting,
+                                    {&other.scratch("portrait", 37, 20, PixelFormat::RGBA32F)}),
+                        Catch::Contains("'portrait' differs in size from 'fused depth'"));
   }
 }

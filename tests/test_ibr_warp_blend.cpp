@@ -53,7 +53,7 @@ passes::Portrait run_fused(const test::IbrRig& rig, const Inputs& in, const pass
   vk::Image& fused = gpu.input("fused depth", in.fused);
   vk::Image& portrait = gpu.output("portrait", w, h, PixelFormat::RGBA32F);
   vk::Image& portrait_depth = gpu.output("portrait depth", w, h, PixelFormat::R32F);
-  tiling.add_to(gpu.graph(), fused, tiles, portrait, portrait_depth);
+  tiling.add_to(gpu.graph(), fused, tiles, {&portrait, &portrait_depth});
   pass.add_to(gpu.graph(), scene, fused, gpu.input("color", in.color), gpu.input("points", in.points), tiles, portrait,
               portrait_depth);
   const test::PassOutputs out = gpu.run();

@@ -98,6 +98,17 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
         context, vk::ImageDesc{"fine portrait depth", rendered.width, rendered.height, PixelFormat::R32F});
   }
 
+  if (settings_.fill_holes_px > 0) {
+    fill_ = std::make_unique<passes::IbrFillPass>(context, settings_.fill_holes_px);
+    unfilled_portrait_ =
+        std::make_unique<vk::Image>(context, vk::ImageDesc{"unfilled portrait", settings_.width, settings_.height});
+    // The warp's surface tiles serve when they are the portrait's; else the portrait's own.
+    if (!tiles_ || resolve_) {
+      fill_tiling_ = std::make_unique<passes::IbrTilesPass>(context, "ibr_fill_tiles");
+      fill_tiles_ = std::make_unique<passes::IbrTiles>(context, "ibr fill tiles", settings_.width, settings_.height);
+    }
+  }
+
   graph_ = std::make_unique<vk::FrameGraph>(context, "image-based model");
   Images& i = *images_;
   const uint32_t views = settings_.views;
@@ -114,7 +125,8 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     depth = &i.refined_depth;
   }
   warp_depth_ = depth;
-  vk::Image& blended = resolve_ ? *fine_portrait_ : *portrait_;
+  vk::Image& resolved = fill_ ? *unfilled_portrait_ : *portrait_;
+  vk::Image& blended = resolve_ ? *fine_portrait_ : resolved;
   vk::Image& blended_depth = resolve_ ? *fine_portrait_depth_ : *portrait_depth_;
   if (warp_) warp_->add_to(*graph_, scene_, *depth, i.color, i.points, *i.warped, *i.features, views);
   if (lumi_)
@@ -122,10 +134,14 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
   else if (blend_)
     blend_->add_to(*graph_, *depth, *i.warped, *i.features, blended, blended_depth, views);
   else {
-    tiles_->add_to(*graph_, *depth, *i.tiles, blended, blended_depth);
+    std::vector<vk::Image*> zeroed{&blended, &blended_depth};
+    if (fill_ && !fill_tiles_) zeroed.push_back(portrait_.get());
+    tiles_->add_to(*graph_, *depth, *i.tiles, zeroed);
     warp_blend_->add_to(*graph_, scene_, *depth, i.color, i.points, *i.tiles, blended, blended_depth);
   }
-  if (resolve_) resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, *portrait_, *portrait_depth_);
+  if (resolve_) resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, resolved, *portrait_depth_);
+  if (fill_tiles_) fill_tiling_->add_to(*graph_, *portrait_depth_, *fill_tiles_, {portrait_.get()});
+  if (fill_) fill_->add_to(*graph_, resolved, fill_tiles_ ? *fill_tiles_ : *i.tiles, *portrait_);
 }
 
 IbrRenderer::~IbrRenderer() = default;

@@ -3,7 +3,8 @@
 // reprojection with min (or average) fusion and crack filling, optional see-through carving and
 // plane-sweep refinement, then either warping and unstructured lumigraph blending in one pass,
 // or warping of each selected view and blending by lumigraph weights or by Lumi-Net
-// (settings.blending, settings.split_warp). In: the
+// (settings.blending, settings.split_warp), then optional resolving of a supersampled portrait
+// and filling of its enclosed holes. In: the
 // site's RGBD images and the target view of the remote eye; out: the portrait (RGBA, straight
 // alpha) and its depth.
 #include <memory>
@@ -15,6 +16,7 @@
 #include "pipeline/lumi_net.h"
 #include "passes/ibr_blend.h"
 #include "passes/ibr_carve.h"
+#include "passes/ibr_fill.h"
 #include "passes/ibr_foreground.h"
 #include "passes/ibr_fuse.h"
 #include "passes/ibr_refine.h"
@@ -45,6 +47,9 @@ class IbrRenderer {
   }
 
   vk::Image& portrait() { return *portrait_; }
+  // The portrait before its holes are filled: what the blending (and resolve) wrote, for a peer
+  // that blends alone. The portrait itself when hole filling is off.
+  vk::Image& portrait_before_fill() { return unfilled_portrait_ ? *unfilled_portrait_ : *portrait_; }
   vk::Image& portrait_depth() { return *portrait_depth_; }
   vk::FrameGraph& graph() { return *graph_; }
   const IbrSettings& settings() const { return settings_; }
@@ -78,12 +83,17 @@ class IbrRenderer {
   std::unique_ptr<passes::IbrTilesPass> tiles_;
   std::unique_ptr<passes::IbrWarpBlendPass> warp_blend_;
   std::unique_ptr<passes::IbrResolvePass> resolve_;
+  std::unique_ptr<passes::IbrFillPass> fill_;
+  // With hole filling where the warp lists no tiles of the portrait (split, supersampled).
+  std::unique_ptr<passes::IbrTilesPass> fill_tiling_;
+  std::unique_ptr<passes::IbrTiles> fill_tiles_;
   passes::IbrSceneBuffer scene_;
   passes::IbrSceneTable table_;
   vk::Image* warp_depth_ = nullptr;  // the fused, carved or refined depth, as the settings say
   std::unique_ptr<Images> images_;
   std::unique_ptr<vk::Image> portrait_, portrait_depth_;
   std::unique_ptr<vk::Image> fine_portrait_, fine_portrait_depth_;  // with supersampling
+  std::unique_ptr<vk::Image> unfilled_portrait_;                     // with hole filling
   std::unique_ptr<vk::FrameGraph> graph_;
   std::vector<size_t> uploaded_selection_;  // whose depth rays the ray atlas holds
 };

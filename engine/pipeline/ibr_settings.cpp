@@ -42,6 +42,11 @@ const config::KnobTable<IbrSettings>& ibr_knobs() {
       {"portrait-supersample", "Portrait rendered at N x N samples per pixel and resolved (partial alpha on edges)",
        KnobKind::Integer, 1, 4, {}, [](const IbrSettings& s) { return double(s.supersample); },
        [](IbrSettings& s, double v) { s.supersample = uint32_t(v); }},
+      {"fill-holes",
+       "Fill the portrait's enclosed holes: an uncovered pixel with a covered one within this many pixels on all four "
+       "sides of its row and column takes their inverse-distance mean (0 = off)",
+       KnobKind::Integer, 0, 64, {}, [](const IbrSettings& s) { return double(s.fill_holes_px); },
+       [](IbrSettings& s, double v) { s.fill_holes_px = uint32_t(v); }},
       {"blend", "Blending of the warped views: ulr (unstructured lumigraph weights), lumi (Lumi-Net, learned weights and alpha)",
        KnobKind::Choice, 0, 0, {"ulr", "lumi"},
        [](const IbrSettings& s) { return s.blending == IbrBlending::Ulr ? 0.0 : 1.0; },

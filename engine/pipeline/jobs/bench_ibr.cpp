@@ -190,7 +190,7 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
                          {"peer_over_gpu", gpu_warp_blend_ms > 0 ? peer_total / gpu_warp_blend_ms : 0.0},
                          {"against_gpu_portrait", nullptr}};
       // With supersampling the GPU resolves a finer portrait than the warp's: nothing to compare.
-      const HostImage portrait = vk::download(context, renderer.portrait());
+      const HostImage portrait = vk::download(context, renderer.portrait_before_fill());
       if (portrait.width == uint32_t(peer.portrait.cols) && portrait.height == uint32_t(peer.portrait.rows))
         run["cpu_peer"]["against_gpu_portrait"] = compare_portraits(peer.portrait, portrait);
       const nlohmann::json& p = run["cpu_peer"];
