@@ -102,7 +102,8 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     fill_ = std::make_unique<passes::IbrFillPass>(context, settings_.fill_holes_px);
     unfilled_portrait_ =
         std::make_unique<vk::Image>(context, vk::ImageDesc{"unfilled portrait", settings_.width, settings_.height});
-    // The warp's surface tiles serve when they are the portrait's; else the portrait's own.
+    // The warp's surface tiles serve when they are the portrait's; the split path lists the same
+    // from the same depth, a supersampled portrait the tiles of its own depth.
     if (!tiles_ || resolve_) {
       fill_tiling_ = std::make_unique<passes::IbrTilesPass>(context, "ibr_fill_tiles");
       fill_tiles_ = std::make_unique<passes::IbrTiles>(context, "ibr fill tiles", settings_.width, settings_.height);
@@ -140,7 +141,7 @@ IbrRenderer::IbrRenderer(vk::Context& context, std::vector<passes::IbrCameraMode
     warp_blend_->add_to(*graph_, scene_, *depth, i.color, i.points, *i.tiles, blended, blended_depth);
   }
   if (resolve_) resolve_->add_to(*graph_, *fine_portrait_, *fine_portrait_depth_, resolved, *portrait_depth_);
-  if (fill_tiles_) fill_tiling_->add_to(*graph_, *portrait_depth_, *fill_tiles_, {portrait_.get()});
+  if (fill_tiles_) fill_tiling_->add_to(*graph_, resolve_ ? *portrait_depth_ : *depth, *fill_tiles_, {portrait_.get()});
   if (fill_) fill_->add_to(*graph_, resolved, fill_tiles_ ? *fill_tiles_ : *i.tiles, *portrait_);
 }
 

@@ -215,7 +215,7 @@ int run_bench_ibr(const RunOptions& options, const IbrSettings& base, bool views
         peer_renderer.prepare(frame.cameras, selection, target);
         (void)run_timed(session, peer_renderer, options.frames);
         const double other_ms = warp_and_blend_ms(peer_renderer.graph().timings());
-        const HostImage other_portrait = vk::download(context, peer_renderer.portrait());
+        const HostImage other_portrait = vk::download(context, peer_renderer.portrait_before_fill());
         const double fused_ms = split ? other_ms : gpu_warp_blend_ms, split_ms = split ? gpu_warp_blend_ms : other_ms;
         run["split_against_fused"] = {{"gpu_ms_fused", fused_ms},
                                       {"gpu_ms_split", split_ms},
