@@ -63,13 +63,18 @@ HostImage ibr_foreground_reference(const IbrSceneTable& table, const HostImage& 
     const shader_abi::IbrCamera& camera = table.cameras[view];
     const int width = int(camera.depth.tangential[2]), height = int(camera.depth.tangential[3]);
     const uint32_t band = view * uint32_t(height);
+    // The camera's position: the last column of site_from_camera (column-major).
+    const Float3 origin{camera.site_from_camera[12], camera.site_from_camera[13], camera.site_from_camera[14]};
+    auto site_point = [&](const float* ray, float z) {
+      return Float3{origin.x + z * ray[0], origin.y + z * ray[1], origin.z + z * ray[2]};
+    };
     auto volume_depth = [&](int x, int y) {
       if (x < 0 || y < 0 || x >= width || y >= height) return 0.0f;
       const float millimetres = depth_mm.at(uint32_t(x), uint32_t(y) + band);
       const float* ray = &depth_rays.texels[depth_rays.index(uint32_t(x), uint32_t(y) + band)];
-      if (millimetres == 0.0f || ray[2] == 0.0f) return 0.0f;
+      if (millimetres == 0.0f || ray[3] == 0.0f) return 0.0f;
       const float z = millimetres * 0.001f;
-      const Float3 site = transform_point(camera.site_from_camera, {ray[0] * z, ray[1] * z, z});
+      const Float3 site = site_point(ray, z);
       const bool inside = site.x >= s.volume_min.x() && site.y >= s.volume_min.y() && site.z >= s.volume_min.z() &&
                           site.x <= s.volume_max.x() && site.y <= s.volume_max.y() && site.z <= s.volume_max.z();
       return inside ? z : 0.0f;
@@ -87,7 +92,7 @@ HostImage ibr_foreground_reference(const IbrSceneTable& table, const HostImage& 
           }
         if (support < s.min_support) continue;
         const float* ray = &depth_rays.texels[depth_rays.index(uint32_t(x), uint32_t(y) + band)];
-        const Float3 site = transform_point(camera.site_from_camera, {ray[0] * z, ray[1] * z, z});
+        const Float3 site = site_point(ray, z);
         float* out = &points.texels[points.index(uint32_t(x), uint32_t(y) + band)];
         out[0] = site.x;
         out[1] = site.y;

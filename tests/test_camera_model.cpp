@@ -162,11 +162,15 @@ TEST_CASE("undistortion with the full rational model inverts OpenCV's projection
   const HostImage rays = passes::depth_ray_atlas(cameras);
   REQUIRE(rays.width == 64);
   REQUIRE(rays.height == 36);
+  // The atlas holds the rays in the site frame: turned back into the camera's, at z = 1.
+  const Eigen::Matrix3d camera_from_site = depth.camera_from_site.rotation();
   std::vector<cv::Point3d> directions;
   for (uint32_t y = 0; y < rays.height; ++y)
     for (uint32_t x = 0; x < rays.width; ++x) {
-      REQUIRE(rays.at(x, y, 2) == 1.0f);
-      directions.emplace_back(rays.at(x, y, 0), rays.at(x, y, 1), 1.0);
+      REQUIRE(rays.at(x, y, 3) == 1.0f);
+      const Eigen::Vector3d ray = camera_from_site * Eigen::Vector3d(rays.at(x, y, 0), rays.at(x, y, 1), rays.at(x, y, 2));
+      REQUIRE(ray.z() == Approx(1.0).epsilon(1e-6));
+      directions.emplace_back(ray.x() / ray.z(), ray.y() / ray.z(), 1.0);
     }
   std::vector<cv::Point2d> back;
   cv::projectPoints(directions, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), opencv_camera_matrix(depth.intrinsics),

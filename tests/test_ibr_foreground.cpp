@@ -96,7 +96,7 @@ TEST_CASE("ibr_foreground hard cases", "[ibr_foreground][gpu]") {
   }
   SECTION("rays where undistortion failed are invalid") {
     HostImage broken = rays;
-    for (size_t i = 0; i < broken.texels.size(); i += 4) broken.texels[i + 2] = 0.0f;
+    for (size_t i = 0; i < broken.texels.size(); i += 4) broken.texels[i + 3] = 0.0f;
     REQUIRE(foreground_pixels(run_gpu(rig, test::random_depth_atlas(rng, rig), broken)) == 0);
   }
   SECTION("bad settings are refused with a message") {

@@ -63,15 +63,15 @@ HostImage points_seeing_plane(const test::IbrRig& rig, double plane_z) {
   const uint32_t band = rig.cameras[0].depth.intrinsics.height;
   for (uint32_t row = 0; row < rays.height; ++row)
     for (uint32_t x = 0; x < rays.width; ++x) {
-      if (rays.at(x, row, 2) == 0.0f) continue;  // undistortion failed
-      const Eigen::Isometry3d target_from_camera =
-          rig.target.camera_from_site * rig.cameras[row / band].depth.camera_from_site.inverse();
-      const Eigen::Vector3d ray(rays.at(x, row, 0), rays.at(x, row, 1), 1.0);
-      // The ray's point at camera depth d has target depth origin.z + direction.z * d.
-      const double origin = target_from_camera.translation().z(), direction = (target_from_camera.linear() * ray).z();
+      if (rays.at(x, row, 3) == 0.0f) continue;  // undistortion failed
+      const Eigen::Vector3d position = rig.cameras[row / band].depth.camera_from_site.inverse().translation();
+      const Eigen::Vector3d ray(rays.at(x, row, 0), rays.at(x, row, 1), rays.at(x, row, 2));  // site frame
+      // The ray's point at camera depth d, position + d ray, has target depth origin + direction d.
+      const double origin = (rig.target.camera_from_site * position).z();
+      const double direction = (rig.target.camera_from_site.linear() * ray).z();
       const double d = (plane_z - origin) / direction;
       if (!(d > 0.0 && d < 5.0)) continue;
-      const Eigen::Vector3d site = rig.cameras[row / band].depth.camera_from_site.inverse() * (ray * d);
+      const Eigen::Vector3d site = position + ray * d;
       float* texel = &points.texels[points.index(x, row)];
       texel[0] = float(site.x()), texel[1] = float(site.y()), texel[2] = float(site.z()), texel[3] = float(d);
     }

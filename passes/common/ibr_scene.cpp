@@ -88,14 +88,15 @@ HostImage depth_ray_atlas(std::span<const IbrCameraModel> cameras) {
     const cv::Matx33d camera_matrix(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
     const auto coefficients = k.distortion.as_opencv();
     cv::undistortPoints(pixels, normalised, camera_matrix, std::vector<double>(coefficients.begin(), coefficients.end()));
+    const Eigen::Matrix3d site_from_camera = camera.depth.camera_from_site.inverse().rotation();
     HostImage rays(k.width, k.height, PixelFormat::RGBA32F);
     for (size_t i = 0; i < normalised.size(); ++i) {
       const cv::Point2d& n = normalised[i];
       if (!std::isfinite(n.x) || !std::isfinite(n.y)) continue;
+      const Eigen::Vector3d direction = site_from_camera * Eigen::Vector3d(n.x, n.y, 1.0);
       float* ray = &rays.texels[i * 4];
-      ray[0] = float(n.x);
-      ray[1] = float(n.y);
-      ray[2] = 1.0f;
+      for (int c = 0; c < 3; ++c) ray[c] = float(direction[c]);
+      ray[3] = 1.0f;
     }
     bands.push_back(std::move(rays));
   }

@@ -41,8 +41,9 @@ class IbrSceneBuffer {
   vk::Buffer buffer_;
 };
 
-// rgba32f, the cameras' depth images in bands: (x/z, y/z, 1, 0) of each pixel's undistorted ray,
-// (0, 0, 0, 0) where undistortion fails.
+// rgba32f, the cameras' depth images in bands: (d, 1) of each pixel's undistorted ray in the site
+// frame, d = R (x/z, y/z, 1) with R the camera's rotation, so that the pixel's point at camera
+// depth z is the camera's position plus z d; (0, 0, 0, 0) where undistortion fails.
 HostImage depth_ray_atlas(std::span<const IbrCameraModel> cameras);
 
 // Stacks same-sized images into bands, in order.
