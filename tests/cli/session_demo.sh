@@ -40,6 +40,27 @@ for site in "AB":
         assert stages[wait]["count"] >= on_screen["count"] > 0, (site, wait, stages[wait], on_screen)
         assert 0 <= stages[wait]["median_ms"] <= on_screen["median_ms"], (site, wait, stages[wait], on_screen)
 PY
+# Each displayed frame says what appearance the drawn hand was shaded with, and only where one was drawn.
+/usr/bin/python3 - "$out" "$touches" <<'PY' || fail "frames.jsonl: drawn_hand_appearance missing or wrong"
+import json, sys
+out, touches = sys.argv[1], int(sys.argv[2])
+for site in "AB":
+    drawn = 0
+    for line in open(f"{out}/site_{site}/frames.jsonl"):
+        row = json.loads(line)
+        if "hand_pose" not in row:
+            continue  # e.g. a link-lost frame
+        appearance = row["drawn_hand_appearance"]
+        assert isinstance(row["appearance_fitted_from_this_frame"], bool), row
+        if row["hand_pose"] in ("interpolated", "held"):
+            drawn += 1
+            assert appearance["state"] in ("waiting", "fitted", "stale"), row
+            assert appearance["frames_fitted"] >= 0 and isinstance(appearance["provisional"], bool), row
+        else:
+            assert appearance is None, row
+    print(f"site {site}: {drawn} frames with the mesh hand drawn")
+    assert touches == 0 or drawn > 0, "a touching scene drew no mesh hand"
+PY
 grep -q '"capture_to_portrait_on_screen"' "$out/metrics.json" || fail "no portrait latency in metrics.json"
 grep -q "touch_to_motor_command median ms" "$out.log" || fail "no summary table"
 if [ $# -gt 0 ]; then
