@@ -156,8 +156,8 @@ void Receiver::display_loop() {
     if (at.stale()) ++frames_no_hand_skeleton_gap_;
     const size_t drawn_index = drawn ? size_t(drawn - at.hands.data()) : 0;
     bool with_hand = false, adapted = false;
-    // What the drawn hand's texture was adapted from when it was drawn: the fit below, if any,
-    // only shows from the next frame on.
+    // The appearance adaption's state when the hand was drawn: a fit from this frame, below,
+    // shows only from the next frame on.
     nlohmann::json drawn_appearance;
     HostImage shown;
     uint64_t on_screen = 0;
@@ -174,12 +174,12 @@ void Receiver::display_loop() {
       if (with_hand) {
         const uint64_t start = monotonic_now_us();
         hand_graph.run();
+        hand_wall_.add(double(monotonic_now_us() - start) / 1000.0);
+        ++hand_renders_done_;
         const hand::AppearanceStatus status = hand->appearance_status();
         drawn_appearance = {{"state", appearance_phase_name(status.phase)},
                             {"frames_fitted", status.frames_fitted},
                             {"provisional", status.provisional}};
-        hand_wall_.add(double(monotonic_now_us() - start) / 1000.0);
-        ++hand_renders_done_;
       }
       hand_distance_m = with_hand ? float(hand->hand_distance_m()) : NAN;
       const uint64_t start = monotonic_now_us();
