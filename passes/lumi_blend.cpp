@@ -37,7 +37,7 @@ void LumiBlendPass::add_to(vk::FrameGraph& graph, vk::Image& fused_depth, vk::Im
                    {"Blending", &blending}, {"portrait", &portrait}, {"portrait_depth", &portrait_depth}},
       .threads = {w, h, 1},
       .push_constants = vk::push_constants_from<shader_abi::LumiTensorParams>(
-          [=] { return shader_abi::LumiTensorParams{w, h, view_count, 0}; }),
+          [=] { return shader_abi::LumiTensorParams{w, h, view_count, 0, 0}; }),
   });
 }
 

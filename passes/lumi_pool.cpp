@@ -34,7 +34,7 @@ void LumiPoolPass::add_to(vk::FrameGraph& graph, const std::string& name, vk::Bu
       .bindings = {{"Source", &source}, {"Coverage", &coverage}, {"Result", &result}},
       .threads = {width, height, 1},
       .push_constants = vk::push_constants_from<shader_abi::LumiTensorParams>(
-          [=] { return shader_abi::LumiTensorParams{width, height, views, 0}; }),
+          [=] { return shader_abi::LumiTensorParams{width, height, views, 0, 0}; }),
   });
 }
 

@@ -31,7 +31,7 @@ void LumiSoftmaxPass::add_to(vk::FrameGraph& graph, vk::Buffer& logits, vk::Buff
       .bindings = {{"Logits", &logits}, {"Coverage", &coverage}, {"Blending", &blending}},
       .threads = {width, height, 1},
       .push_constants = vk::push_constants_from<shader_abi::LumiTensorParams>(
-          [=] { return shader_abi::LumiTensorParams{width, height, views, 0}; }),
+          [=] { return shader_abi::LumiTensorParams{width, height, views, 0, 0}; }),
   });
 }
 

@@ -2,37 +2,47 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 // One convolution layer of Lumi-Net, its bias and activation fused: zero padding, stride 1, the
-// same weights for every view (the views are the batch). One dispatch computes a group of
-// RT_LUMI_CONV_GROUP output channels. Each workgroup stages its tile of the input, with the
-// kernel's halo, in shared memory a chunk of channels at a time, so that each input value is read
-// from the buffer once per workgroup rather than once per tap. Every invocation computes
-// RT_LUMI_CONV_PIXELS pixels of a row, each in four vec4 accumulators: each weight it loads feeds
-// all of them, and a row's staged values are read once for all the taps that use them. The
-// group's weights come from a uniform buffer, laid out so that one tap's weights for the whole
-// group are four consecutive vec4s. A CPU driver loads a weight at an offset that depends on a loop
-// counter lane by lane, so the weight loads, not the multiply-adds, are what more pixels per
-// invocation amortise. Fully unrolled (every offset a constant) the block layers ran slower: their
-// straight-line code outgrew what the CPU runs fast.
+// same weights for every view (the views are the batch). One dispatch adds one chunk of at most
+// RT_LUMI_CONV_CHANNEL_CHUNK input channels to a group of RT_LUMI_CONV_GROUP output channels: the
+// first chunk starts from the bias, each later one from the sum the one before stored, and the
+// last applies the activation. Each workgroup stages its tile of the chunk, with the kernel's
+// halo, in shared memory, so that each input value is read from the buffer once per workgroup
+// rather than once per tap. Every invocation computes RT_LUMI_CONV_PIXELS pixels of a row, each in
+// four vec4 accumulators: each weight it loads feeds all of them, and a row's staged values are
+// read once for all the taps that use them. The chunk's weights come from a uniform buffer of its
+// own, laid out so that one tap's weights for the whole group are four consecutive vec4s. A CPU
+// driver loads a uniform at a constant offset once for all lanes, but at an offset that depends on
+// a loop counter lane by lane: the chunk's loops are unrolled so that every offset is a constant.
+// A chunk bounds the straight-line code that makes: unrolled over a whole block layer's
+// channels, it outgrew what the CPU runs fast.
 #include "shared/config.h"
 #include "shared/lumi_net.h"
 
 layout(local_size_x = RT_TILE_X, local_size_y = RT_TILE_Y) in;
 // Knobs, all set by LumiConvPass from LumiConvShape (passes/lumi_conv.h): the placeholders below
 // are never used (a kernel refuses to build while one is unset).
-layout(constant_id = 0) const int in_channels = 1;
+layout(constant_id = 0) const int in_channels = 1;  // the layer's
 layout(constant_id = 1) const int out_channels = 1;
 layout(constant_id = 2) const int kernel_size = 1;  // 1 or 3
-layout(constant_id = 3) const bool relu = false;
+layout(constant_id = 3) const bool relu = false;    // set on the chunk that completes the sum
+layout(constant_id = 4) const int chunk_channels = 1;  // the input channels this dispatch adds
+layout(constant_id = 5) const bool accumulate = false;  // start from the stored sum, not the bias
 
 layout(std430, binding = 0) readonly buffer Source { float source[]; };
-// The group's bias (four vec4s), then per input channel, row and column of the kernel the group's
-// four vec4s of weights (passes/lumi_conv.h: lumi_conv_group_parameters); zeros past the layer's
-// last output channel.
-layout(std140, binding = 1) uniform Weights { vec4 weights[RT_LUMI_CONV_GROUP_VEC4S]; };
-layout(std430, binding = 2) writeonly buffer Result { float result[]; };
+// The group's bias (four vec4s), then per input channel of the chunk, row and column of the kernel
+// the group's four vec4s of weights (passes/lumi_conv.h: lumi_conv_chunk_parameters); zeros past
+// the layer's last output channel.
+layout(std140, binding = 1) uniform Weights { vec4 weights[RT_LUMI_CONV_CHUNK_VEC4S]; };
+layout(std430, binding = 2) buffer Result { float result[]; };
 layout(push_constant) uniform Push { LumiTensorParams params; };
 
 const int radius = kernel_size / 2;
+// The vec4 accumulators of a pixel, and the vec4s of a tap's weights.
+const int group_slots = RT_LUMI_CONV_GROUP / 4;
+// ReLU's floor, or the lowest float: without an activation the sum is stored through a max all the
+// same, a no-op on every finite value, because lavapipe ran a chunk that stored its sums plainly
+// several times slower than one that stored them through a max.
+const float floor_value = relu ? 0.0 : -3.4028235e38;
 // Each invocation computes RT_LUMI_CONV_PIXELS neighbouring pixels of a row, so that each weight
 // it loads feeds that many pixels and neighbouring taps share their staged values.
 const int tile_w = RT_TILE_X * RT_LUMI_CONV_PIXELS + 2 * radius;
@@ -40,58 +50,66 @@ const int tile_h = RT_TILE_Y + 2 * radius;
 // Sized for the largest kernel (3x3), so that the array's size is a plain constant.
 shared float tile[RT_LUMI_CONV_CHANNEL_CHUNK * (RT_TILE_X * RT_LUMI_CONV_PIXELS + 2) * (RT_TILE_Y + 2)];
 
-void store(int view, int o, ivec2 pixel, float value) {
-  const int width = int(params.width), height = int(params.height);
-  if (o >= out_channels || pixel.x >= width || pixel.y >= height) return;
-  result[((view * out_channels + o) * height + pixel.y) * width + pixel.x] = relu ? max(value, 0.0) : value;
+bool stored(int o, ivec2 pixel) { return o < out_channels && pixel.x < int(params.width) && pixel.y < int(params.height); }
+int result_index(int view, int o, ivec2 pixel) {
+  return ((view * out_channels + o) * int(params.height) + pixel.y) * int(params.width) + pixel.x;
 }
 
 void main() {
   const int width = int(params.width), height = int(params.height);
   const int view = int(gl_WorkGroupID.z);
   const int first_out = int(params.first_output);
+  const int first_in = int(params.first_input);
   const ivec2 local = ivec2(gl_LocalInvocationID.xy);
   const ivec2 origin = ivec2(gl_WorkGroupID.xy) * ivec2(RT_TILE_X * RT_LUMI_CONV_PIXELS, RT_TILE_Y) - radius;
   const ivec2 pixel = origin + radius + ivec2(local.x * RT_LUMI_CONV_PIXELS, local.y);
-  const int group_vec4s = (out_channels + 3) / 4;
+  const int group_vec4s = (out_channels + 3) / 4;  // a head of two needs one
 
-  // Pixel p's outputs 4g to 4g+3 in sum[p * 4 + g]. Invocations past the edge compute on the
-  // tile's zero padding like the others (a branch here would not be jumped over on a CPU driver,
-  // only add masking to every load) and store nothing.
-  vec4 sum[RT_LUMI_CONV_PIXELS * 4];
+  // Pixel p's outputs 4g to 4g+3 in sum[p * group_slots + g]. Invocations past the edge compute
+  // on the tile's zero padding like the others (a branch here would not be jumped over on a CPU
+  // driver, only add masking to every load) and store nothing.
+  vec4 sum[RT_LUMI_CONV_PIXELS * group_slots];
   [[unroll]] for (int p = 0; p < RT_LUMI_CONV_PIXELS; ++p)
-    [[unroll]] for (int g = 0; g < 4; ++g) sum[p * 4 + g] = weights[g];
-  for (int first = 0; first < in_channels; first += RT_LUMI_CONV_CHANNEL_CHUNK) {
-    const int chunk = min(RT_LUMI_CONV_CHANNEL_CHUNK, in_channels - first);
-    barrier();  // every invocation is done reading the previous chunk
-    for (int i = int(gl_LocalInvocationIndex); i < chunk * tile_w * tile_h; i += RT_TILE_X * RT_TILE_Y) {
-      const int c = i / (tile_w * tile_h);
-      const int rest = i - c * tile_w * tile_h;
-      const ivec2 p = origin + ivec2(rest % tile_w, rest / tile_w);
-      float value = 0.0;
-      if (p.x >= 0 && p.y >= 0 && p.x < width && p.y < height)
-        value = source[((view * in_channels + first + c) * height + p.y) * width + p.x];
-      tile[i] = value;
+    [[unroll]] for (int g = 0; g < group_slots; ++g) {
+      sum[p * group_slots + g] = weights[g];
+      if (accumulate)
+        [[unroll]] for (int k = 0; k < 4; ++k) {
+          const int o = first_out + 4 * g + k;
+          const ivec2 at = pixel + ivec2(p, 0);
+          sum[p * group_slots + g][k] = stored(o, at) ? result[result_index(view, o, at)] : 0.0;
+        }
     }
-    barrier();
-    for (int c = 0; c < chunk; ++c)
-      for (int ky = 0; ky < kernel_size; ++ky) {
-        const int row = (c * tile_h + local.y + ky) * tile_w + local.x * RT_LUMI_CONV_PIXELS;
-        // The row's staged values the pixels' taps read, each read once.
-        float values[RT_LUMI_CONV_PIXELS + 2];
-        [[unroll]] for (int x = 0; x < RT_LUMI_CONV_PIXELS + 2 * radius; ++x) values[x] = tile[row + x];
-        for (int kx = 0; kx < kernel_size; ++kx) {
-          const int tap = 4 + 4 * (((first + c) * kernel_size + ky) * kernel_size + kx);
-          // Only the accumulators the layer's outputs need: a head of two does not pay for sixteen.
-          [[unroll]] for (int g = 0; g < 4; ++g) {
-            if (g >= group_vec4s) break;
-            const vec4 w = weights[tap + g];
-            [[unroll]] for (int p = 0; p < RT_LUMI_CONV_PIXELS; ++p) sum[p * 4 + g] += w * values[p + kx];
-          }
+  for (int i = int(gl_LocalInvocationIndex); i < chunk_channels * tile_w * tile_h; i += RT_TILE_X * RT_TILE_Y) {
+    const int c = i / (tile_w * tile_h);
+    const int rest = i - c * tile_w * tile_h;
+    const ivec2 p = origin + ivec2(rest % tile_w, rest / tile_w);
+    float value = 0.0;
+    if (p.x >= 0 && p.y >= 0 && p.x < width && p.y < height)
+      value = source[((view * in_channels + first_in + c) * height + p.y) * width + p.x];
+    tile[i] = value;
+  }
+  barrier();
+  [[unroll]] for (int c = 0; c < chunk_channels; ++c)
+    [[unroll]] for (int ky = 0; ky < kernel_size; ++ky) {
+      const int row = (c * tile_h + local.y + ky) * tile_w + local.x * RT_LUMI_CONV_PIXELS;
+      // The row's staged values the pixels' taps read, each read once.
+      float values[RT_LUMI_CONV_PIXELS + 2];
+      [[unroll]] for (int x = 0; x < RT_LUMI_CONV_PIXELS + 2 * radius; ++x) values[x] = tile[row + x];
+      [[unroll]] for (int kx = 0; kx < kernel_size; ++kx) {
+        const int tap = group_slots * (1 + (c * kernel_size + ky) * kernel_size + kx);
+        // Only the accumulators the layer's outputs need: a head of two does not pay for sixteen.
+        [[unroll]] for (int g = 0; g < group_slots; ++g) {
+          if (g >= group_vec4s) break;
+          const vec4 w = weights[tap + g];
+          [[unroll]] for (int p = 0; p < RT_LUMI_CONV_PIXELS; ++p) sum[p * group_slots + g] += w * values[p + kx];
         }
       }
-  }
+    }
   [[unroll]] for (int p = 0; p < RT_LUMI_CONV_PIXELS; ++p)
-    [[unroll]] for (int k = 0; k < RT_LUMI_CONV_GROUP; ++k)
-      store(view, first_out + k, pixel + ivec2(p, 0), sum[p * 4 + k / 4][k % 4]);
+    [[unroll]] for (int k = 0; k < RT_LUMI_CONV_GROUP; ++k) {
+      const int o = first_out + k;
+      const ivec2 at = pixel + ivec2(p, 0);
+      const float value = sum[p * group_slots + k / 4][k % 4];
+      if (stored(o, at)) result[result_index(view, o, at)] = max(value, floor_value);
+    }
 }
