@@ -2,9 +2,10 @@
 // that cannot be posed (never a broken mesh), the shape fitted once, appearance adaption only
 // beyond d_max, and its result moving the render's color towards the portrait's; its record read
 // back from the GPU: waiting, a frame whose region is empty not counted, fitted, stale after K
-// displayed frames.
+// displayed frames; supersampled, a silhouette with partial coverage at its edge and the same area.
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "pipeline/hand_renderer.h"
 #include "geometry/target_view.h"
@@ -273,4 +274,42 @@ TEST_CASE("HandRenderer's appearance status comes from the GPU's state: waiting,
 
   renderer.reset_appearance();
   CHECK(renderer.appearance_status().phase == hand::AppearancePhase::Waiting);
+}
+
+TEST_CASE("HandRenderer's supersampling antialiases the silhouette and keeps the hand where it was") {
+  test::NoValidationErrors no_errors;
+  vk::Context& context = test::gpu();
+  const Camera camera = target_view_camera(Eigen::Vector3d(0, 0.02, -0.7), Screen{}, 121, 67);
+  std::map<uint32_t, HostImage> masks;
+  for (uint32_t factor : {1u, 2u, 3u}) {
+    pipeline::HandRendererOptions options;
+    options.supersampling = factor;
+    pipeline::HandRenderer renderer(context, kTemplates, 121, 67, options);
+    vk::FrameGraph graph(context, "test hand supersampling");
+    renderer.add_to(graph);
+    renderer.set_pose(facing_hand(0.15), camera);
+    graph.run();
+    masks[factor] = vk::download(context, renderer.mask());
+    const HostImage color = vk::download(context, renderer.color());
+    CHECK(test::count_non_finite(masks[factor]) == 0);
+    CHECK(test::count_non_finite(color) == 0);
+    size_t partial = 0;
+    for (float m : masks[factor].texels) partial += m > 0.0f && m < 1.0f;
+    INFO("factor " << factor);
+    if (factor == 1) CHECK(partial == 0);
+    else CHECK(partial > 20);  // the edge pixels blend
+  }
+  // The same hand: its area and its mask agree within the edge pixels' share.
+  const double area = covered(masks[1]);
+  REQUIRE(area > 100);
+  for (uint32_t factor : {2u, 3u}) {
+    INFO("factor " << factor);
+    CHECK(std::abs(covered(masks[factor]) - area) < 0.05 * area);
+    double differing = 0;
+    for (size_t i = 0; i < masks[1].texels.size(); ++i) differing += std::abs(masks[factor].texels[i] - masks[1].texels[i]);
+    CHECK(differing < 0.25 * area);
+  }
+  pipeline::HandRendererOptions bad;
+  bad.supersampling = 5;
+  CHECK_THROWS_WITH(pipeline::HandRenderer(context, kTemplates, 121, 67, bad), Catch::Contains("1 to 4"));
 }

@@ -62,8 +62,18 @@ HandRenderer::HandRenderer(vk::Context& context, const std::filesystem::path& te
   color_ = image("hand color", PixelFormat::RGBA32F);
   depth_ = image("hand depth", PixelFormat::R32F);
   mask_ = image("hand mask", PixelFormat::R32F);
-  normal_ = image("hand normal", PixelFormat::RGBA32F);
-  depth_buffer_ = image("hand depth buffer", PixelFormat::D32F);
+  const uint32_t factor = passes::check_hand_supersampling(options.supersampling);
+  auto display_image = [&](const std::string& name, PixelFormat format) {
+    return std::make_unique<vk::Image>(context, vk::ImageDesc{name, width * factor, height * factor, format});
+  };
+  if (factor > 1) {
+    resolve_.emplace(context, factor);
+    fine_color_ = display_image("hand color x" + std::to_string(factor), PixelFormat::RGBA32F);
+    fine_depth_ = display_image("hand depth x" + std::to_string(factor), PixelFormat::R32F);
+    fine_mask_ = display_image("hand mask x" + std::to_string(factor), PixelFormat::R32F);
+  }
+  display_normal_ = display_image("hand normal", PixelFormat::RGBA32F);
+  display_depth_buffer_ = display_image("hand depth buffer", PixelFormat::D32F);
   template_color_ = image("hand template color", PixelFormat::RGBA32F);
   template_depth_ = image("hand template depth", PixelFormat::R32F);
   template_mask_ = image("hand template mask", PixelFormat::R32F);
@@ -108,6 +118,9 @@ void HandRenderer::set_pose(const HandSkeleton& skeleton, const Camera& target_v
                                 std::to_string(target_view.intrinsics.height) + ", the renderer " + std::to_string(width_) +
                                 "x" + std::to_string(height_));
   view_ = passes::raster_view(target_view, kNearM, kFarM);
+  Camera display_view = target_view;
+  if (resolve_) display_view.intrinsics = scaled_intrinsics(target_view.intrinsics, resolve_->factor());
+  display_view_ = passes::raster_view(display_view, kNearM, kFarM);
   if (skeleton.is_left != is_left_) {
     use_template(skeleton.is_left);
     has_pose_ = false;
@@ -144,9 +157,12 @@ uint32_t HandRenderer::drawn_index_count() const {
 
 void HandRenderer::add_to(vk::FrameGraph& graph) {
   skinning_.add_to(graph, *rest_buffer_, *bones_, *skinned_, [this] { return uint32_t(rest_vertices_.size()); });
+  const passes::HandLayerImages display{color_.get(), mask_.get(), depth_.get()};
+  const passes::HandLayerImages drawn = resolve_ ? passes::HandLayerImages{fine_color_.get(), fine_mask_.get(), fine_depth_.get()} : display;
   raster_.add_to(graph, *skinned_, *indices_, [this] { return drawn_index_count(); }, *adapted_texture_, sampler_,
-                 [this] { return passes::hand_raster_params(view_, raster_shading_); },
-                 {color_.get(), depth_.get(), mask_.get(), normal_.get(), depth_buffer_.get()});
+                 [this] { return passes::hand_raster_params(display_view_, raster_shading_); },
+                 {drawn.color, drawn.depth_m, drawn.mask, display_normal_.get(), display_depth_buffer_.get()});
+  if (resolve_) resolve_->add_to(graph, drawn, display);
 }
 
 void HandRenderer::reset_appearance() {

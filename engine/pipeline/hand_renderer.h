@@ -24,6 +24,7 @@
 #include "passes/hand_color_stats.h"
 #include "passes/hand_color_transfer.h"
 #include "passes/hand_raster.h"
+#include "passes/hand_resolve.h"
 #include "passes/hand_shading_stats.h"
 #include "passes/hand_skinning.h"
 #include "vulkan/frame_graph.h"
@@ -106,6 +107,7 @@ class HandRenderer {
   std::string pose_error_;
   double hand_distance_m_ = 0.0;
   passes::RasterViewParams view_{};
+  passes::RasterViewParams display_view_{};  // view_ at the supersampled resolution
 
   passes::HandSkinningPass skinning_;
   passes::HandRasterPass raster_;
@@ -113,9 +115,13 @@ class HandRenderer {
   passes::HandColorReducePass reduce_;
   passes::HandColorTransferPass transfer_;
   passes::HandShadingStatsPass shading_stats_;
+  std::optional<passes::HandResolvePass> resolve_;  // with supersampling
   vk::Sampler sampler_;
   std::unique_ptr<vk::Buffer> rest_buffer_, indices_, bones_, skinned_, partials_, state_, shading_partials_;
-  std::unique_ptr<vk::Image> template_texture_, adapted_texture_, color_, depth_, mask_, normal_, depth_buffer_;
+  std::unique_ptr<vk::Image> template_texture_, adapted_texture_, color_, depth_, mask_;
+  // What the displayed hand is rasterized into: at the supersampled resolution, then resolved
+  // into color_, depth_ and mask_; without supersampling, those three themselves.
+  std::unique_ptr<vk::Image> fine_color_, fine_depth_, fine_mask_, display_normal_, display_depth_buffer_;
   std::unique_ptr<vk::Image> template_color_, template_depth_, template_mask_, template_normal_, template_depth_buffer_;
   std::unique_ptr<vk::FrameGraph> appearance_graph_;
   const vk::Image* appearance_portrait_[2] = {nullptr, nullptr};

@@ -37,6 +37,10 @@ const config::KnobTable<HandRendererOptions>& hand_knobs() {
       {"min-region-fraction",
        "Appearance adaption: least share of the image the hand must cover (and at least 16 pixels)", KnobKind::Real, 0,
        0.1, {}, [](const O& o) { return o.min_region_fraction; }, [](O& o, double v) { o.min_region_fraction = v; }},
+      {"supersampling",
+       "Samples a side of each displayed pixel of the hand (1 to 4): its silhouette antialiased against the portrait",
+       KnobKind::Integer, 1, 4, {}, [](const O& o) { return double(o.supersampling); },
+       [](O& o, double v) { o.supersampling = uint32_t(std::llround(v)); }},
   };
   return table;
 }

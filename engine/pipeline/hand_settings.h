@@ -18,10 +18,12 @@ struct HandRendererOptions {
   float appearance_max_contrast = 1.5f;     // cap on sigma_i / sigma_g (passes/hand_color_transfer.h)
   bool appearance_shading = true;           // shade the mesh with the light estimated from the portrait
   double min_region_fraction = 2e-4;        // of the image, and at least 16 pixels
+  uint32_t supersampling = 2;               // samples a side of each displayed pixel (1 to 4)
 };
 
 // min-confidence, shape-adaption-confidence, shape-adaption (on|off), appearance-smoothing,
-// appearance-stale-frames, appearance-max-contrast, appearance-shading (on|off), min-region-fraction.
+// appearance-stale-frames, appearance-max-contrast, appearance-shading (on|off), min-region-fraction,
+// supersampling.
 const config::KnobTable<HandRendererOptions>& hand_knobs();
 // The prefix of the hand's command-line options: --hand-min-confidence.
 inline constexpr const char* kHandOptionPrefix = "hand-";
