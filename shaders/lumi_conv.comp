@@ -48,7 +48,13 @@ const float floor_value = relu ? 0.0 : -3.4028235e38;
 const int tile_w = RT_TILE_X * RT_LUMI_CONV_PIXELS + 2 * radius;
 const int tile_h = RT_TILE_Y + 2 * radius;
 // Sized for the largest kernel (3x3), so that the array's size is a plain constant.
-shared float tile[RT_LUMI_CONV_CHANNEL_CHUNK * (RT_TILE_X * RT_LUMI_CONV_PIXELS + 2) * (RT_TILE_Y + 2)];
+// Staged in pairs of neighbouring values of a row: a CPU driver reads shared memory lane by lane,
+// so a pair costs what one value did. An invocation's pixels and the kernel's halo are both even
+// in number, so every row and every invocation's run of a row starts at a pair.
+#if RT_LUMI_CONV_PIXELS % 2 != 0
+#error "the staged pairs need an even number of pixels an invocation"
+#endif
+shared vec2 tile[RT_LUMI_CONV_CHANNEL_CHUNK * (RT_TILE_X * RT_LUMI_CONV_PIXELS + 2) * (RT_TILE_Y + 2) / 2];
 
 bool stored(int o, ivec2 pixel) { return o < out_channels && pixel.x < int(params.width) && pixel.y < int(params.height); }
 int result_index(int view, int o, ivec2 pixel) {
@@ -79,22 +85,29 @@ void main() {
           sum[p * group_slots + g][k] = stored(o, at) ? result[result_index(view, o, at)] : 0.0;
         }
     }
-  for (int i = int(gl_LocalInvocationIndex); i < chunk_channels * tile_w * tile_h; i += RT_TILE_X * RT_TILE_Y) {
-    const int c = i / (tile_w * tile_h);
-    const int rest = i - c * tile_w * tile_h;
+  for (int i = int(gl_LocalInvocationIndex); i < chunk_channels * tile_w * tile_h / 2; i += RT_TILE_X * RT_TILE_Y) {
+    const int c = (2 * i) / (tile_w * tile_h);
+    const int rest = 2 * i - c * tile_w * tile_h;
     const ivec2 p = origin + ivec2(rest % tile_w, rest / tile_w);
-    float value = 0.0;
-    if (p.x >= 0 && p.y >= 0 && p.x < width && p.y < height)
-      value = source[((view * in_channels + first_in + c) * height + p.y) * width + p.x];
-    tile[i] = value;
+    const int at = ((view * in_channels + first_in + c) * height + p.y) * width + p.x;
+    vec2 pair = vec2(0.0);
+    if (p.y >= 0 && p.y < height) {
+      if (p.x >= 0 && p.x < width) pair.x = source[at];
+      if (p.x + 1 >= 0 && p.x + 1 < width) pair.y = source[at + 1];
+    }
+    tile[i] = pair;
   }
   barrier();
   [[unroll]] for (int c = 0; c < chunk_channels; ++c)
     [[unroll]] for (int ky = 0; ky < kernel_size; ++ky) {
-      const int row = (c * tile_h + local.y + ky) * tile_w + local.x * RT_LUMI_CONV_PIXELS;
-      // The row's staged values the pixels' taps read, each read once.
+      const int row = ((c * tile_h + local.y + ky) * tile_w + local.x * RT_LUMI_CONV_PIXELS) / 2;
+      // The row's staged values the pixels' taps read, each read once, two at a time.
       float values[RT_LUMI_CONV_PIXELS + 2];
-      [[unroll]] for (int x = 0; x < RT_LUMI_CONV_PIXELS + 2 * radius; ++x) values[x] = tile[row + x];
+      [[unroll]] for (int x = 0; x < (RT_LUMI_CONV_PIXELS + 2 * radius) / 2; ++x) {
+        const vec2 pair = tile[row + x];
+        values[2 * x] = pair.x;
+        values[2 * x + 1] = pair.y;
+      }
       [[unroll]] for (int kx = 0; kx < kernel_size; ++kx) {
         const int tap = group_slots * (1 + (c * kernel_size + ky) * kernel_size + kx);
         // Only the accumulators the layer's outputs need: a head of two does not pay for sixteen.
