@@ -96,6 +96,7 @@ TEST_CASE("HandRenderer adapts its appearance towards the portrait's colors, ins
   vk::upload(context, portrait_depth, HostImage(w, h, PixelFormat::R32F));
   CHECK(renderer.adapt_appearance_from(portrait_color, portrait_depth));
   CHECK(renderer.appearance_status().phase == hand::AppearancePhase::Waiting);
+  CHECK(renderer.awaits_first_fit());  // still the template's skin
 
   renderer.set_pose(facing_hand(0.5), camera);
   graph.run();
@@ -113,6 +114,7 @@ TEST_CASE("HandRenderer adapts its appearance towards the portrait's colors, ins
   vk::upload(context, portrait_depth, vk::download(context, renderer.depth()));
   REQUIRE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
   CHECK_FALSE(renderer.appearance_status().provisional);
+  CHECK_FALSE(renderer.awaits_first_fit());
   const auto state = renderer.appearance_state();
   CHECK(state.header[0] == 1.0f);
   CHECK(state.header[2] > 16.0f);
@@ -125,12 +127,14 @@ TEST_CASE("HandRenderer adapts its appearance towards the portrait's colors, ins
   // A full view has fitted: inside d_max the cameras see only part of the hand, so no more there.
   renderer.set_pose(facing_hand(0.2), camera);
   CHECK_FALSE(renderer.appearance_adaption_possible());
+  CHECK_FALSE(renderer.awaits_first_fit());
   CHECK_FALSE(renderer.adapt_appearance_from(portrait_color, portrait_depth));
   renderer.set_pose(facing_hand(0.5), camera);
 
   renderer.reset_appearance();
   graph.run();
   CHECK((mean_color(vk::download(context, renderer.color()), mask) - before).norm() < 1e-6);
+  CHECK(renderer.awaits_first_fit());  // reset: the template's skin again
 }
 
 TEST_CASE("HandRenderer fits provisionally inside d_max, and starts afresh at the first frame beyond it") {

@@ -185,6 +185,10 @@ shader_abi::AppearanceState HandRenderer::appearance_state() {
 void HandRenderer::build_appearance_graph(vk::Image& portrait_color, vk::Image& portrait_depth) {
   appearance_graph_ = std::make_unique<vk::FrameGraph>(context_, "hand appearance adaption");
   vk::FrameGraph& graph = *appearance_graph_;
+  // Skinned here too, so that the fit sees the current pose even where the frame's own render has
+  // not run yet (a first fit before the first draw).
+  skinning_.add_to(graph, *rest_buffer_, *bones_, *skinned_, [this] { return uint32_t(rest_vertices_.size()); },
+                   "hand_skinning_template");
   // The untouched template, unlit: the statistics and the light estimate compare the portrait
   // with the albedo.
   raster_.add_to(graph, *skinned_, *indices_, [this] { return drawn_index_count(); }, *template_texture_, sampler_,

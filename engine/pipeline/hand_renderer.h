@@ -60,6 +60,10 @@ class HandRenderer {
   // Whether adapt_appearance_from would run with the current pose: callers skip the work that
   // would only feed it otherwise.
   bool appearance_adaption_possible() const;
+  // Possible, and nothing fitted yet (or the fit restarted): the texture is still the template's,
+  // not the user's. A caller then adapts from the portrait before drawing the hand, so that the
+  // first hand shown already wears the user's colours; later fits follow the display.
+  bool awaits_first_fit() const { return appearance_adaption_possible() && appearance_.status().frames_fitted == 0; }
   void reset_appearance();
   shader_abi::AppearanceState appearance_state();  // reads the GPU state back
 

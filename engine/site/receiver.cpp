@@ -155,9 +155,9 @@ void Receiver::display_loop() {
     const HandSkeleton* drawn = hand_nearest_screen(at.hands);
     if (at.stale()) ++frames_no_hand_skeleton_gap_;
     const size_t drawn_index = drawn ? size_t(drawn - at.hands.data()) : 0;
-    bool with_hand = false, adapted = false;
-    // The appearance adaption's state when the hand was drawn: a fit from this frame, below,
-    // shows only from the next frame on.
+    bool with_hand = false, adapted = false, adapted_before_display = false;
+    // The appearance adaption's state when the hand was drawn: a fit from this frame after the
+    // display, below, shows only from the next frame on.
     nlohmann::json drawn_appearance;
     HostImage shown;
     uint64_t on_screen = 0;
@@ -171,6 +171,13 @@ void Receiver::display_loop() {
         with_hand = hand->has_pose() && hand->pose_error().empty();
       }
       vk::upload(*common_.context, portrait, message.color);
+      // Before its first fit the hand wears the template's skin: fitted from this very portrait
+      // first, the first hand shown wears the user's (hand_renderer.h: awaits_first_fit).
+      if (with_hand && hand->awaits_first_fit()) {
+        vk::upload(*common_.context, *portrait_depth, message.depth);
+        adapted = hand->adapt_appearance_from(portrait, *portrait_depth);
+        adapted_before_display = true;
+      }
       if (with_hand) {
         const uint64_t start = monotonic_now_us();
         hand_graph.run();
@@ -197,7 +204,7 @@ void Receiver::display_loop() {
     // until a frame there has fitted, as adapt_appearance_from decides); the adapted texture is
     // what the next renders sample. The frame is on screen already: this waits its turn behind
     // the sender's work rather than ahead of it.
-    if (with_hand && hand->appearance_adaption_possible()) {
+    if (with_hand && !adapted_before_display && hand->appearance_adaption_possible()) {
       std::lock_guard turn(common_.gpu_turn);
       vk::upload(*common_.context, *portrait_depth, message.depth);
       adapted = hand->adapt_appearance_from(portrait, *portrait_depth);

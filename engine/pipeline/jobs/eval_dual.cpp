@@ -63,6 +63,7 @@ struct HandRun {
   std::unique_ptr<vk::FrameGraph> graph;
   bool adapts_appearance = true;
   bool drawn = false;
+  bool adapted_before_display = false;  // this frame's fit ran before the draw (awaits_first_fit)
   HostImage color, mask;
 };
 
@@ -185,9 +186,12 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
       double tracked_distance_m = NAN;
       for (auto& [path, run] : hands) {
         run.drawn = false;
+        run.adapted_before_display = false;
         if (!drawn) continue;
         run.renderer->set_pose(*drawn, target);
         if (!run.renderer->has_pose()) continue;
+        run.adapted_before_display = run.adapts_appearance && run.renderer->awaits_first_fit();
+        if (run.adapted_before_display) run.renderer->adapt_appearance_from(ibr.portrait(), ibr.portrait_depth());
         run.graph->run();
         run.color = vk::download(context, run.renderer->color());
         run.mask = vk::download(context, run.renderer->mask());
@@ -218,9 +222,10 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
       }
 
       // Appearance adaption after the display, from the portrait just shown, as the site does:
-      // what it fits is what the next frames sample.
+      // what it fits is what the next frames sample (the first fit ran before the draw, above).
       for (auto& [path, run] : hands) {
-        if (run.drawn && run.adapts_appearance) run.renderer->adapt_appearance_from(ibr.portrait(), ibr.portrait_depth());
+        if (run.drawn && run.adapts_appearance && !run.adapted_before_display)
+          run.renderer->adapt_appearance_from(ibr.portrait(), ibr.portrait_depth());
         run.renderer->note_frame_displayed();
       }
       std::fprintf(stderr, "\r  user %s: frame %u/%u", user_name.c_str(), index + 1, frames);
