@@ -22,14 +22,13 @@ uint32_t chunk_channels(const LumiConvShape& s, uint32_t chunk) {
 
 std::unique_ptr<vk::ComputeKernel> make_kernel(vk::Context& context, const LumiConvShape& s, uint32_t chunk) {
   const bool last = chunk + 1 == lumi_conv_chunks(s);
-  return std::make_unique<vk::ComputeKernel>(context, "lumi_conv", lumi_conv_comp_spirv,
-                               std::vector<vk::Knob>
-                               {{"in_channels", int32_t(s.in_channels)},
-                                {"out_channels", int32_t(s.out_channels)},
-                                {"kernel_size", int32_t(s.kernel_size)},
-                                {"relu", s.relu && last},
-                                {"chunk_channels", int32_t(chunk_channels(s, chunk))},
-                                {"accumulate", chunk > 0}});
+  const std::vector<vk::Knob> knobs = {{"in_channels", int32_t(s.in_channels)},
+                                       {"out_channels", int32_t(s.out_channels)},
+                                       {"kernel_size", int32_t(s.kernel_size)},
+                                       {"relu", s.relu && last},
+                                       {"chunk_channels", int32_t(chunk_channels(s, chunk))},
+                                       {"accumulate", chunk > 0}};
+  return std::make_unique<vk::ComputeKernel>(context, "lumi_conv", lumi_conv_comp_spirv, knobs);
 }
 
 void check_size(const vk::Buffer& buffer, size_t floats, const std::string& what) {
