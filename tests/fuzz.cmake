@@ -2,9 +2,11 @@
 # bounded time on its committed seed corpus (tests/fuzz/corpus/TARGET/), and each corpus checked
 # through the GCC build's parsers. The fuzz runs are skipped (exit 77) where clang is missing.
 add_executable(net_fuzz_corpus ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/make_corpus.cpp)
-target_link_libraries(net_fuzz_corpus PRIVATE remotetouch_test_support)
+target_link_libraries(net_fuzz_corpus PRIVATE remotetouch_test_common)
+add_dependencies(cpu_tests net_fuzz_corpus)
 add_test(NAME net_fuzz_corpus_check
          COMMAND net_fuzz_corpus --check ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/corpus/message_decoder)
+set_tests_properties(net_fuzz_corpus_check PROPERTIES LABELS cpu)
 # Rewrites tests/fuzz/corpus/message_decoder/ after a change of the wire format.
 add_custom_target(regenerate_net_fuzz_corpus
   COMMAND net_fuzz_corpus ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/corpus/message_decoder
@@ -66,6 +68,9 @@ else()
       set(why "the fuzzers run sanitized in the normal build")
     else()
       set(why "clang++ not found")
+      if(REMOTETOUCH_REQUIRE_ALL_TESTS)
+        message(FATAL_ERROR "clang++ not found (Debian: clang, libclang-rt-14-dev): the fuzzers cannot run")
+      endif()
     endif()
     add_test(NAME ${test} COMMAND sh -c "echo '${why}: the fuzzer is skipped'; exit 77")
   endforeach()

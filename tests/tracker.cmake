@@ -2,7 +2,7 @@
 # frames, a site reading them as its hands while it plays against a simulated peer; a bad value
 # and a missing service are clear errors, the second before any peer is awaited.
 add_executable(fake_leap_service ${CMAKE_CURRENT_LIST_DIR}/tools/fake_leap_service.cpp)
-target_link_libraries(fake_leap_service PRIVATE remotetouch_test_support)
+target_link_libraries(fake_leap_service PRIVATE remotetouch_test_common)
 add_test(NAME session_site_leap_tracker
          COMMAND ${CMAKE_CURRENT_LIST_DIR}/cli/session_leap.sh $<TARGET_FILE:remotetouch> $<TARGET_FILE:fake_leap_service>
                  ${CMAKE_SOURCE_DIR}/assets/scenes/clap.json ${CMAKE_BINARY_DIR}/test-out/session-leap)
