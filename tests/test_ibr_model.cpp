@@ -1,8 +1,9 @@
 // The image-based model end to end on a simulated frame (small sizes): the portrait resembles
 // the simulator's ground truth of the same target view, min and average fusion both run, one
 // view is enough to render, the portrait's holes are filled as ibr_fill's reference fills them,
-// camera selection follows the paper, and bad input says what is wrong. Thresholds are loose on
-// purpose: eval ibr measures quality; this catches breakage.
+// camera selection follows the paper, and bad input says what is wrong. eval ibr measures
+// quality; the thresholds here sit a stated margin under what the code gives, to catch a
+// regression.
 #include "pipeline/ibr_renderer.h"
 #include "pipeline/site_simulator.h"
 #include "geometry/target_view.h"
@@ -81,9 +82,13 @@ TEST_CASE("the image-based model renders a simulated frame close to ground truth
                 s.simulator->renderer().target_part());
     INFO("psnr_fg " << metrics.psnr_fg_db() << " dB, iou " << metrics.alpha_iou() << ", bias "
                     << metrics.depth_bias_mm() << " mm");
-    CHECK(metrics.psnr_fg_db() > 12.0);
-    CHECK(metrics.alpha_iou() > 0.75);
-    CHECK(std::abs(metrics.depth_bias_mm()) < 15.0);
+    // Measured on lavapipe: 17.8 dB (min) and 18.3 dB (average), IoU 0.918 with both, bias
+    // -1.2 and -0.4 mm. The bounds leave 0.8 dB, 0.03 and about 3 mm for another GPU's rounding;
+    // depths read 1 % too far (16.2 dB, bias 5.5 mm) or one of the four views never sampled
+    // (16.5 dB, IoU 0.875) fall outside them.
+    CHECK(metrics.psnr_fg_db() > 17.0);
+    CHECK(metrics.alpha_iou() > 0.89);
+    CHECK(std::abs(metrics.depth_bias_mm()) < 4.0);
 
     // The split path (every view warped into its own image, then blended) renders the same
     // portrait; a visibility test on the tolerance's edge may round the other way on a few pixels.

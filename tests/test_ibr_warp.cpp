@@ -152,9 +152,18 @@ TEST_CASE("ibr_warp hard cases", "[ibr_warp][gpu]") {
                               0.0, 1e-4, 0);
   }
   SECTION("a view with no depth sees nothing (occlusion cannot be decided)") {
+    // A tolerance of 10 m accepts any own depth against the surface, 0 included: only the test
+    // that an own depth exists refuses these samples. The same surface with valid own depths
+    // everywhere is seen, so the tolerance does let samples through.
+    const HostImage fused = test::random_fused_depth(rng, 29, 19);
+    passes::WarpSettings accept_any;
+    accept_any.visibility = {10.0f, 0.0f};
+    const HostImage valid_everywhere(41, 37 * 2, PixelFormat::RGBA32F, 0.7f);
+    REQUIRE(visible(passes::ibr_warp_reference(rig.table, fused, color, valid_everywhere, accept_any).features) > 100);
     HostImage no_depth = points;
     std::fill(no_depth.texels.begin(), no_depth.texels.end(), 0.0f);
-    REQUIRE(visible(run_warp(rig, test::random_fused_depth(rng, 29, 19), color, no_depth).features) == 0);
+    REQUIRE(visible(run_warp(rig, fused, color, no_depth, accept_any).features) == 0);
+    REQUIRE(visible(passes::ibr_warp_reference(rig.table, fused, color, no_depth, accept_any).features) == 0);
   }
   SECTION("grazing angles stay finite") {
     // View 0 beside the surface (the plane 1.4 m from the eye, at z = 0.7), 0.25 m in front of

@@ -2,11 +2,11 @@
 // of ibr_warp and ibr_blend, and against the split path on the GPU, on random inputs of odd
 // sizes with 1 to 6 views and k = 2 and 3. Colors to 2e-3 against the references (the warp's
 // tolerance: sample positions through the float lens model differ by ~1e-3 pixel), and 1 pixel
-// plus 0.5% per view may differ where a sample lies exactly on a visibility or image border;
-// against the split GPU path to 1e-5, with 1 pixel plus 0.1% allowed to differ (each shader is
-// compiled on its own, so a visibility test on its border may round the other way). Hard cases:
-// NaN, Inf, negative and zero fused depths, views without depth, points behind every camera,
-// a single view. No NaN or Inf.
+// plus 0.1% of the covered pixels may differ where a sample lies exactly on a visibility or
+// image border; against the split GPU path to 1e-5, with 1 pixel plus 0.1% allowed to differ
+// (each shader is compiled on its own, so a visibility test on its border may round the other
+// way). Hard cases: NaN, Inf, negative and zero fused depths, views without depth, points behind
+// every camera, a single view. No NaN or Inf.
 #include <limits>
 
 #include "passes/ibr_blend.h"
@@ -90,7 +90,6 @@ TEST_CASE("ibr_warp_blend on random inputs, odd sizes, against the references an
           "[ibr_warp_blend][gpu]") {
   test::NoValidationErrors no_errors;
   std::mt19937 rng(41);
-  size_t total_covered = 0;
   for (const auto& [width, height] : test::odd_sizes())
     for (uint32_t views : {1u, 2u, 4u, 6u}) {
       INFO(width << "x" << height << ", " << views << " views");
@@ -102,16 +101,20 @@ TEST_CASE("ibr_warp_blend on random inputs, odd sizes, against the references an
         blend.best_views = k;
         const passes::Portrait fused = run_fused(rig, in, blend);
         const passes::Portrait reference = passes::ibr_warp_blend_reference(rig.table, in.fused, in.color, in.points, {}, blend);
-        const size_t pixels = size_t(width) * height;
-        RT_REQUIRE_MOSTLY_MATCHES(fused.color, reference.color, 2e-3, 1e-5, 1 + pixels * views / 200);
-        RT_REQUIRE_MOSTLY_MATCHES(fused.depth, reference.depth, 0.0, 1e-5, 1 + pixels * views / 200);
+        const size_t pixels = size_t(width) * height, seen = covered(reference);
+        INFO(seen << " pixels covered");
+        // Every size of 500 pixels or more sees the surface here (1.2 to 9.6 % of its pixels
+        // with this seed), whatever the view count: a case that covers nothing checks nothing.
+        if (pixels >= 500) REQUIRE(seen >= pixels / 100);
+        // Mismatches counted against the covered pixels, where the blend happens: lavapipe gives
+        // none; one pixel plus 0.1 % of them leaves room for samples on a border.
+        RT_REQUIRE_MOSTLY_MATCHES(fused.color, reference.color, 2e-3, 1e-5, 1 + seen / 1000);
+        RT_REQUIRE_MOSTLY_MATCHES(fused.depth, reference.depth, 0.0, 1e-5, 1 + seen / 1000);
         const passes::Portrait split = run_split(rig, in, blend);
         RT_REQUIRE_MOSTLY_MATCHES(fused.color, split.color, 1e-5, 1e-5, 1 + pixels / 1000);
         RT_REQUIRE_MOSTLY_MATCHES(fused.depth, split.depth, 0.0, 1e-5, 1 + pixels / 1000);
-        total_covered += covered(reference);
       }
     }
-  REQUIRE(total_covered > 1000);  // some pixels are seen, and blended
 }
 
 TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
@@ -130,11 +133,20 @@ TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
     RT_REQUIRE_MOSTLY_MATCHES(gpu.depth, nothing.depth, 0.0, 1e-5, 0);
   }
   SECTION("views without depth see nothing: alpha 0, never NaN") {
+    // A tolerance of 10 m accepts any own depth against the surface, 0 included: only the test
+    // that an own depth exists refuses these samples. With valid own depths everywhere the same
+    // surface is seen, so the tolerance does let samples through.
+    passes::WarpSettings accept_any;
+    accept_any.visibility = {10.0f, 0.0f};
     Inputs in = random;
+    in.points = HostImage(41, 37 * 3, PixelFormat::RGBA32F, 0.7f);
+    REQUIRE(covered(passes::ibr_warp_blend_reference(rig.table, in.fused, in.color, in.points, accept_any, {})) > 100);
     std::fill(in.points.texels.begin(), in.points.texels.end(), 0.0f);
-    const passes::Portrait gpu = run_fused(rig, in);
+    const passes::Portrait gpu = run_fused(rig, in, {}, accept_any);
     RT_REQUIRE_MOSTLY_MATCHES(gpu.color, nothing.color, 0.0, 1e-5, 0);
     RT_REQUIRE_MOSTLY_MATCHES(gpu.depth, nothing.depth, 0.0, 1e-5, 0);
+    const passes::Portrait reference = passes::ibr_warp_blend_reference(rig.table, in.fused, in.color, in.points, accept_any, {});
+    RT_REQUIRE_MOSTLY_MATCHES(reference.color, nothing.color, 0.0, 1e-5, 0);
   }
   SECTION("surface points behind every camera are seen by none") {
     const test::IbrRig ahead = test::turned_away(rig);

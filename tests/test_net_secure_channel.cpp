@@ -1,7 +1,7 @@
 // Keys, handshake and sealed records (libsodium), without sockets: right and wrong key, forward
 // secrecy (the traffic keys need an ephemeral secret, not K alone), reflected and tampered hellos,
 // the listener proving nothing before the connector has, tampered ciphertext and headers, records
-// deleted, replayed or reordered.
+// deleted, replayed or reordered; a proof reflected back to its sender.
 #include <catch2/catch.hpp>
 
 #include <sys/stat.h>
@@ -181,6 +181,25 @@ TEST_CASE("the listener proves the key only after the connector has") {
   CHECK_THROWS(listener.proof());  // still nothing after a wrong proof
   // What it sends instead proves nothing: the connector, holding the right key, refuses it.
   CHECK_THAT(*connector.verify_proof(Handshake::decoy_proof()), Catch::Contains("did not prove knowledge"));
+}
+
+TEST_CASE("a proof reflected back to its sender is refused: each side proves its own role") {
+  // Someone in the middle who knows no key sends the connector its own proof back. Were the two
+  // roles' proofs the same, that would pass for the listener's proof of the key.
+  const SessionKey key = random_session_key();
+  Handshake connector(key, Role::Connector), listener(key, Role::Listener);
+  REQUIRE_FALSE(connector.receive_hello(listener.hello()));
+  REQUIRE_FALSE(listener.receive_hello(connector.hello()));
+  const auto own = connector.proof();
+  const auto reflected = connector.verify_proof(own);
+  REQUIRE(reflected);
+  CHECK_THAT(*reflected, Catch::Contains("did not prove knowledge"));
+  CHECK_THROWS(connector.keys());
+  // The same exchange played honestly verifies on both sides: only the reflection was refused.
+  REQUIRE_FALSE(listener.verify_proof(own));
+  const auto listener_proof = listener.proof();
+  CHECK(listener_proof != own);
+  CHECK_FALSE(connector.verify_proof(listener_proof));
 }
 
 TEST_CASE("a weak session key is refused before any handshake") {

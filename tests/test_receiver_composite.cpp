@@ -79,6 +79,33 @@ TEST_CASE("receiver_composite on random layers of odd sizes across the ramp", "[
   }
 }
 
+TEST_CASE("receiver_composite follows Eq. 4's linear ramp between d_min and d_max", "[receiver_composite][gpu]") {
+  // The reference shares the ramp's formula, so agreeing with it proves nothing about the ramp:
+  // here the expected frame is computed from the equation. A full mask over an opaque portrait
+  // makes the display c_g alpha + c_i (1 - alpha); a quarter and three quarters of the way are
+  // where a smoothstep or another curve through the same ends and midpoint departs from it.
+  test::NoValidationErrors no_errors;
+  std::mt19937 rng(19);
+  const passes::FusionRamp ramp;
+  Layers in = random_layers(rng, 13, 7);
+  in.hand_mask = test::filled_image(13, 7, PixelFormat::R32F, 1.0f);
+  for (size_t i = 3; i < in.portrait.texels.size(); i += 4) in.portrait.texels[i] = 1.0f;
+  for (const float along : {0.25f, 0.75f}) {
+    const float distance = ramp.d_min_m + along * (ramp.d_max_m - ramp.d_min_m);
+    const float alpha = 1.0f - along;
+    INFO("distance " << distance << " m, alpha " << alpha);
+    HostImage expected(13, 7, PixelFormat::RGBA8);
+    for (uint32_t y = 0; y < 7; ++y)
+      for (uint32_t x = 0; x < 13; ++x) {
+        for (uint32_t c = 0; c < 3; ++c)
+          expected.at(x, y, c) = in.hand_color.at(x, y, c) * alpha + in.portrait.at(x, y, c) * (1.0f - alpha);
+        expected.at(x, y, 3) = 1.0f;
+      }
+    RT_REQUIRE_MATCHES(run_one_pass(in, distance), expected, kOneStep, 0.0);
+    RT_REQUIRE_MATCHES(run_three_passes(in, distance), expected, kOneStep, 0.0);
+  }
+}
+
 TEST_CASE("receiver_composite hard cases", "[receiver_composite][gpu]") {
   test::NoValidationErrors no_errors;
   std::mt19937 rng(18);

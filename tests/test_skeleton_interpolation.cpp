@@ -155,9 +155,21 @@ TEST_CASE("skeleton interpolation: the midpoint of two samples is the hand compu
   REQUIRE(mid.direction.norm() == Approx(1.0));
   REQUIRE(std::abs(mid.direction.dot(mid.palm_normal)) < 1e-12);
 
-  // A quarter of the way, and exactly at a sample: the sample itself.
-  const HandsAtTime quarter = hands_at(samples, 2005 * kMs);
-  require_close(quarter.hands[0].palm, start.palm * 0.75 + end.palm * 0.25);
+  // Off the midpoint, where turning by s and by 1 - s differ, and where the confidence's ramp
+  // and its reverse differ: a quarter and four fifths of the way.
+  for (const auto& [t, s] : {std::pair{2005 * kMs, 0.25}, std::pair{2016 * kMs, 0.8}}) {
+    INFO("s = " << s);
+    const HandsAtTime at_s = hands_at(samples, t);
+    REQUIRE(at_s.hands.size() == 1);
+    REQUIRE(at_s.interpolated[0]);
+    const HandSkeleton& hand = at_s.hands[0];
+    require_close(hand.palm, start.palm * (1 - s) + end.palm * s);
+    const Eigen::Matrix3d turned = Eigen::AngleAxisd(angle * s, axis).toRotationMatrix();
+    require_close(hand.direction, turned * start.direction, 1e-9);
+    require_close(hand.palm_normal, turned * start.palm_normal, 1e-9);
+    REQUIRE(hand.confidence == Approx(1.0 - 0.5 * s));
+  }
+  // Exactly at a sample: the sample itself.
   const HandsAtTime exact = hands_at(samples, 2020 * kMs);
   REQUIRE_FALSE(exact.interpolated[0]);
   REQUIRE(exact.gap_us[0] == 0);
