@@ -84,7 +84,10 @@ def main():
             site, rss = site_of(child), rss_kib(child)
             if site and rss:
                 samples.append((time.monotonic() - start, site, rss))
-        time.sleep(2.0)
+        try:  # a sample every two seconds, until the demo ends (not a sample period after it)
+            demo.wait(timeout=2.0)
+        except subprocess.TimeoutExpired:
+            pass
     log.close()
     with open(os.path.join(args.out, "memory.csv"), "w", newline="") as f:
         writer = csv.writer(f)

@@ -20,9 +20,29 @@
 
 using namespace rt;
 using namespace rt::net;
-using rt::test::eventually;
 
 namespace {
+
+// How long a test waits for what must happen: far beyond what it takes on a 2-core CI runner
+// shared with other tests, so that only what never happens fails a test, never a slow machine.
+constexpr std::chrono::milliseconds kPatience{20000};
+
+bool eventually(const std::function<bool()>& done) { return test::eventually(done, kPatience); }
+
+// A session logs each kind of refusal, shed or accept error once a second at most: from `since`
+// (before the session started) to now, that is at most one line more than the whole seconds
+// between. A loaded machine stretches the span; it cannot fit more lines into it.
+size_t most_lines_since(std::chrono::steady_clock::time_point since) {
+  return 1 + size_t(std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count());
+}
+
+// The lines that session `name` logged with `text` in them.
+size_t lines_with(test::LogLines& log, const std::string& name, const std::string& text) {
+  std::lock_guard lock(log.mutex);
+  size_t n = 0;
+  for (const auto& line : log.lines) n += line.starts_with("[" + name + "] ") && line.find(text) != std::string::npos;
+  return n;
+}
 
 struct Received {
   std::mutex mutex;
@@ -76,8 +96,8 @@ TEST_CASE("a session delivers all five message types both ways") {
     at_connector.messages.push_back(m);
   });
   link.connector->start();
-  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
-  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.connector->wait_connected(kPatience));
+  REQUIRE(link.listener.wait_connected(kPatience));
   CHECK(link.log.contains("session established"));
 
   const PortraitMessage portrait = test::test_portrait(33, 17, 5);
@@ -121,8 +141,8 @@ TEST_CASE("a session delivers all five message types both ways") {
 TEST_CASE("a session that stops says goodbye: its peer counts the session's end, not a lost connection") {
   Link link;
   link.connector->start();
-  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
-  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.connector->wait_connected(kPatience));
+  REQUIRE(link.listener.wait_connected(kPatience));
   link.connector->send(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
   link.connector->stop();  // the touch still goes, before the goodbye
   REQUIRE(eventually([&] { return link.listener.status().state == ConnectionState::Lost; }));
@@ -138,8 +158,8 @@ TEST_CASE("a session that stops says goodbye: its peer counts the session's end,
 TEST_CASE("a listener that stops says goodbye to its connector too") {
   Link link;
   link.connector->start();
-  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
-  REQUIRE(link.connector->wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.listener.wait_connected(kPatience));
+  REQUIRE(link.connector->wait_connected(kPatience));
   link.listener.stop();
   REQUIRE(eventually([&] { return link.connector->status().state != ConnectionState::Connected; }));
   CHECK(link.connector->counters().sessions_ended_by_peer == 1);
@@ -154,7 +174,10 @@ TEST_CASE("a peer with the wrong key is refused on both sides and nothing is del
   REQUIRE(eventually([&] {
     return link.connector->status().state == ConnectionState::Refused && link.listener.status().state == ConnectionState::Refused;
   }));
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // a few retries
+  // The connector tries again after each refusal: a few retries, each refused the same way.
+  REQUIRE(eventually([&] {
+    return link.connector->counters().handshakes_refused >= 3 && link.listener.counters().handshakes_refused >= 3;
+  }));
   for (Session* s : {&link.listener, link.connector.get()}) {
     const ConnectionStatus status = s->status();
     CHECK_FALSE(status.connected());
@@ -171,7 +194,7 @@ TEST_CASE("a peer with the wrong key is refused on both sides and nothing is del
 TEST_CASE("garbage from a stranger is refused while the real session goes on") {
   Link link;
   link.connector->start();
-  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.listener.wait_connected(kPatience));
   asio::io_context io;
   asio::ip::tcp::socket stranger(io);
   stranger.connect({asio::ip::make_address("127.0.0.1"), link.listener.local_port()});
@@ -188,7 +211,7 @@ TEST_CASE("garbage from a stranger is refused while the real session goes on") {
 TEST_CASE("malformed messages from a peer holding the key are rejected, counted, and the session goes on") {
   Link link;
   link.connector->start();
-  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.listener.wait_connected(kPatience));
   const auto good = encode_message(TouchEventMessage{5, TouchEventMessage::Kind::End, 0, 1, 1});
   std::vector<std::vector<uint8_t>> bad;
   bad.push_back({1, 2, 3});                       // truncated
@@ -266,7 +289,7 @@ TEST_CASE("portraits: only the newest unsent one goes, only the newest received 
 TEST_CASE("a portrait larger than one read piece (256 KiB) arrives intact") {
   Link link;
   link.connector->start();
-  REQUIRE(link.listener.wait_connected(std::chrono::seconds(3)));
+  REQUIRE(link.listener.wait_connected(kPatience));
   const PortraitMessage portrait = test::test_portrait(640, 480, 77, 5);
   const auto bytes = encode_message(portrait);
   REQUIRE(bytes.size() > 256 * 1024);
@@ -286,6 +309,7 @@ TEST_CASE("sending an invalid message throws on the sender's thread") {
 TEST_CASE("out of descriptors, the listener backs off instead of spinning, and recovers") {
   test::LogLines log;
   const SessionKey key = random_session_key();
+  const auto started = std::chrono::steady_clock::now();
   Session listener(test::test_session_options(Role::Listener, key, log, "B"));
   listener.start();
   const uint16_t port = listener.local_port();
@@ -326,20 +350,21 @@ TEST_CASE("out of descriptors, the listener backs off instead of spinning, and r
   INFO("CPU " << cpu_s << " s over " << wall_s << " s, " << errors << " accept errors");
   CHECK(cpu_s < 0.3 * wall_s);  // the whole test process, the listener's thread included
   CHECK(errors < 60);           // backed off: tens, not hundreds of thousands
-  size_t accept_lines = 0;
-  {
-    std::lock_guard lock(log.mutex);
-    for (const auto& line : log.lines) accept_lines += line.find("accept failed") != std::string::npos;
-  }
-  CHECK(accept_lines <= 3);  // one line a second at most
+  const size_t accept_lines = lines_with(log, "B", "accept failed");
+  const size_t most_lines = most_lines_since(started);
+  INFO(accept_lines << " lines of accept errors, " << most_lines << " at most at one a second");
+  CHECK(accept_lines <= most_lines);
 
   // Descriptors back: a real peer gets in.
   auto options = test::test_session_options(Role::Connector, key, log, "A");
   options.port = port;
   Session connector(options);
   connector.start();
-  CHECK(connector.wait_connected(std::chrono::seconds(3)));
-  CHECK(listener.counters().to_json()["accept_errors"] == errors);
+  CHECK(connector.wait_connected(kPatience));
+  // (A retry already failing when the descriptors came back may still have counted one more.)
+  const NetCounters counters = listener.counters();
+  CHECK(counters.accept_errors >= errors);
+  CHECK(counters.to_json()["accept_errors"] == counters.accept_errors);
 }
 
 namespace {
@@ -360,7 +385,10 @@ TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not f
   test::LogLines log;
   const SessionKey key = random_session_key();
   auto listener_options = test::test_session_options(Role::Listener, key, log, "B");
-  listener_options.handshake_timeout = std::chrono::milliseconds(5000);  // strangers would hold their slots
+  // Strangers would hold their slots for longer than the test waits for the peer: a peer that got
+  // in only once they timed out fails it.
+  listener_options.handshake_timeout = std::chrono::milliseconds(60000);
+  const auto started = std::chrono::steady_clock::now();
   Session listener(listener_options);
   listener.start();
   sockaddr_in address{};
@@ -384,36 +412,44 @@ TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not f
   Session connector(options);
   const auto start = std::chrono::steady_clock::now();
   connector.start();
-  CHECK(connector.wait_connected(std::chrono::seconds(1)));
+  CHECK(connector.wait_connected(kPatience));
   INFO("connected after " << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s");
-  for (const int fd : strangers) ::close(fd);
-  const NetCounters counters = listener.counters();
   // The silent ones beyond the cap were dropped for newer ones; the garbage ones were refused (or
-  // dropped, when they came in before their hello was read): none of them is still held.
-  CHECK(counters.handshakes_dropped_for_room >= 40 - 16);
-  CHECK(counters.handshakes_dropped_for_room + counters.handshakes_refused >= 80 - 16);
-  size_t refusal_lines = 0, dropped_lines = 0;
-  {
-    std::lock_guard lock(log.mutex);
-    for (const auto& line : log.lines) {
-      refusal_lines += line.find("refused") != std::string::npos;
-      dropped_lines += line.find("dropped: too many handshakes") != std::string::npos;
-    }
-  }
-  CHECK(refusal_lines <= 3);  // one a second at most, however many strangers
-  CHECK(dropped_lines <= 3);
+  // dropped, when they came in before their hello was read): none of them is still held. (The
+  // garbage may still be in the listener's hands while the peer gets in: waited for.)
+  NetCounters counters;
+  CHECK(eventually([&] {
+    counters = listener.counters();
+    return counters.handshakes_dropped_for_room >= 40 - 16 &&
+           counters.handshakes_dropped_for_room + counters.handshakes_refused >= 80 - 16;
+  }));
+  INFO(counters.handshakes_dropped_for_room << " dropped for room, " << counters.handshakes_refused << " refused");
+  for (const int fd : strangers) ::close(fd);
+  // However many strangers, one line a second at most.
+  const size_t refusal_lines = lines_with(log, "B", "refused"), dropped_lines = lines_with(log, "B", "dropped: too many handshakes");
+  const size_t most_lines = most_lines_since(started);
+  INFO(refusal_lines << " refusal lines, " << dropped_lines << " dropped lines, " << most_lines << " of each at most");
+  CHECK(refusal_lines <= most_lines);
+  CHECK(dropped_lines <= most_lines);
   CHECK(counters.to_json()["handshakes_dropped_for_room"] == counters.handshakes_dropped_for_room);
 }
 
 TEST_CASE("a flood from one address is shed at accept; the peer, on its own address or on the flooder's, gets in") {
   test::LogLines log;
   const SessionKey key = random_session_key();
+  const auto started = std::chrono::steady_clock::now();
   Session listener(test::test_session_options(Role::Listener, key, log, "B"));
   listener.start();
   sockaddr_in address{};
   address.sin_family = AF_INET;
   address.sin_port = htons(listener.local_port());
   address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  // Connections the listener is done with: closed unread, refused (the garbage), or dropped for
+  // room among the handshakes under way.
+  auto handled = [&] {
+    const NetCounters c = listener.counters();
+    return c.connections_shed + c.handshakes_refused + c.handshakes_dropped_for_room;
+  };
   const std::string garbage(64, 'x');
   auto flood = [&](const std::string& from, int connections) {
     for (int i = 0; i < connections; ++i) {
@@ -422,27 +458,32 @@ TEST_CASE("a flood from one address is shed at accept; the peer, on its own addr
       ::close(fd);
     }
   };
+  const auto flood_start = std::chrono::steady_clock::now();
   flood("127.0.0.2", 200);
-  // The burst (20) and what refills while the flood runs are let in; the rest is closed unread.
-  REQUIRE(eventually([&] { return listener.counters().connections_shed >= 150; }));
+  REQUIRE(eventually([&] { return handled() >= 200; }));
+  // The burst (20) and what refills (10 a second) until the listener has taken the whole flood
+  // are let in; the rest is closed unread. A slow machine takes longer, and lets in more.
+  const double flood_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - flood_start).count();
+  const uint64_t shed = listener.counters().connections_shed;
+  INFO(shed << " of 200 shed, the flood taken in over " << flood_s << " s");
+  CHECK(double(200 - std::min<uint64_t>(shed, 200)) <= 20 + 10 * flood_s);
   auto options = test::test_session_options(Role::Connector, key, log, "A");
   options.port = listener.local_port();
   Session connector(options);
   connector.start();
-  CHECK(connector.wait_connected(std::chrono::seconds(1)));
+  CHECK(connector.wait_connected(kPatience));
+  CHECK(listener.counters().connections_shed == shed);  // the peer's address has a rate of its own
 
   // The peer's own address is never shed: a flood from it (its host, its network's NAT) still
   // lets the peer back in after the link is lost.
-  const uint64_t shed_before = listener.counters().connections_shed;
+  const uint64_t handled_before = handled();
   flood("127.0.0.1", 200);
-  CHECK(listener.counters().connections_shed == shed_before);
-  size_t shed_lines = 0;
-  {
-    std::lock_guard lock(log.mutex);
-    for (const auto& line : log.lines) shed_lines += line.find("closed unread") != std::string::npos;
-  }
-  CHECK(shed_lines <= 3);  // one a second at most
-  CHECK(listener.counters().to_json()["connections_shed"] == shed_before);
+  REQUIRE(eventually([&] { return handled() >= handled_before + 200; }));
+  CHECK(listener.counters().connections_shed == shed);
+  const size_t shed_lines = lines_with(log, "B", "closed unread"), most_lines = most_lines_since(started);
+  INFO(shed_lines << " lines of shed connections, " << most_lines << " at most at one a second");
+  CHECK(shed_lines <= most_lines);
+  CHECK(listener.counters().to_json()["connections_shed"] == shed);
 }
 
 TEST_CASE("a session refuses a weak key at construction") {
@@ -458,12 +499,13 @@ struct RawConnector {
   asio::io_context io;
   asio::ip::tcp::socket socket{io};
   explicit RawConnector(uint16_t port) { socket.connect({asio::ip::make_address("127.0.0.1"), port}); }
-  // Bytes that arrive within `wait` (none: the peer said nothing more); stops at EOF.
-  std::vector<uint8_t> read_for(std::chrono::milliseconds wait, bool* eof = nullptr) {
+  // The bytes that arrive until the peer closes (then *eof), or until `enough` of them have come;
+  // what has come when kPatience passes, if neither happens.
+  std::vector<uint8_t> read_until_closed(bool* eof, size_t enough = SIZE_MAX) {
     std::vector<uint8_t> got;
-    const auto deadline = std::chrono::steady_clock::now() + wait;
+    const auto deadline = std::chrono::steady_clock::now() + kPatience;
     socket.non_blocking(true);
-    while (std::chrono::steady_clock::now() < deadline) {
+    while (got.size() < enough && std::chrono::steady_clock::now() < deadline) {
       uint8_t buffer[256];
       std::error_code ec;
       const size_t n = socket.read_some(asio::buffer(buffer), ec);
@@ -496,7 +538,7 @@ TEST_CASE("the listener sends nothing that proves the key before it has verified
     Handshake connector(key, Role::Connector);
     asio::write(raw.socket, asio::buffer(connector.hello()));
     bool eof = false;
-    const auto got = raw.read_for(std::chrono::milliseconds(1500), &eof);
+    const auto got = raw.read_until_closed(&eof);
     CHECK(got.size() == kHelloSize);
     CHECK(eof);
     REQUIRE(got.size() >= kHelloSize);
@@ -516,7 +558,7 @@ TEST_CASE("the listener sends nothing that proves the key before it has verified
     proof[31] ^= 0x80;
     asio::write(raw.socket, asio::buffer(proof));
     bool eof = false;
-    const auto reply = raw.read_for(std::chrono::milliseconds(1000), &eof);
+    const auto reply = raw.read_until_closed(&eof);
     CHECK(eof);
     REQUIRE(reply.size() == kProofSize);
     CHECK_THAT(*connector.verify_proof(reply), Catch::Contains("did not prove knowledge of the session key"));
@@ -536,7 +578,7 @@ TEST_CASE("the listener sends nothing that proves the key before it has verified
     std::array<uint8_t, kProofSize> proof{};
     asio::read(raw.socket, asio::buffer(proof));
     CHECK_FALSE(connector.verify_proof(proof));
-    CHECK(listener.wait_connected(std::chrono::seconds(2)));
+    CHECK(listener.wait_connected(kPatience));
   }
   CHECK(listener.counters().handshakes_refused == 2);
   CHECK(listener.counters().handshakes_ok == 1);
@@ -560,7 +602,7 @@ TEST_CASE("a peer of the previous protocol version gets a clear error, both ways
   CHECK(log.contains("refused: handshake: the peer speaks protocol version 1, this build version 2"));
   CHECK(listener.status().state == ConnectionState::Refused);
   // What the old peer received starts with a hello it can read as far as the version, and refuse.
-  const auto got = old_connector.read_for(std::chrono::milliseconds(300));
+  const auto got = old_connector.read_until_closed(nullptr, 6);
   REQUIRE(got.size() >= 6);
   CHECK(got[4] == 2);
 

@@ -22,8 +22,12 @@ port=$(sed -n 's/^listening on //p' "$out/a.out")
 b=$!
 for _ in $(seq 1 600); do grep -q "^connected" "$out/a.out" && break; sleep 0.1; done
 grep -q "^connected" "$out/a.out" || { kill "$a" "$b"; fail "the sites never connected"; }
-sleep 1.5
-kill -TERM "$a"
+# Mid-run: once site A has captured a frame (its ground truth follows each) and displayed one of
+# B's, waited for rather than assumed after a fixed time, which a loaded machine can outlast.
+mid_run() { compgen -G "$out/A/truth/frame_*.png" > /dev/null && compgen -G "$out/A/frames/frame_*.png" > /dev/null; }
+for _ in $(seq 1 600); do mid_run && break; kill -0 "$a" 2> /dev/null || break; sleep 0.1; done
+mid_run || { kill "$a" "$b" 2> /dev/null || true; fail "site A captured or displayed no frame"; }
+kill -TERM "$a" || { kill "$b" 2> /dev/null || true; fail "site A ended by itself before the SIGTERM: its scene was over"; }
 set +e
 wait "$a"; a_status=$?
 wait "$b"; b_status=$?
@@ -41,7 +45,7 @@ assert m["frames"]["captured"] > 0 and "gpu_ms" in m
 print("site A stopped by", m["stopped_by"], "after", m["frames"]["captured"], "captured frames")
 PY
 
-# SIGINT while waiting for a peer that never comes: at once, not after --connect-timeout.
+# SIGINT while waiting for a peer that never comes: at once, not after --connect-timeout (60 s).
 "$binary" site --site A --listen 127.0.0.1:0 "${common[@]}" --out "$out/alone" > "$out/alone.out" 2> "$out/alone.err" &
 alone=$!
 for _ in $(seq 1 600); do grep -q "listening on" "$out/alone.out" && break; sleep 0.1; done
@@ -52,6 +56,7 @@ wait "$alone"; alone_status=$?
 set -e
 elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
 [ "$alone_status" -eq 130 ] || fail "a waiting site exited with $alone_status after SIGINT, expected 130"
-[ "$elapsed_ms" -lt 5000 ] || fail "a waiting site took $elapsed_ms ms to stop"
+# Well before the connect timeout, with room for a loaded machine.
+[ "$elapsed_ms" -lt 20000 ] || fail "a waiting site took $elapsed_ms ms to stop"
 grep -q "SIGINT before the other site connected" "$out/alone.err" || fail "the waiting site did not say why it stopped"
 echo "stopped cleanly by signals"

@@ -1,5 +1,7 @@
 #include "support/fake_leap_service.h"
 
+#include <sys/socket.h>
+
 namespace rt::test {
 
 namespace asio = boost::asio;
@@ -20,6 +22,11 @@ FakeLeapService::FakeLeapService(uint16_t port, Script script) : acceptor_(io_) 
       tcp::socket socket(io_);
       acceptor_.accept(socket, ec);
       if (ec || stopping_) return;
+      {
+        std::lock_guard lock(serving_mutex_);
+        if (stopping_) return;  // the destructor has looked for a connection to cut already
+        serving_fd_ = socket.native_handle();
+      }
       LeapSocket ws(std::move(socket));
       try {
         ws.accept();
@@ -28,13 +35,22 @@ FakeLeapService::FakeLeapService(uint16_t port, Script script) : acceptor_(io_) 
       } catch (const beast::system_error&) {
         // The client went away: wait for the next one.
       }
+      {
+        std::lock_guard lock(serving_mutex_);  // before the socket closes: its number may be reused
+        serving_fd_ = -1;
+      }
       ++served_;
     }
   });
 }
 
 FakeLeapService::~FakeLeapService() {
-  stopping_ = true;
+  {
+    std::lock_guard lock(serving_mutex_);
+    stopping_ = true;
+    // Unblocks a script reading or writing: the connection fails under it, as when a client goes.
+    if (serving_fd_ >= 0) ::shutdown(serving_fd_, SHUT_RDWR);
+  }
   // Unblocks accept() with a connection to ourselves, then closes the port.
   beast::error_code ec;
   tcp::socket poke(io_);
@@ -49,6 +65,13 @@ void greet(LeapSocket& ws, std::vector<std::string>* requests) {
     beast::flat_buffer buffer;
     ws.read(buffer);
     if (requests) requests->push_back(beast::buffers_to_string(buffer.data()));
+  }
+}
+
+void hold(LeapSocket& ws) {
+  for (;;) {
+    beast::flat_buffer buffer;
+    ws.read(buffer);  // throws once the client closes or the connection is cut
   }
 }
 

@@ -1,13 +1,15 @@
 #pragma once
 // A fake Leap service on loopback for the live tracker's tests: accepts one WebSocket client at a
 // time and runs a script with it (greet, send frames, misbehave), as the real service's protocol
-// goes (DESIGN.md section 6). Stops, closing its port, when destroyed.
+// goes (DESIGN.md section 6). Stops, closing its port, when destroyed; a script still talking to
+// a client (one that holds the connection, say) is cut off then.
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
 
 #include <atomic>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -33,6 +35,8 @@ class FakeLeapService {
   uint16_t port_ = 0;
   std::atomic<bool> stopping_{false};
   std::atomic<int> served_{0};
+  std::mutex serving_mutex_;
+  int serving_fd_ = -1;  // the connection the script has, for the destructor to cut
   std::thread thread_;
 };
 
@@ -40,5 +44,9 @@ class FakeLeapService {
 // requests read (and kept in `requests` when given).
 void greet(LeapSocket& ws, std::vector<std::string>* requests = nullptr);
 void send_text(LeapSocket& ws, const std::string& text);
+// Keeps the connection open, reading (and dropping) whatever the client sends, until the client
+// closes it or the service stops: a client then has no reason to reconnect, so what it received
+// is what the script sent, however slowly the test looks.
+void hold(LeapSocket& ws);
 
 }  // namespace rt::test
