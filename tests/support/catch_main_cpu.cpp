@@ -1,3 +1,4 @@
-// The test main of the CPU half: plain Catch2, no GPU context to destroy or validate.
-#define CATCH_CONFIG_MAIN
-#include <catch2/catch.hpp>
+// The test main of the CPU half: Catch2 alone, no GPU context to destroy or validate.
+#include "support/catch_session.h"
+
+int main(int argc, char** argv) { return rt::test::run_catch_session(argc, argv); }
