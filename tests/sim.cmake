@@ -1,6 +1,6 @@
 # The simulated sites (engine/sim/, assets/sites/, assets/scenes/).
 
-# The tests write into the build tree (REMOTETOUCH_ASSETS_DIR comes with the test support).
+# The tests write into the build tree.
 file(GLOB remotetouch_sim_tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test_sim_*.cpp)
 foreach(source ${remotetouch_sim_tests})
   get_filename_component(name ${source} NAME_WE)

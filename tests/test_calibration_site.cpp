@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "config/assets.h"
 #include "calibration/calibration_error.h"
 #include "calibration/extrinsics_calibration.h"
 #include "calibration/site_update.h"
@@ -27,7 +28,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kAssets = REMOTETOUCH_ASSETS_DIR;
+const std::filesystem::path kAssets = rt::config::assets_dir();
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
 // The synthetic data's noise (0.1 px corners, 1 mm distances, 2 mm fingertips) bounds how well
 // the poses come back; the bounds are those of test_calibration_extrinsics and _tracker.

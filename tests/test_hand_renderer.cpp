@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 
+#include "config/assets.h"
 #include "pipeline/hand_renderer.h"
 #include "geometry/target_view.h"
 #include "sim/hand_model.h"
@@ -16,7 +17,7 @@ using namespace rt;
 
 namespace {
 
-const std::filesystem::path kTemplates = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "hand";
+const std::filesystem::path kTemplates = rt::config::assets_dir() / "hand";
 
 HandSkeleton facing_hand(double z, double scale = 1.0) {
   sim::HandPlacement placement;

@@ -10,6 +10,7 @@
 #include <limits>
 #include <random>
 
+#include "config/assets.h"
 #include "hand/hand_bones.h"
 #include "hand/hand_template.h"
 #include "hand/shape_adaption.h"
@@ -21,7 +22,7 @@ using namespace rt::hand;
 
 namespace {
 
-const std::filesystem::path kAssets = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "hand";
+const std::filesystem::path kAssets = rt::config::assets_dir() / "hand";
 
 HandSkeleton posed_hand(bool is_left, double scale, double curl, const Eigen::Vector3d& palm,
                         const Eigen::Quaterniond& orientation = Eigen::Quaterniond::Identity()) {

@@ -4,6 +4,7 @@
 // camera selection follows the paper, and bad input says what is wrong. eval ibr measures
 // quality; the thresholds here sit a stated margin under what the code gives, to catch a
 // regression.
+#include "config/assets.h"
 #include "pipeline/ibr_renderer.h"
 #include "pipeline/site_simulator.h"
 #include "geometry/target_view.h"
@@ -27,7 +28,7 @@ struct Simulated {
 
 Simulated simulate(uint32_t width, uint32_t height) {
   Simulated s;
-  s.scene = sim::load_scene(std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes" / "wave.json");
+  s.scene = sim::load_scene(rt::config::assets_dir() / "scenes" / "wave.json");
   s.scene.frame_count = 1;
   s.scene.resolution_scale = 0.25;
   s.simulator = std::make_unique<pipeline::SiteSimulator>(test::gpu(), s.scene, Site::A, width, height);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "config/assets.h"
 #include "pipeline/ibr_renderer.h"
 #include "pipeline/site_simulator.h"
 #include "passes/ibr_resolve.h"
@@ -109,7 +110,7 @@ TEST_CASE("ibr_resolve hard cases", "[ibr_resolve][gpu]") {
 
 TEST_CASE("the image-based model with a supersampled portrait: partial alpha on the silhouette", "[ibr_resolve][gpu]") {
   test::NoValidationErrors no_errors;
-  sim::Scene scene = sim::load_scene(std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes" / "wave.json");
+  sim::Scene scene = sim::load_scene(rt::config::assets_dir() / "scenes" / "wave.json");
   scene.frame_count = 1;
   scene.resolution_scale = 0.25;
   pipeline::SiteSimulator simulator(test::gpu(), scene, Site::A, 47, 27);

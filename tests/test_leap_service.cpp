@@ -12,6 +12,7 @@
 #include <functional>
 #include <thread>
 
+#include "config/assets.h"
 #include "sim/leap_json.h"
 #include "support/fake_leap_service.h"
 #include "sim/scene.h"
@@ -29,7 +30,7 @@ using test::hold;
 
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes";
+const std::filesystem::path kScenes = rt::config::assets_dir() / "scenes";
 
 std::vector<std::string> clap_lines() {
   sim::SimulatedHandTracker tracker = sim::make_simulated_tracker(sim::load_scene(kScenes / "clap.json"), Site::A);

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <random>
 
+#include "config/assets.h"
 #include "config/json.h"
 #include "sim/leap_json.h"
 #include "sim/scene.h"
@@ -24,7 +25,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes";
+const std::filesystem::path kScenes = rt::config::assets_dir() / "scenes";
 const std::filesystem::path kOut = REMOTETOUCH_TEST_OUTPUT_DIR;
 
 std::vector<TrackerFrame> simulate(const std::string& scene_name, Site site) {

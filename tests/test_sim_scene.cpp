@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "config/assets.h"
 #include "config/json.h"
 #include "geometry/site_frames.h"
 #include "sim/motion.h"
@@ -16,7 +17,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes";
+const std::filesystem::path kScenes = rt::config::assets_dir() / "scenes";
 const char* const kShippedScenes[] = {"clap", "miss", "wave", "approach", "noisy-clap", "train-fast-reach", "train-raise-hold"};
 
 struct Touch {

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 
+#include "config/assets.h"
 #include "config/json.h"
 #include "sim/default_site.h"
 #include "sim/site_description.h"
@@ -19,7 +20,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kSites = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "sites";
+const std::filesystem::path kSites = rt::config::assets_dir() / "sites";
 
 double radians(double degrees) { return degrees * std::numbers::pi / 180; }
 double degrees(double radians) { return radians * 180 / std::numbers::pi; }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "config/assets.h"
 #include "geometry/site_frames.h"
 #include "sim/leap_json.h"
 #include "sim/motion.h"
@@ -22,7 +23,7 @@ using namespace rt::sim;
 
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes";
+const std::filesystem::path kScenes = rt::config::assets_dir() / "scenes";
 
 std::vector<TrackerFrame> all_frames(HandTracker& tracker) {
   std::vector<TrackerFrame> frames;

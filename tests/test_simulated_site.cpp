@@ -3,6 +3,7 @@
 // that sits on the tracker's joints, and recordings that replay exactly.
 #include <filesystem>
 
+#include "config/assets.h"
 #include "pipeline/site_simulator.h"
 #include "sim/default_site.h"
 #include "sim/motion.h"
@@ -120,7 +121,7 @@ TEST_CASE("the rendered hand is built on the tracker's joints", "[simulated_site
 
 TEST_CASE("a recorded simulation replays exactly", "[simulated_site][gpu]") {
   test::NoValidationErrors no_errors;
-  sim::Scene scene = sim::load_scene(std::filesystem::path(REMOTETOUCH_ASSETS_DIR) / "scenes" / "clap.json");
+  sim::Scene scene = sim::load_scene(rt::config::assets_dir() / "scenes" / "clap.json");
   scene.frame_count = 2;
   scene.resolution_scale = 0.05;
   const auto dir = std::filesystem::temp_directory_path() / ("remotetouch-test-simulated-" + std::to_string(getpid()));
