@@ -158,7 +158,7 @@ TEST_CASE("ibr_warp hard cases", "[ibr_warp][gpu]") {
     const HostImage fused = test::random_fused_depth(rng, 29, 19);
     passes::WarpSettings accept_any;
     accept_any.visibility = {10.0f, 0.0f};
-    const HostImage valid_everywhere(41, 37 * 2, PixelFormat::RGBA32F, 0.7f);
+    const HostImage valid_everywhere(points.width, points.height, PixelFormat::RGBA32F, 0.7f);
     REQUIRE(visible(passes::ibr_warp_reference(rig.table, fused, color, valid_everywhere, accept_any).features) > 100);
     HostImage no_depth = points;
     std::fill(no_depth.texels.begin(), no_depth.texels.end(), 0.0f);

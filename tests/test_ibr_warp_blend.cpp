@@ -139,7 +139,7 @@ TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
     passes::WarpSettings accept_any;
     accept_any.visibility = {10.0f, 0.0f};
     Inputs in = random;
-    in.points = HostImage(41, 37 * 3, PixelFormat::RGBA32F, 0.7f);
+    in.points = HostImage(in.points.width, in.points.height, PixelFormat::RGBA32F, 0.7f);
     REQUIRE(covered(passes::ibr_warp_blend_reference(rig.table, in.fused, in.color, in.points, accept_any, {})) > 100);
     std::fill(in.points.texels.begin(), in.points.texels.end(), 0.0f);
     const passes::Portrait gpu = run_fused(rig, in, {}, accept_any);
@@ -152,7 +152,7 @@ TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
     const test::IbrRig ahead = test::turned_away(rig);
     Inputs in = random;
     in.fused = HostImage(29, 19, PixelFormat::R32F, 0.3f);
-    in.points = HostImage(41, 37 * 3, PixelFormat::RGBA32F, 0.7f);
+    in.points = HostImage(in.points.width, in.points.height, PixelFormat::RGBA32F, 0.7f);
     passes::WarpSettings accept_any;
     accept_any.visibility = {10.0f, 0.0f};
     const passes::Portrait gpu = run_fused(ahead, in, {}, accept_any);
