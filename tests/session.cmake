@@ -91,3 +91,7 @@ set_tests_properties(soak_two_minutes PROPERTIES LABELS soak RUN_SERIAL TRUE TIM
 add_test(NAME session_site_flood
          COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/cli/site_under_flood.py ${rt} ${CMAKE_BINARY_DIR}/test-out/site-flood)
 set_tests_properties(session_site_flood PROPERTIES RUN_SERIAL TRUE TIMEOUT 300)
+# Two sites by hand as the README shows them: the defaults, one site's end, an unreachable peer.
+add_test(NAME session_site_by_hand
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_by_hand.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-by-hand)
+set_tests_properties(session_site_by_hand PROPERTIES TIMEOUT 300 RUN_SERIAL TRUE)

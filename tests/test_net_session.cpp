@@ -145,7 +145,7 @@ TEST_CASE("a session that stops says goodbye: its peer counts the session's end,
   REQUIRE(link.listener.wait_connected(kPatience));
   link.connector->send(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
   link.connector->stop();  // the touch still goes, before the goodbye
-  REQUIRE(eventually([&] { return link.listener.status().state == ConnectionState::Lost; }));
+  REQUIRE(eventually([&] { return link.listener.status().state == ConnectionState::Ended; }));
   const NetCounters c = link.listener.counters();
   CHECK(c.sessions_ended_by_peer == 1);
   CHECK(c.connections_lost == 0);
@@ -164,6 +164,11 @@ TEST_CASE("a listener that stops says goodbye to its connector too") {
   REQUIRE(eventually([&] { return link.connector->status().state != ConnectionState::Connected; }));
   CHECK(link.connector->counters().sessions_ended_by_peer == 1);
   CHECK(link.connector->counters().connections_lost == 0);
+  // The session is over: the connector does not try to reach a peer that said goodbye.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  CHECK(link.connector->status().state == ConnectionState::Ended);
+  CHECK(link.connector->counters().reconnects == 0);
+  CHECK_FALSE(link.log.contains("connect to"));
 }
 
 TEST_CASE("a peer with the wrong key is refused on both sides and nothing is delivered") {

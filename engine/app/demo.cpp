@@ -21,7 +21,7 @@ class DemoCommand : public Command {
     command_->add_option("--time-scale", options_.time_scale,
                          "Scene seconds per wall-clock second (below 1 plays the scene slower, for slow devices)")
         ->check(CLI::Range(0.01, 10.0))
-        ->capture_default_str();
+        ->default_str("1 on a GPU, 0.25 on a CPU Vulkan driver");
     command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale")
         ->check(CLI::Range(0.01, 1.0))
         ->default_str("the scene's");

@@ -22,14 +22,18 @@ class SiteCommand : public Command {
     command_->add_option("--key-file", options_.key_file, "Session key: 64 hex digits, the same at both sites");
     command_->add_option("--site", site_, "Which site this is")->check(CLI::IsMember({"A", "B"}))->capture_default_str();
     command_->add_option("--scene", options_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
-    add_run_options(*command_, options_.run, "out/site");
+    add_run_options(*command_, options_.run, "");
+    // Two sites on one machine must not share a folder: the default names the site.
+    command_->get_option("--out")->default_str("out/site_A or out/site_B, by --site");
     add_frames_option(*command_, options_.run, 1, "the scene's own count")->description("Scene frames to play");
     options_.run.width = 640;
     options_.run.height = 360;
     add_size_options(*command_, options_.run, "Portrait and display", 16, 4096);
-    command_->add_option("--time-scale", options_.time_scale, "Scene seconds per wall-clock second")
+    command_->add_option("--time-scale", options_.time_scale,
+                         "Scene seconds per wall-clock second; give both sites the same (a simulated scene plays "
+                         "on a shared clock)")
         ->check(CLI::Range(0.01, 10.0))
-        ->capture_default_str();
+        ->default_str("1 on a GPU, 0.25 on a CPU Vulkan driver");
     command_->add_option("--resolution-scale", options_.resolution_scale, "Camera resolution scale")
         ->check(CLI::Range(0.01, 1.0))
         ->default_str("the scene's");
@@ -63,6 +67,8 @@ class SiteCommand : public Command {
                          "fifo (waits for the screen's refresh), or mailbox where the device offers it (FIFO otherwise)")
         ->check(CLI::IsMember({"fifo", "mailbox"}))
         ->capture_default_str();
+    // Not in --help: the demo's children report progress as lines it parses.
+    command_->add_flag("--progress-lines", options_.progress_lines)->group("");
     add_inspection_options(*command_, options_.run);
     ibr_ = add_ibr_options(*command_);
     quality_.add_to(*command_);
@@ -92,10 +98,12 @@ class SiteCommand : public Command {
       if (given("--display")) options_.display = flags.display;
       if (given("--monitor")) options_.monitor = flags.monitor;
       if (given("--present-mode")) options_.present_mode = flags.present_mode;
+      if (given("--progress-lines")) options_.progress_lines = flags.progress_lines;
     } else {
       options_.site = site_ == "B" ? Site::B : Site::A;
     }
     if (given("--frames")) options_.frames_given = true;
+    if (options_.run.out.empty()) options_.run.out = std::string("out/site_") + site_name(options_.site);
     options_.ibr.width = options_.run.width;
     options_.ibr.height = options_.run.height;
     options_.quality = quality_.apply(options_.ibr, options_.resolution_scale, given("--resolution-scale"));

@@ -27,7 +27,10 @@
 #include "pipeline/ibr_settings.h"
 #include "net/secure_channel.h"
 #include "session/event_log.h"
+#include "session/output_folder_lock.h"
 #include "site/site_options.h"
+#include "sim/scene.h"
+#include "site/closing_table.h"
 #include "site/displayed_truth.h"
 #include "time/monotonic_clock.h"
 
@@ -140,10 +143,10 @@ std::string wait_for_line(Child& child, const std::string& prefix, double timeou
       if (line.rfind(prefix, 0) == 0) return line.substr(prefix.size());
       handle_line(child, line);
     }
-    if (child.eof) throw std::runtime_error("demo: site " + child.site + " ended before it said '" + prefix + "'");
+    // The site has said why on stderr, which the demo shares: point there, not at the protocol.
+    if (child.eof) throw std::runtime_error("site " + child.site + " ended before it was ready (its error is above)");
   }
-  throw std::runtime_error("demo: site " + child.site + " did not say '" + prefix + "' within " +
-                           std::to_string(int(timeout_s)) + " s");
+  throw std::runtime_error("site " + child.site + " was not listening within " + std::to_string(int(timeout_s)) + " s");
 }
 
 nlohmann::json read_json(const std::filesystem::path& path) {
@@ -154,84 +157,18 @@ nlohmann::json read_json(const std::filesystem::path& path) {
   return json;
 }
 
-std::string cell(const nlohmann::json& value, const char* format = "%.1f") {
-  if (!value.is_number()) return "-";
-  char text[32];
-  std::snprintf(text, sizeof text, format, value.get<double>());
-  return text;
-}
+std::string cell(const nlohmann::json& value, const char* format = "%.1f") { return site::table_cell(value, format); }
 
 void print_summary(const nlohmann::json& metrics) {
-  const nlohmann::json& a = metrics["sites"]["A"];
-  const nlohmann::json& b = metrics["sites"]["B"];
-  std::printf("\n%-44s %14s %14s\n", "", "site A", "site B");
-  auto row = [&](const std::string& name, const std::string& va, const std::string& vb) {
-    std::printf("%-44s %14s %14s\n", name.c_str(), va.c_str(), vb.c_str());
-  };
-  for (const char* stage : {"capture_to_portrait_on_screen", "skeleton_to_hand_on_screen", "touch_to_motor_command"})
-    row(std::string(stage) + " median ms", cell(a["latency_ms"][stage]["median_ms"]), cell(b["latency_ms"][stage]["median_ms"]));
-  for (const char* stage : {"capture", "portraits_sent", "hand_renders", "display", "tracker", "touch_loop"})
-    row(std::string("fps ") + stage, cell(a["fps"][stage]), cell(b["fps"][stage]));
-  row("frames displayed", cell(a["frames"]["displayed"], "%.0f"), cell(b["frames"]["displayed"], "%.0f"));
-  auto dropped = [](const nlohmann::json& site) {
-    return cell(site["frames"]["scene_frames_not_captured"], "%.0f") + "/" + cell(site["frames"]["dropped_before_ibr"], "%.0f") +
-           "/" + cell(site["frames"]["dropped_before_display"], "%.0f");
-  };
-  row("frames dropped (capture / before ibr / display)", dropped(a), dropped(b));
-  row("wire kB/s out", cell(nlohmann::json(a["bytes_per_s"]["out"].get<double>() / 1000.0)),
-      cell(nlohmann::json(b["bytes_per_s"]["out"].get<double>() / 1000.0)));
-  // Per stage: the frame graph's pass sums, and the wall time of the stage's GPU turn. A site that
-  // replays a recording has no simulator: its entries are absent.
-  const std::pair<const char*, const char*> stages[] = {{"simulator", "simulator_render_and_readback"},
-                                                        {"ibr", "ibr_render_and_readback"},
-                                                        {"hand", "hand_render"},
-                                                        {"receiver", "receiver_render_and_readback"}};
-  auto per_stage = [&](const nlohmann::json& site, bool gpu) {
-    std::string text;
-    for (const auto& [graph, turn] : stages) {
-      const nlohmann::json::json_pointer path(gpu ? "/gpu_ms/" + std::string(graph) + "/total"
-                                                  : "/stage_wall_ms/" + std::string(turn) + "/median_ms");
-      text += (text.empty() ? "" : "/") + cell(site.contains(path) ? site.at(path) : nlohmann::json(), "%.0f");
-    }
-    return text;
-  };
-  row("GPU ms sim/ibr/hand/receiver (pass sums)", per_stage(a, true), per_stage(b, true));
-  row("wall ms sim/ibr/hand/receiver (median turn)", per_stage(a, false), per_stage(b, false));
-  row("skeleton to portrait gap median ms", cell(a["latency_ms"]["skeleton_to_portrait_gap"]["median_ms"]),
-      cell(b["latency_ms"]["skeleton_to_portrait_gap"]["median_ms"]));
-  row("frames with mesh hand / none (skeleton gap)",
-      cell(a["frames"]["with_mesh_hand"], "%.0f") + " / " + cell(a["frames"]["no_hand_skeleton_gap"], "%.0f"),
-      cell(b["frames"]["with_mesh_hand"], "%.0f") + " / " + cell(b["frames"]["no_hand_skeleton_gap"], "%.0f"));
-  row("touch starts / motor pulses", cell(a["touch"]["starts"], "%.0f") + " / " + cell(a["touch"]["motor_pulses"], "%.0f"),
-      cell(b["touch"]["starts"], "%.0f") + " / " + cell(b["touch"]["motor_pulses"], "%.0f"));
-  // A peer that ended its session said so first: that close is not counted as lost.
-  auto links = [&](const nlohmann::json& site) {
-    return cell(site["net"]["connections_lost"], "%.0f") + " / " + cell(site["net"]["reconnects"], "%.0f") + " / " +
-           cell(site["net"]["touches_resent"], "%.0f");
-  };
-  row("connections lost / reconnects / touches resent", links(a), links(b));
+  std::printf("\n");
+  site::print_table_row("", {"site A", "site B"});
+  auto row = [&](const std::string& name, const std::string& va, const std::string& vb) { site::print_table_row(name, {va, vb}); };
+  const auto rows_a = site::closing_rows(metrics["sites"]["A"]);
+  const auto rows_b = site::closing_rows(metrics["sites"]["B"]);
+  for (size_t i = 0; i < rows_a.size(); ++i) row(rows_a[i].first, rows_a[i].second, rows_b[i].second);
   row("PSNR final composite dB (mean)",
       cell(metrics["psnr_db"]["A"]["final_db"]) + " (" + cell(metrics["psnr_db"]["A"]["mean_db"]) + ")",
       cell(metrics["psnr_db"]["B"]["final_db"]) + " (" + cell(metrics["psnr_db"]["B"]["mean_db"]) + ")");
-  auto appearance = [](const nlohmann::json& site) {
-    const nlohmann::json::json_pointer path("/appearance/state");
-    if (!site.contains(path)) return std::string("-");
-    const nlohmann::json& a = site["appearance"];
-    return a["state"].get<std::string>() + (a["frames_fitted"].is_number() ? " (" + cell(a["frames_fitted"], "%.0f") + ")" : "");
-  };
-  row("appearance adaption (frames fitted)", appearance(a), appearance(b));
-  // Where each site's eye came from, and how far it is from its user's true eye.
-  auto eye_source = [](const nlohmann::json& site) {
-    const nlohmann::json::json_pointer path("/viewpoint/source");
-    return site.contains(path) ? site["viewpoint"]["source"].get<std::string>() : std::string("-");
-  };
-  auto eye_error = [](const nlohmann::json& site) {
-    const nlohmann::json::json_pointer path("/viewpoint/error_against_true_eye");
-    if (!site.contains(path) || site[path].is_null()) return std::string("-");
-    return cell(site[path]["median_mm"]) + " / " + cell(site[path]["p95_mm"]);
-  };
-  row("eye source", eye_source(a), eye_source(b));
-  row("eye error vs true eye mm (median / p95)", eye_error(a), eye_error(b));
   // What the remote user sees of the hand and forearm, per touch phase.
   for (const char* phase : evaluation::kTouchPhaseNames) {
     const nlohmann::json::json_pointer path("/hand_arm/" + std::string(phase));
@@ -250,8 +187,10 @@ void print_summary(const nlohmann::json& metrics) {
 }  // namespace
 
 int run_two_site_demo(const DemoOptions& options) {
+  sim::resolve_scene(options.scene);  // an unknown scene is refused here, before any site starts
   const std::filesystem::path out = options.run.out;
-  std::filesystem::create_directories(out);
+  // Before anything in it is removed: another demo may be writing there.
+  session::OutputFolderLock out_lock(out, "--out");
   for (const char* site : {"site_A", "site_B"}) std::filesystem::remove_all(out / site);
   // A fresh key each run, created owner-only in one step (an old one, or a link in its place,
   // is removed, never written through).
@@ -262,11 +201,11 @@ int run_two_site_demo(const DemoOptions& options) {
   auto site_args = [&](const std::string& site) {
     std::vector<std::string> args = {"site", "--site", site, "--scene", options.scene, "--key-file", key_file.string(),
                                      "--out", (out / ("site_" + site)).string(), "--width", std::to_string(options.run.width),
-                                     "--height", std::to_string(options.run.height), "--time-scale",
-                                     std::to_string(options.time_scale),
+                                     "--height", std::to_string(options.run.height),
                                      // Two sites on one machine cannot share one motor board.
-                                     "--motor", "simulated"};
+                                     "--motor", "simulated", "--progress-lines"};
     if (options.frames_given) args.insert(args.end(), {"--frames", std::to_string(options.run.frames)});
+    if (options.time_scale > 0) args.insert(args.end(), {"--time-scale", std::to_string(options.time_scale)});
     if (options.resolution_scale > 0) args.insert(args.end(), {"--resolution-scale", std::to_string(options.resolution_scale)});
     if (!options.run.device.empty()) args.insert(args.end(), {"--device", options.run.device});
     if (options.run.validation) args.push_back("--validation");
@@ -287,7 +226,8 @@ int run_two_site_demo(const DemoOptions& options) {
   };
 
   std::cerr << "demo: scene " << options.scene << ", two sites as two processes over loopback, " << options.run.width << "x"
-            << options.run.height << ", time scale " << options.time_scale << "\n";
+            << options.run.height << ", time scale "
+            << (options.time_scale > 0 ? std::to_string(options.time_scale) : std::string("by the device")) << "\n";
   std::vector<std::string> args_a = site_args("A");
   args_a.insert(args_a.end(), {"--listen", "127.0.0.1:0"});
   Child a = spawn_site("A", args_a);
@@ -415,10 +355,10 @@ int run_two_site_demo(const DemoOptions& options) {
   metrics["scene"] = options.scene;
   metrics["width"] = options.run.width;
   metrics["height"] = options.run.height;
-  metrics["time_scale"] = options.time_scale;
   metrics["quality"] = options.quality;
   metrics["sites"]["A"] = read_json(out / "site_A" / "metrics.json");
   metrics["sites"]["B"] = read_json(out / "site_B" / "metrics.json");
+  metrics["time_scale"] = metrics["sites"]["A"].value("time_scale", nlohmann::json());
   // Site A shows B's user: compare with B's ground truth, and the other way round.
   metrics["psnr_db"]["A"] = site::measure_displayed_frames(out / "site_A", out / "site_B");
   metrics["psnr_db"]["B"] = site::measure_displayed_frames(out / "site_B", out / "site_A");

@@ -14,7 +14,7 @@ struct DemoOptions {
   RunOptions run;
   bool frames_given = false;
   std::string scene = "clap";
-  double time_scale = 0.25;  // the default scene plays at quarter speed: lavapipe renders ~1 frame/s per site
+  double time_scale = 0.0;  // 0: the sites choose by the device (site --time-scale)
   double resolution_scale = 0.0;  // 0 = the scene's own
   // Faults on the link (through net::FaultProxy; none by default).
   std::optional<int> disconnect_after_ms;

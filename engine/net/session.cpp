@@ -39,6 +39,7 @@ const char* connection_state_name(ConnectionState state) {
     case ConnectionState::Connected: return "connected";
     case ConnectionState::Lost: return "lost";
     case ConnectionState::Refused: return "refused";
+    case ConnectionState::Ended: return "ended";
   }
   return "unknown";
 }
@@ -420,7 +421,8 @@ struct Session::Impl {
     if (c->peer_ending) {
       log("the peer " + c->peer + " ended its session");
       count([](NetCounters& k) { ++k.sessions_ended_by_peer; });
-      set_status(ConnectionState::Lost, "the peer ended its session", c->peer);
+      set_status(ConnectionState::Ended, "the peer ended its session", c->peer);
+      return;  // its end is the session's: nothing to reconnect to
     } else {
       log("connection with " + c->peer + " lost: " + reason);
       count([](NetCounters& k) { ++k.connections_lost; });
@@ -641,6 +643,14 @@ struct Session::Impl {
     });
   }
 
+  // A peer that stays unreachable fails the same way on every try: the log says each reason
+  // once, and the status keeps it for the site's final message.
+  void note_connect_failure(const std::string& reason) {
+    std::lock_guard lock(mutex);
+    if (status.reason != reason) options.log("[" + options.name + "] " + reason);
+    if (status.state != ConnectionState::Connected) status.reason = reason;
+  }
+
   void connect() {
     {
       std::lock_guard lock(mutex);
@@ -655,20 +665,15 @@ struct Session::Impl {
     tcp::resolver resolver(io);
     const auto endpoints = resolver.resolve(options.host, std::to_string(options.port), ec);
     if (ec) {
-      log("cannot resolve " + options.host + ": " + ec.message());
       close(c);
+      note_connect_failure("cannot resolve " + options.host + ": " + ec.message());
       return schedule_connect();
     }
     asio::async_connect(c->socket, endpoints, [this, c](std::error_code e, const tcp::endpoint&) {
       if (closing || c->closed) return;
       if (e) {
         close(c);
-        const std::string reason = "connect to " + options.host + ":" + std::to_string(options.port) + " failed: " + e.message();
-        {
-          std::lock_guard lock(mutex);
-          if (status.reason != reason) options.log("[" + options.name + "] " + reason);
-          if (status.state != ConnectionState::Connected) status.reason = reason;
-        }
+        note_connect_failure("connect to " + options.host + ":" + std::to_string(options.port) + " failed: " + e.message());
         return schedule_connect();
       }
       begin(c);

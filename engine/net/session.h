@@ -51,7 +51,9 @@ struct SessionOptions {
 // "HOST:PORT" ("[::1]:7000" for IPv6). Throws std::invalid_argument saying what is wrong.
 std::pair<std::string, uint16_t> parse_host_port(const std::string& text);
 
-enum class ConnectionState { Idle, Connecting, Connected, Lost, Refused };
+// Ended: the peer said goodbye and closed, so the session is over (a connector does not try
+// again); Lost: the link failed without a goodbye.
+enum class ConnectionState { Idle, Connecting, Connected, Lost, Refused, Ended };
 const char* connection_state_name(ConnectionState state);
 
 struct ConnectionStatus {

@@ -1,6 +1,8 @@
 #include "sim/scene.h"
 
+#include <algorithm>
 #include <stdexcept>
+#include <vector>
 
 #include "config/assets.h"
 #include "config/json.h"
@@ -128,10 +130,24 @@ Scene load_scene(const std::filesystem::path& path) {
 
 namespace rt::sim {
 
+std::vector<std::string> scene_names() {
+  std::vector<std::string> names;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(config::assets_dir() / "scenes", error))
+    if (entry.path().extension() == ".json") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 std::filesystem::path resolve_scene(const std::string& scene) {
   const std::filesystem::path given(scene);
   if (given.has_extension() || given.has_parent_path()) return given;
-  return config::assets_dir() / "scenes" / (scene + ".json");
+  const std::filesystem::path path = config::assets_dir() / "scenes" / (scene + ".json");
+  if (std::filesystem::exists(path)) return path;
+  std::string names;
+  for (const std::string& name : scene_names()) names += (names.empty() ? "" : ", ") + name;
+  throw std::invalid_argument("unknown scene '" + scene + "': the scenes are " + names +
+                              " (or give a scene file's path, e.g. my-scene.json)");
 }
 
 }  // namespace rt::sim

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "geometry/site_frames.h"
 #include "sim/effects.h"
@@ -64,7 +65,10 @@ Eigen::Vector3d truth_viewer_eye(const Scene& scene, Site remote);
 Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir, const std::string& where);
 Scene load_scene(const std::filesystem::path& path);
 // A scene name (assets/scenes/NAME.json, or $REMOTETOUCH_ASSETS/scenes/NAME.json) or a path.
+// Throws std::invalid_argument listing the scenes for a name that is none of them.
 std::filesystem::path resolve_scene(const std::string& scene);
+// The names of the scenes under the assets' scenes/ folder, sorted.
+std::vector<std::string> scene_names();
 
 // The motion of `site`'s user, ready to sample: pose_at(frame / scene.fps) for the cameras.
 MotionTrack make_motion_track(const Scene& scene, Site site);

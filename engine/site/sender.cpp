@@ -75,7 +75,12 @@ Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(t
   if (common_.scene.viewpoint == sim::ViewpointSource::Seat) eye_options.use_seat_because = "the scene asks for the seat";
   eye_finder_ = std::make_unique<ViewerEyeFinder>(
       color_cameras, common_.site().seat.head_centre_m, eye_options, [this](const std::string& source) {
-        std::cerr << "site " << common_.name << ": eye: " << source << "\n";
+        // The terminal gets the reason's first clause; the event log keeps it whole (per camera).
+        const size_t open = source.find('(');
+        const size_t detail = open == std::string::npos ? open : source.find(": ", open);
+        std::cerr << "site " << common_.name << ": eye: "
+                  << (detail == std::string::npos ? source : source.substr(0, detail) + "; the reasons are in events.jsonl)")
+                  << "\n";
         common_.events->write("eye_source", monotonic_now_us(), {{"source", source}});
       },
       depth_cameras);

@@ -19,10 +19,12 @@ struct SiteRunOptions {
   std::string listen = "127.0.0.1:0";  // listener: where to listen (port 0: any; printed as "listening on PORT")
   std::string peer;                    // connector: the listener's HOST:PORT; empty = be the listener
   std::filesystem::path key_file;      // 64 hex digits; both sites need the same
-  double time_scale = 1.0;             // scene seconds per wall-clock second
+  double time_scale = 0.0;             // scene seconds per wall-clock second; 0 = by the device (site_run.cpp)
   double resolution_scale = 0.0;       // of the cameras; 0 = the scene's own
   bool write_truth = true;             // this site's user seen from the remote eye, over the background
   double connect_timeout_s = 60.0;
+  // For a parent that reads stdout (the demo): "progress N TOTAL" lines and no closing table.
+  bool progress_lines = false;
   double linger_s = 1.5;  // after the last capture, how long without a new portrait ends the display
   // This site's devices: empty = simulated from the scene; else a recording (sim/recording.h) to
   // replay: its cameras, frames, times and tracker replace the scene's at this site.

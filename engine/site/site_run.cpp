@@ -12,11 +12,13 @@
 #include "display/glfw_window.h"
 #include "pipeline/demo_layers.h"
 #include "pipeline/gpu_session.h"
+#include "site/closing_table.h"
 #include "site/receiver.h"
 #include "site/sender.h"
 #include "site/site_common.h"
 #include "site/site_metrics.h"
 #include "site/site_motor.h"
+#include "session/output_folder_lock.h"
 #include "time/monotonic_clock.h"
 #include "touch/touch_loop.h"
 
@@ -82,7 +84,8 @@ net::SessionOptions session_options(const SiteRunOptions& options) {
 // that run them until the scene ends.
 class SiteRun {
  public:
-  explicit SiteRun(const SiteRunOptions& options);
+  // `started_us`: when the site started; the connect timeout counts from it.
+  SiteRun(const SiteRunOptions& options, uint64_t started_us);
   int run();
 
  private:
@@ -93,6 +96,8 @@ class SiteRun {
   void monitor(const std::atomic<bool>& display_finished);
   // Polls the window's events (main thread); true once Esc or the window's close asked to quit.
   bool window_quit();
+  // Stopped (a signal or the window) before the other site connected: metrics.json says so.
+  int stop_before_connected(const std::string& by, int exit_status);
 
   pipeline::GpuSession gpu_;
   DisplayMode display_mode_;
@@ -109,13 +114,27 @@ class SiteRun {
   std::mutex skeleton_mutex_;
   std::deque<std::pair<uint64_t, uint64_t>> remote_capture_of_arrival_;  // (arrival, sender's capture) µs
   session::LatencyStats touch_to_motor_, detect_to_motor_;
+  uint64_t started_us_ = 0;
+  std::string stopped_by_;  // SIGINT, SIGTERM, window or peer; empty: the scene ended
 };
 
-SiteRun::SiteRun(const SiteRunOptions& options)
+SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
     : gpu_((std::filesystem::create_directories(options.run.out), options.run)),
-      events_(options.run.out / "events.jsonl", site_name(options.site)) {
+      events_(options.run.out / "events.jsonl", site_name(options.site)),
+      started_us_(started_us) {
   common_.options = options;
   common_.name = site_name(options.site);
+  if (!(options.time_scale >= 0) || !std::isfinite(options.time_scale)) throw std::invalid_argument("--time-scale must be > 0");
+  if (options.time_scale == 0) {
+    // A CPU driver renders about a frame a second per site: a scene played in real time would
+    // show a few of its frames. A quarter of real time shows most of them.
+    const bool cpu = gpu_.context().is_cpu_device();
+    common_.options.time_scale = cpu ? 0.25 : 1.0;
+    std::cerr << "site " << common_.name << ": time scale " << common_.options.time_scale
+              << (cpu ? " (a quarter of real time: " + gpu_.context().device_name() + " is a CPU Vulkan driver)"
+                      : " (real time)")
+              << "; --time-scale sets it\n";
+  }
   common_.remote = other_site(options.site);
   common_.scene = sim::load_scene(sim::resolve_scene(options.scene));
   common_.width = options.run.width;
@@ -137,7 +156,6 @@ SiteRun::SiteRun(const SiteRunOptions& options)
   common_.background = pipeline::make_demo_layers(common_.width, common_.height).background;
   if (options.frames_given) common_.scene.frame_count = options.run.frames;
   if (options.resolution_scale > 0) common_.scene.resolution_scale = options.resolution_scale;
-  if (!(options.time_scale > 0) || !std::isfinite(options.time_scale)) throw std::invalid_argument("--time-scale must be > 0");
   std::filesystem::create_directories(common_.out / "frames");
   if (options.write_truth) std::filesystem::create_directories(common_.out / "truth");
 
@@ -242,24 +260,38 @@ bool SiteRun::window_quit() {
 
 void SiteRun::monitor(const std::atomic<bool>& display_finished) {
   net::ConnectionState state = net::ConnectionState::Connected;
-  uint64_t last_progress = UINT64_MAX;
+  uint64_t last_progress = 0;
   const uint64_t frames = common_.scene.frame_count;
   bool stop_noted = false;
   while (!display_finished) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const uint64_t now = monotonic_now_us();
     const bool quit = window_quit();
-    if ((g_stop_signal || quit) && !stop_noted) {
+    const net::ConnectionStatus status = net_->status();
+    // The other site ending its session (its scene over, or stopped) ends this one too: there is
+    // nobody left to send to or to show.
+    const bool peer_ended = status.state == net::ConnectionState::Ended;
+    if (peer_ended && !g_stop_signal && !quit && now > common_.end_us && !stop_noted) {
+      // Both scenes are over: the other site finished first, and this one stops waiting for more.
       stop_noted = true;
-      const std::string by = g_stop_signal ? signal_name(g_stop_signal) : "the window (Esc)";
-      std::cerr << "site " << common_.name << ": " << by << ": stopping\n";
-      events_.write("stopped", now, g_stop_signal ? nlohmann::json{{"signal", by}} : nlohmann::json{{"by", "window"}});
       common_.stopping = true;
       common_.sender_done = true;
       sender_->stop();
       receiver_->stop();
     }
-    const net::ConnectionStatus status = net_->status();
+    if ((g_stop_signal || quit || peer_ended) && !stop_noted) {
+      stop_noted = true;
+      stopped_by_ = g_stop_signal ? signal_name(g_stop_signal) : quit ? "window" : "peer";
+      const std::string by = g_stop_signal ? stopped_by_
+                             : quit        ? std::string("the window (Esc)")
+                                           : "the other site ended the session";
+      std::cerr << "site " << common_.name << ": " << by << ": stopping\n";
+      events_.write("stopped", now, {{"by", stopped_by_}});
+      common_.stopping = true;
+      common_.sender_done = true;
+      sender_->stop();
+      receiver_->stop();
+    }
     if (status.state != state) {
       const char* phase = now > common_.end_us ? "shutdown" : "run";
       if (status.state == net::ConnectionState::Connected)
@@ -270,11 +302,26 @@ void SiteRun::monitor(const std::atomic<bool>& display_finished) {
       state = status.state;
     }
     const uint64_t frame = std::min<uint64_t>(sender_->last_scene_frame() + 1, frames);
-    if (frame != last_progress) {
+    if (frame != last_progress && common_.options.progress_lines) {
       std::cout << "progress " << frame << " " << frames << std::endl;
-      last_progress = frame;
+    } else if (frame != last_progress && frame * 10 / frames != last_progress * 10 / frames) {
+      // A person reads a line per tenth of the scene, not one per frame.
+      std::cerr << "site " << common_.name << ": scene frame " << frame << " of " << frames << "\n";
     }
+    last_progress = frame;
   }
+}
+
+int SiteRun::stop_before_connected(const std::string& by, int exit_status) {
+  std::cerr << "site " << common_.name << ": " << (by == "window" ? "window closed" : by) << " before the other site connected\n";
+  events_.write("stopped", monotonic_now_us(), {{"by", by}, {"phase", "waiting_for_peer"}});
+  nlohmann::json m = site_metrics(common_, 0.0);
+  m["stopped_by"] = by;
+  m["phase"] = "waiting_for_peer";
+  m["connected"] = false;
+  net_->stop();
+  std::ofstream(common_.out / "metrics.json") << m.dump(2) << "\n";
+  return exit_status;
 }
 
 int SiteRun::run() {
@@ -282,8 +329,9 @@ int SiteRun::run() {
   net_->start();
   if (options.peer.empty()) std::cout << "listening on " << net_->local_port() << std::endl;
   events_.write("waiting_for_peer", monotonic_now_us(), {{"role", options.peer.empty() ? "listener" : "connector"}});
-  // Waited for in slices, so that a stop signal ends the wait too.
-  const uint64_t give_up_us = monotonic_now_us() + uint64_t(options.connect_timeout_s * 1e6);
+  // Waited for in slices, so that a stop signal ends the wait too. The timeout counts from the
+  // site's start: what it does before listening or connecting is part of the user's wait.
+  const uint64_t give_up_us = started_us_ + uint64_t(options.connect_timeout_s * 1e6);
   // A connector whose peer refused it outright (the wrong key, not our protocol) stops at once:
   // trying again with the same key cannot succeed. A listener keeps waiting for the right peer.
   const bool connector = !options.peer.empty();
@@ -292,16 +340,8 @@ int SiteRun::run() {
   while (!(connected = net_->wait_connected(std::chrono::milliseconds(100))) && !g_stop_signal && !window_quit() &&
          !refused() && monotonic_now_us() < give_up_us) {
   }
-  if (!connected && window_quit()) {
-    std::cerr << "site " << common_.name << ": window closed before the other site connected\n";
-    events_.write("stopped", monotonic_now_us(), {{"by", "window"}, {"phase", "waiting_for_peer"}});
-    return 0;
-  }
-  if (!connected && g_stop_signal) {
-    std::cerr << "site " << common_.name << ": " << signal_name(g_stop_signal) << " before the other site connected\n";
-    events_.write("stopped", monotonic_now_us(), {{"signal", signal_name(g_stop_signal)}, {"phase", "waiting_for_peer"}});
-    return 128 + g_stop_signal;
-  }
+  if (!connected && window_quit()) return stop_before_connected("window", 0);
+  if (!connected && g_stop_signal) return stop_before_connected(signal_name(g_stop_signal), 128 + g_stop_signal);
   if (!connected) {
     const net::ConnectionStatus status = net_->status();
     const bool was_refused = connector && status.state == net::ConnectionState::Refused;
@@ -311,8 +351,8 @@ int SiteRun::run() {
                 << "); not trying again\n";
     else
       std::cerr << "site " << common_.name << ": no connection to the other site within " << options.connect_timeout_s
-                << " s (" << net::connection_state_name(status.state) << (status.reason.empty() ? "" : ": " + status.reason)
-                << ")\n";
+                << " s of the start (" << net::connection_state_name(status.state)
+                << (status.reason.empty() ? "" : ": " + status.reason) << ")\n";
     return 2;
   }
   common_.epoch_us = monotonic_now_us();
@@ -366,14 +406,21 @@ int SiteRun::run() {
   m["latency_ms"]["touch_detected_to_motor_command"] = detect_to_motor_.to_json();
   m["fps"]["touch_loop"] = double(touch_->ticks()) / std::max(elapsed_s, 1e-6);
   if (options.run.capture_frame >= 0) m["capture"] = capture_->to_json();
-  m["stopped_by"] = g_stop_signal                            ? nlohmann::json(signal_name(g_stop_signal))
-                    : window_ && window_->quit_requested() ? nlohmann::json("window")
-                                                           : nlohmann::json();
+  m["stopped_by"] = stopped_by_.empty() ? nlohmann::json() : nlohmann::json(stopped_by_);
   m["display"] = display_mode_ == DisplayMode::Window ? "window" : display_mode_ == DisplayMode::Both ? "both" : "headless";
+  m["connected"] = true;
   net_->stop();
   std::ofstream(common_.out / "metrics.json") << m.dump(2) << "\n";
   capture_->report();
   if (options.run.profile) print_profile(common_.name, m["gpu_ms"]);
+  if (!options.progress_lines) {
+    std::cout << "\n";
+    print_table_row("", {"site " + common_.name});
+    for (const auto& [name, cell] : closing_rows(m)) print_table_row(name, {cell});
+    std::cout << std::flush;
+    std::cerr << "site " << common_.name << ": written to " << common_.out.string() << ": events.jsonl, metrics.json"
+              << (common_.write_frames ? ", frames/, site.mp4" : "") << "\n";
+  }
   if (failed) return 1;
   if (g_stop_signal) return 128 + g_stop_signal;  // stopped, not finished: as a shell reports it
   vk::Context& context = gpu_.context();
@@ -390,6 +437,7 @@ int SiteRun::run() {
 int run_site(const SiteRunOptions& given) {
   if (given.key_file.empty()) throw std::invalid_argument("a site needs --key-file (64 hex digits, the same at both sites)");
   SiteRunOptions options = given;
+  sim::resolve_scene(options.scene);  // an unknown scene is refused before the device starts
   const DisplayMode display = parse_display_mode(options.display, display_present());
   if (display != DisplayMode::Headless) {
     // The window's surface needs these from the instance, and the device must present.
@@ -397,8 +445,10 @@ int run_site(const SiteRunOptions& given) {
     options.run.presentation = true;
   }
   if (display == DisplayMode::Window) options.write_truth = false;  // no files to compare it with
+  const uint64_t started_us = monotonic_now_us();
   install_stop_handlers();
-  SiteRun site(options);
+  session::OutputFolderLock out_lock(options.run.out, "--out");
+  SiteRun site(options, started_us);
   return site.run();
 }
 

@@ -59,4 +59,25 @@ elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
 # Well before the connect timeout, with room for a loaded machine.
 [ "$elapsed_ms" -lt 20000 ] || fail "a waiting site took $elapsed_ms ms to stop"
 grep -q "SIGINT before the other site connected" "$out/alone.err" || fail "the waiting site did not say why it stopped"
+/usr/bin/python3 - "$out/alone/metrics.json" <<'PY' || fail "the waiting site's metrics"
+import json, sys
+m = json.load(open(sys.argv[1]))
+assert m["stopped_by"] == "SIGINT" and m["connected"] is False and m["phase"] == "waiting_for_peer", m
+PY
+
+# SIGTERM while the site is still starting (its device up, its cameras not yet searched for the
+# user's eyes): it stops there and still writes metrics.json.
+"$binary" site --site A --listen 127.0.0.1:0 "${common[@]}" --out "$out/starting" > "$out/starting.out" 2> "$out/starting.err" &
+starting=$!
+for _ in $(seq 1 600); do grep -q "time scale" "$out/starting.err" && break; sleep 0.05; done
+kill -TERM "$starting"
+set +e
+wait "$starting"; starting_status=$?
+set -e
+[ "$starting_status" -eq 143 ] || fail "a starting site exited with $starting_status after SIGTERM, expected 143"
+/usr/bin/python3 - "$out/starting/metrics.json" <<'PY' || fail "the starting site's metrics"
+import json, sys
+m = json.load(open(sys.argv[1]))
+assert m["stopped_by"] == "SIGTERM" and m["connected"] is False, m
+PY
 echo "stopped cleanly by signals"
