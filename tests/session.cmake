@@ -95,3 +95,9 @@ set_tests_properties(session_site_flood PROPERTIES RUN_SERIAL TRUE TIMEOUT 300)
 add_test(NAME session_site_by_hand
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_by_hand.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-by-hand)
 set_tests_properties(session_site_by_hand PROPERTIES TIMEOUT 300 RUN_SERIAL TRUE)
+# Every command line the README shows, run as a user would (shortened), and every command its
+# table names: a documented command, option or output file that is gone fails here.
+add_test(NAME readme_commands
+         COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/cli/readme_commands.py ${CMAKE_SOURCE_DIR}/README.md ${rt}
+                 ${CMAKE_BINARY_DIR}/test-out/readme-commands)
+set_tests_properties(readme_commands PROPERTIES TIMEOUT 300 RUN_SERIAL TRUE)
