@@ -75,3 +75,19 @@ TEST_CASE("simulated motor: default clock is monotonic and the record is thread-
   for (size_t i = 1; i < commands.size(); ++i) CHECK(commands[i].time_us >= commands[i - 1].time_us);
   CHECK(commands.back().time_us > 0);
 }
+
+TEST_CASE("simulated motor: a pulse is felt after the spin-up, and a stop before then cancels it", "[motor][simulated]") {
+  uint64_t now_us = 10'000;
+  SimulatedMotor motor([&] { return now_us; }, 60ms);
+  REQUIRE(motor.pulse(100ms, 200).ok());
+  CHECK(motor.strength_at(69'999) == 0);
+  CHECK(motor.strength_at(70'000) == 200);
+  CHECK(motor.strength_at(169'999) == 200);
+  CHECK(motor.strength_at(170'000) == 0);
+  now_us = 300'000;
+  REQUIRE(motor.pulse(100ms, 150).ok());
+  now_us = 359'000;  // before the second pulse is felt: it never is
+  REQUIRE(motor.stop().ok());
+  CHECK(motor.strength_at(365'000) == 0);
+  CHECK(motor.felt_pulse_starts() == std::vector<uint64_t>{70'000});
+}

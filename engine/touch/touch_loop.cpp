@@ -4,8 +4,14 @@
 
 namespace rt {
 
-TouchLoop::TouchLoop(const TouchParameters& parameters, EventHandler on_event, std::chrono::microseconds period)
-    : detector_(parameters), on_event_(std::move(on_event)), period_(period) {}
+TouchLoop::TouchLoop(const TouchParameters& parameters, EventHandler on_event, std::chrono::microseconds period,
+                     const MotorTiming& timing, MotorHandler on_motor)
+    : detector_(parameters),
+      on_event_(std::move(on_event)),
+      period_(period),
+      timing_(timing),
+      on_motor_(std::move(on_motor)),
+      predictor_(timing.prediction, parameters) {}
 
 TouchLoop::~TouchLoop() { stop(); }
 
@@ -30,10 +36,82 @@ std::optional<TouchEvent> TouchLoop::tick(uint64_t now_us) {
   {
     std::lock_guard lock(detector_mutex_);
     event = detector_.update(now_us, local, remote);
+    if (timing_.predict) {
+      predictor_.add_local(local);
+      predictor_.add_remote(remote);
+    }
+    if (on_motor_) time_motor(now_us, event);
   }
   ++ticks_;
   if (event && on_event_) on_event_(*event);
   return event;
+}
+
+void TouchLoop::cue(MotorCue cue, uint64_t now_us) {
+  if (on_motor_) on_motor_(cue, now_us);
+}
+
+void TouchLoop::time_motor(uint64_t now_us, const std::optional<TouchEvent>& event) {
+  if (event && event->kind == TouchEvent::Kind::Start) {
+    scheduled_pulse_us_.reset();
+    if (unconfirmed_contact_us_) {
+      ++counts_.confirmed;  // the pulse is already on its way
+      unconfirmed_contact_us_.reset();
+    } else {
+      ++counts_.unpredicted;
+      cue(MotorCue::Pulse, now_us);
+    }
+    return;
+  }
+  if (!timing_.predict || detector_.touching()) return;
+  if (unconfirmed_contact_us_) {
+    if (now_us > *unconfirmed_contact_us_ + timing_.confirm_window_us) {
+      ++counts_.cancelled;
+      unconfirmed_contact_us_.reset();
+      cancelled_reach_ = true;
+      cue(MotorCue::Cancel, now_us);
+    }
+    return;
+  }
+  const std::optional<uint64_t> contact = predictor_.predicted_contact_us(now_us);
+  // A reach whose pulse was cancelled does not pulse again until it is over.
+  if (cancelled_reach_) {
+    if (!contact) cancelled_reach_ = false;
+    return;
+  }
+  scheduled_pulse_us_.reset();
+  if (!contact) return;
+  const uint64_t pulse_us = *contact > timing_.motor_spin_up_us ? *contact - timing_.motor_spin_up_us : 0;
+  scheduled_contact_us_ = contact;
+  if (pulse_us <= now_us) {
+    scheduled_pulse_us_ = now_us;
+    fire_scheduled(now_us);
+  } else if (pulse_us < now_us + uint64_t(period_.count())) {
+    scheduled_pulse_us_ = pulse_us;  // between this tick and the next: the thread wakes for it
+  }
+}
+
+void TouchLoop::fire_scheduled(uint64_t now_us) {
+  if (!scheduled_pulse_us_ || now_us < *scheduled_pulse_us_) return;
+  scheduled_pulse_us_.reset();
+  unconfirmed_contact_us_ = scheduled_contact_us_;
+  ++counts_.predicted;
+  cue(MotorCue::Pulse, now_us);
+}
+
+std::optional<uint64_t> TouchLoop::pulse_due_us() const {
+  std::lock_guard lock(detector_mutex_);
+  return scheduled_pulse_us_;
+}
+
+void TouchLoop::fire_due(uint64_t now_us) {
+  std::lock_guard lock(detector_mutex_);
+  fire_scheduled(now_us);
+}
+
+MotorTimingCounts TouchLoop::motor_counts() const {
+  std::lock_guard lock(detector_mutex_);
+  return counts_;
 }
 
 void TouchLoop::start() {
@@ -54,8 +132,15 @@ void TouchLoop::run() {
     next += period_;
     const auto now = std::chrono::steady_clock::now();
     if (next < now) next = now;  // fell behind (debugger, overload): skip, do not burst
+    // A predicted pulse falls between ticks: wake for it, so that it is on time to the
+    // microsecond rather than to the tick.
+    if (const std::optional<uint64_t> due = pulse_due_us()) {
+      std::this_thread::sleep_for(std::chrono::microseconds(int64_t(*due) - int64_t(monotonic_now_us())));
+      fire_due(monotonic_now_us());
+    }
     std::this_thread::sleep_until(next);
   }
 }
 
 }  // namespace rt
+

@@ -1,0 +1,144 @@
+#include "touch/contact_predictor.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace rt {
+namespace {
+
+constexpr size_t kMaxSamples = 32;  // a tracker at 120 Hz gives 24 in the history; room to spare
+// The newest samples weigh most (e^(age / this)): the reach's speed and deceleration change as it
+// goes, and the contact follows from how it moves now.
+constexpr double kWeightTimeConstantS = 0.03;
+
+// The smallest tau > 0 with a + b tau + c tau^2 = 0; none where the curve turns before zero.
+std::optional<double> first_root_after_now(double a, double b, double c) {
+  if (std::abs(c) < 1e-12) {
+    if (b >= 0) return std::nullopt;
+    return -a / b;
+  }
+  const double discriminant = b * b - 4 * a * c;
+  if (discriminant < 0) return std::nullopt;
+  const double root = std::sqrt(discriminant);
+  std::optional<double> first;
+  for (const double tau : {(-b - root) / (2 * c), (-b + root) / (2 * c)})
+    if (tau > 0 && (!first || tau < *first)) first = tau;
+  return first;
+}
+
+// The mean of the hand's finite joints: a tracker's noise on each joint partly cancels in it.
+Eigen::Vector3d hand_centre(const HandSkeleton& hand) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (const Eigen::Vector3d& joint : hand.hand_joints())
+    if (joint.allFinite()) {
+      sum += joint;
+      ++count;
+    }
+  return count ? Eigen::Vector3d(sum / count) : hand.palm;
+}
+
+}  // namespace
+
+void check_contact_prediction_parameters(const ContactPredictionParameters& p) {
+  auto require = [](bool ok, const std::string& why) {
+    if (!ok) throw std::invalid_argument("contact prediction: " + why);
+  };
+  require(p.history_us >= 20'000, "history must be at least 20 ms (three tracker frames)");
+  require(p.max_horizon_us > 0, "the horizon must be positive");
+  require(std::isfinite(p.min_approach_speed_m_s) && p.min_approach_speed_m_s > 0, "the approach speed must be positive");
+  require(std::isfinite(p.max_deceleration_m_s2) && p.max_deceleration_m_s2 >= 0, "the deceleration bound must be >= 0");
+}
+
+ContactPredictor::ContactPredictor(const ContactPredictionParameters& parameters, const TouchParameters& touch)
+    : parameters_(parameters), touch_(touch) {
+  check_contact_prediction_parameters(parameters_);
+  check_touch_parameters(touch_);
+}
+
+void ContactPredictor::add_local(const std::vector<HandSkeleton>& hands) { add(local_, hands); }
+void ContactPredictor::add_remote(const std::vector<HandSkeleton>& hands) { add(remote_, hands); }
+
+void ContactPredictor::add(Track& track, const std::vector<HandSkeleton>& hands) {
+  const HandSkeleton* hand = hand_nearest_screen(hands);
+  if (!hand) {
+    track.samples.clear();
+    return;
+  }
+  if (!track.samples.empty() && hand->timestamp_us <= track.samples.back().timestamp_us) return;
+  track.samples.push_back(*hand);
+  while (track.samples.size() > kMaxSamples ||
+         track.samples.front().timestamp_us + parameters_.history_us < track.samples.back().timestamp_us)
+    track.samples.pop_front();
+}
+
+std::optional<ContactPredictor::Reach> ContactPredictor::reach(const Track& track, uint64_t now_us) const {
+  if (track.samples.size() < 3) return std::nullopt;
+  const HandSkeleton& newest = track.samples.back();
+  // Least squares in time since the newest sample (seconds): z = a + b t + c t^2; x and y linear.
+  const int n = int(track.samples.size());
+  Eigen::MatrixXd quadratic(n, 3), linear(n, 2);
+  Eigen::VectorXd x(n), y(n), z(n);
+  for (int i = 0; i < n; ++i) {
+    const HandSkeleton& s = track.samples[size_t(i)];
+    const double t = (double(s.timestamp_us) - double(newest.timestamp_us)) * 1e-6;
+    const double w = std::exp(t / kWeightTimeConstantS);
+    quadratic.row(i) << w, w * t, w * t * t;
+    linear.row(i) << w, w * t;
+    const Eigen::Vector3d centre = hand_centre(s);
+    x(i) = w * centre.x();
+    y(i) = w * centre.y();
+    z(i) = w * centre.z();
+  }
+  if (!x.allFinite() || !y.allFinite() || !z.allFinite()) return std::nullopt;
+  // Samples too close in time to tell a velocity (or all at one instant) fit nothing.
+  const double span_s = (double(newest.timestamp_us) - double(track.samples.front().timestamp_us)) * 1e-6;
+  if (span_s < 0.015) return std::nullopt;
+  const Eigen::Vector3d zfit = quadratic.colPivHouseholderQr().solve(z);
+  const Eigen::Vector2d xfit = linear.colPivHouseholderQr().solve(x);
+  const Eigen::Vector2d yfit = linear.colPivHouseholderQr().solve(y);
+  if (!zfit.allFinite() || !xfit.allFinite() || !yfit.allFinite()) return std::nullopt;
+  const double a = zfit(0), b = zfit(1);
+  double c = zfit(2);
+  // A reach speeds up as it starts and slows towards the glass. A fit that still sees it speeding
+  // up is early in the reach, and carrying that on would predict the contact too early, which
+  // cannot be taken back once the pulse is felt; its speed alone predicts later.
+  c = std::clamp(c, 0.0, 0.5 * parameters_.max_deceleration_m_s2);
+  Reach reach;
+  double tau = 0;
+  if (a <= 0) {
+    tau = 0;  // already at the glass
+  } else {
+    if (b > -parameters_.min_approach_speed_m_s) return std::nullopt;  // not reaching for it
+    const std::optional<double> root = first_root_after_now(a, b, c);
+    if (!root) return std::nullopt;  // slows to a stop before the glass
+    tau = *root;
+  }
+  const double contact_us = double(newest.timestamp_us) + tau * 1e6;
+  if (contact_us > double(now_us) + double(parameters_.max_horizon_us)) return std::nullopt;
+  reach.contact_us = uint64_t(std::max(0.0, contact_us));
+  // The newest skeleton slid to the fitted position and pressed flat against the glass.
+  const Eigen::Vector3d centre = hand_centre(newest);
+  const Eigen::Vector3d shift(xfit(0) + xfit(1) * tau - centre.x(), yfit(0) + yfit(1) * tau - centre.y(), -centre.z());
+  HandSkeleton moved = newest;
+  moved.palm += shift;
+  moved.wrist += shift;
+  for (auto& digit : moved.digits)
+    for (auto& joint : digit) joint += shift;
+  moved.timestamp_us = reach.contact_us;
+  reach.at_glass = moved;
+  return reach;
+}
+
+std::optional<uint64_t> ContactPredictor::predicted_contact_us(uint64_t now_us) const {
+  const std::optional<Reach> local = reach(local_, now_us), remote = reach(remote_, now_us);
+  if (!local || !remote) return std::nullopt;
+  const HandSkeleton local_hands[] = {local->at_glass}, remote_hands[] = {remote->at_glass};
+  if (overlap_area_m2(local_hands, remote_hands, touch_.joint_distance_m) <= touch_.start_area_m2) return std::nullopt;
+  return std::max(local->contact_us, remote->contact_us);
+}
+
+}  // namespace rt
+
