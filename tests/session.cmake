@@ -101,3 +101,6 @@ add_test(NAME readme_commands
          COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/cli/readme_commands.py ${CMAKE_SOURCE_DIR}/README.md ${rt}
                  ${CMAKE_BINARY_DIR}/test-out/readme-commands)
 set_tests_properties(readme_commands PROPERTIES TIMEOUT 300 RUN_SERIAL TRUE)
+# A config that is not there: the file and the reason.
+add_cli_test(session_site_missing_config 1 "remotetouch: error: cannot open '[^']*no-such-config\\.json': No such file or directory"
+             ${rt} site --config no-such-config.json --out ${CMAKE_BINARY_DIR}/test-out/site-missing-config)

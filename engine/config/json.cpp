@@ -1,15 +1,28 @@
 #include "config/json.h"
 
+#include <cerrno>
 #include <charconv>
+#include <cstring>
 #include <cmath>
 #include <fstream>
 
 namespace rt::config {
 
 
+namespace {
+constexpr uintmax_t kMaxJsonFileBytes = uintmax_t(64) << 20;
+}  // namespace
+
 nlohmann::json read_json_file(const std::filesystem::path& path) {
   std::ifstream file(path);
-  if (!file) throw JsonError("cannot open '" + path.string() + "'");
+  if (!file) throw JsonError("cannot open '" + path.string() + "': " + std::strerror(errno));
+  // Parsing keeps the whole document in memory: a file far larger than any of ours (a device,
+  // a mistaken path) is refused before it is read.
+  std::error_code size_error;
+  const uintmax_t size = std::filesystem::file_size(path, size_error);
+  if (size_error || size > kMaxJsonFileBytes)
+    throw JsonError("'" + path.string() + "' is " + (size_error ? "not a regular file" : std::to_string(size) + " bytes") +
+                    ": a JSON file of ours is at most " + std::to_string(kMaxJsonFileBytes >> 20) + " MiB");
   try {
     return nlohmann::json::parse(file);
   } catch (const nlohmann::json::exception& error) {  // parse errors, and numbers out of range (1E999)

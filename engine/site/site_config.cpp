@@ -8,6 +8,7 @@
 
 #include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
+#include "config/json.h"
 #include "site/site_options.h"
 #include "tracker/leap_service.h"
 
@@ -38,10 +39,8 @@ bool display_present() {
 }
 
 void apply_site_config(const std::filesystem::path& config, SiteRunOptions& options) {
-  std::ifstream file(config);
-  if (!file) throw std::runtime_error("cannot read the site config " + config.string());
-  const nlohmann::json json = nlohmann::json::parse(file, nullptr, false);
-  if (json.is_discarded() || !json.is_object()) throw std::runtime_error(config.string() + ": not a JSON object");
+  const nlohmann::json json = config::read_json_file(config);
+  if (!json.is_object()) throw std::runtime_error(config.string() + ": not a JSON object");
   const std::filesystem::path base = config.parent_path();
   auto string_field = [&](const char* name, std::string& value) {
     if (!json.contains(name)) return;

@@ -16,7 +16,8 @@ rt::fuzz::Outcome site_config(std::string_view input) {
       rt::fuzz::fail("accepted a width of " + std::to_string(options.run.width));
     if (options.run.height != 0 && (options.run.height < 16 || options.run.height > 4096))
       rt::fuzz::fail("accepted a height of " + std::to_string(options.run.height));
-    if (!(options.time_scale >= 1e-3 && options.time_scale <= 10.0))
+    // 0: not given, chosen by the device when the site starts.
+    if (!(options.time_scale == 0.0 || (options.time_scale >= 1e-3 && options.time_scale <= 10.0)))
       rt::fuzz::fail("accepted a time scale of " + std::to_string(options.time_scale));
     if (!(options.resolution_scale >= 0.0 && options.resolution_scale <= 1.0))
       rt::fuzz::fail("accepted a resolution scale of " + std::to_string(options.resolution_scale));
