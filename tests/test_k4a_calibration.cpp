@@ -22,9 +22,9 @@ namespace {
 // and size so that reading them in OpenCV's order instead of the file's moves every pixel.
 constexpr double kP1 = 4.0e-4, kP2 = -1.5e-3;
 const std::vector<double> kDepthParameters = {0.5041, 0.5072, 0.4927, 0.4928, 3.21, 2.05, 0.098,
-                                              3.55, 3.05, 0.51, 0.0, 0.0, kP2, kP1};
+                                              3.55,   3.05,   0.51,   0.0,    0.0,  kP2,  kP1};
 const std::vector<double> kColorParameters = {0.4993, 0.5067, 0.4782, 0.6375, 0.62, -2.83, 1.61,
-                                              0.49, -2.65, 1.54, 0.0, 0.0, kP2, kP1};
+                                              0.49,   -2.65,  1.54,   0.0,    0.0,  kP2,   kP1};
 
 json camera_json(const char* location, const std::vector<double>& parameters, int width, int height,
                  std::vector<double> rotation, std::vector<double> translation) {
@@ -41,8 +41,8 @@ json camera_json(const char* location, const std::vector<double>& parameters, in
 
 // A small rotation about x (the real devices' colour camera is tilted 6 degrees) and a 32 mm
 // baseline.
-const std::vector<double> kColorRotation = {1, 0, 0, 0, 0.9945218953682733, -0.10452846326765347,
-                                            0, 0.10452846326765347, 0.9945218953682733};
+const std::vector<double> kColorRotation = {
+    1, 0, 0, 0, 0.9945218953682733, -0.10452846326765347, 0, 0.10452846326765347, 0.9945218953682733};
 const std::vector<double> kColorTranslation = {-0.032, -0.002, 0.004};
 
 std::string device_json(int color_height = 3072) {
@@ -66,9 +66,12 @@ const std::vector<std::pair<DepthMode, SdkMode>> kSdkDepth = {
     {DepthMode::wfov_2x2_binned, {512, 512, 0, 0, 512, 512}},
     {DepthMode::wfov_unbinned, {1024, 1024, 0, 0, 1024, 1024}}};
 const std::vector<std::pair<ColorResolution, SdkMode>> kSdkColor = {
-    {ColorResolution::p720, {1280, 960, 0, 120, 1280, 720}},   {ColorResolution::p1080, {1920, 1440, 0, 180, 1920, 1080}},
-    {ColorResolution::p1440, {2560, 1920, 0, 240, 2560, 1440}}, {ColorResolution::p1536, {2048, 1536, 0, 0, 2048, 1536}},
-    {ColorResolution::p2160, {3840, 2880, 0, 360, 3840, 2160}}, {ColorResolution::p3072, {4096, 3072, 0, 0, 4096, 3072}}};
+    {ColorResolution::p720, {1280, 960, 0, 120, 1280, 720}},
+    {ColorResolution::p1080, {1920, 1440, 0, 180, 1920, 1080}},
+    {ColorResolution::p1440, {2560, 1920, 0, 240, 2560, 1440}},
+    {ColorResolution::p1536, {2048, 1536, 0, 0, 2048, 1536}},
+    {ColorResolution::p2160, {3840, 2880, 0, 360, 3840, 2160}},
+    {ColorResolution::p3072, {4096, 3072, 0, 0, 4096, 3072}}};
 
 // What the SDK computes: pixelized, 0-centred fx, fy, cx, cy.
 std::array<double, 4> sdk_mode_intrinsics(const std::vector<double>& p, const SdkMode& m) {
@@ -76,7 +79,8 @@ std::array<double, 4> sdk_mode_intrinsics(const std::vector<double>& p, const Sd
 }
 
 // The SDK's Brown-Conrady projection (intrinsic_transformation.c), in its own parameter names.
-Eigen::Vector2d sdk_project(const std::vector<double>& p, const std::array<double, 4>& f, const Eigen::Vector3d& point) {
+Eigen::Vector2d sdk_project(const std::vector<double>& p, const std::array<double, 4>& f,
+                            const Eigen::Vector3d& point) {
   const double k1 = p[4], k2 = p[5], k3 = p[6], k4 = p[7], k5 = p[8], k6 = p[9], p2 = p[12], p1 = p[13];
   const double xp = point.x() / point.z(), yp = point.y() / point.z();
   const double rs = xp * xp + yp * yp, xyp = xp * yp;
@@ -86,8 +90,8 @@ Eigen::Vector2d sdk_project(const std::vector<double>& p, const std::array<doubl
   return {xd * f[0] + f[2], yd * f[1] + f[3]};
 }
 
-const std::vector<Eigen::Vector3d> kPoints = {{0.0, 0.0, 1.0},   {0.31, -0.22, 1.4}, {-0.4, 0.27, 0.9},
-                                              {0.12, 0.35, 2.1}, {-0.2, -0.3, 0.7}};
+const std::vector<Eigen::Vector3d> kPoints = {
+    {0.0, 0.0, 1.0}, {0.31, -0.22, 1.4}, {-0.4, 0.27, 0.9}, {0.12, 0.35, 2.1}, {-0.2, -0.3, 0.7}};
 
 }  // namespace
 
@@ -156,7 +160,8 @@ TEST_CASE("k4a: projection at a mode matches the SDK's model and cv::projectPoin
   right.intrinsics = depth_intrinsics(calibration.depth, DepthMode::nfov_unbinned);
   wrong.intrinsics = swapped;
   double largest = 0;
-  for (const Eigen::Vector3d& point : kPoints) largest = std::max(largest, (*right.project(point) - *wrong.project(point)).norm());
+  for (const Eigen::Vector3d& point : kPoints)
+    largest = std::max(largest, (*right.project(point) - *wrong.project(point)).norm());
   CHECK(largest > 1.0);
 }
 
@@ -237,7 +242,8 @@ TEST_CASE("k4a: a bad calibration.json is refused naming what is wrong") {
   document = json::parse(device_json());
   document["CalibrationInformation"]["Cameras"][0]["SensorWidth"] = 640;
   const DeviceCalibration odd = parse_calibration_json(document.dump(), "f.mkv");
-  CHECK_THROWS_WITH(depth_intrinsics(odd.depth, DepthMode::nfov_unbinned), Contains("640x1024 sensor, expected 1024x1024"));
+  CHECK_THROWS_WITH(depth_intrinsics(odd.depth, DepthMode::nfov_unbinned),
+                    Contains("640x1024 sensor, expected 1024x1024"));
   document["CalibrationInformation"]["Cameras"][1]["SensorHeight"] = 3000;
   const DeviceCalibration odder = parse_calibration_json(document.dump(), "f.mkv");
   CHECK_THROWS_WITH(color_intrinsics(odder.color, ColorResolution::p720), Contains("4096x3000 sensor"));

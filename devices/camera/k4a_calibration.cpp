@@ -91,15 +91,16 @@ SensorCalibration sensor_from_json(const json& camera, const std::string& where)
 
 json sensor_to_json(const SensorCalibration& s, const char* location, const char* purpose) {
   const json parameters = {s.cx, s.cy, s.fx, s.fy, s.k1, s.k2, s.k3, s.k4, s.k5, s.k6, 0.0, 0.0, s.p2, s.p1};
-  return {{"Intrinsics",
-           {{"ModelParameterCount", kModelParameterCount}, {"ModelParameters", parameters}, {"ModelType", kBrownConrady}}},
-          {"Location", location},
-          {"Purpose", purpose},
-          {"MetricRadius", s.metric_radius},
-          {"Rt", rt_to_json(s.camera_from_reference)},
-          {"SensorHeight", s.sensor_height},
-          {"SensorWidth", s.sensor_width},
-          {"Shutter", "CALIBRATION_ShutterTypeUndefined"}};
+  return {
+      {"Intrinsics",
+       {{"ModelParameterCount", kModelParameterCount}, {"ModelParameters", parameters}, {"ModelType", kBrownConrady}}},
+      {"Location", location},
+      {"Purpose", purpose},
+      {"MetricRadius", s.metric_radius},
+      {"Rt", rt_to_json(s.camera_from_reference)},
+      {"SensorHeight", s.sensor_height},
+      {"SensorWidth", s.sensor_width},
+      {"Shutter", "CALIBRATION_ShutterTypeUndefined"}};
 }
 
 // The SDK's playback parses the IMU entries with the cameras; ours are zeros (no IMU is simulated).
@@ -120,8 +121,8 @@ json inertial_sensor(const char* type) {
 void require_sensor(const SensorCalibration& s, uint32_t width, uint32_t height, const char* what) {
   if (s.sensor_width != width || s.sensor_height != height)
     throw CalibrationError(std::string("k4a ") + what + " calibration is for a " + std::to_string(s.sensor_width) +
-                           "x" + std::to_string(s.sensor_height) + " sensor, expected " + std::to_string(width) +
-                           "x" + std::to_string(height));
+                           "x" + std::to_string(s.sensor_height) + " sensor, expected " + std::to_string(width) + "x" +
+                           std::to_string(height));
 }
 
 CameraIntrinsics at_mode(const SensorCalibration& s, const SensorCut& cut) {
@@ -218,8 +219,10 @@ CameraIntrinsics depth_intrinsics(const SensorCalibration& depth, DepthMode mode
 }
 
 CameraIntrinsics color_intrinsics(const SensorCalibration& color, ColorResolution resolution) {
-  if (color.sensor_height != kLegacyColorSensorHeight) require_sensor(color, kColorSensorWidth, kColorSensorHeight, "colour");
-  if (color.sensor_width != kColorSensorWidth) require_sensor(color, kColorSensorWidth, kLegacyColorSensorHeight, "colour");
+  if (color.sensor_height != kLegacyColorSensorHeight)
+    require_sensor(color, kColorSensorWidth, kColorSensorHeight, "colour");
+  if (color.sensor_width != kColorSensorWidth)
+    require_sensor(color, kColorSensorWidth, kLegacyColorSensorHeight, "colour");
   return at_mode(color_sensor_as_4x3(color), sensor_cut(resolution));
 }
 

@@ -1,0 +1,17 @@
+# The RGB-D cameras (devices/camera/): k4a recordings written, read back through FFmpeg, and
+# checked against an independent Matroska reader (mkvinfo, Debian mkvtoolnix).
+find_program(REMOTETOUCH_MKVINFO mkvinfo)
+if(NOT REMOTETOUCH_MKVINFO AND REMOTETOUCH_REQUIRE_ALL_TESTS)
+  message(FATAL_ERROR "mkvinfo not found: install mkvtoolnix (scripts/packages.txt)")
+endif()
+file(GLOB remotetouch_k4a_tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test_k4a_*.cpp)
+foreach(source ${remotetouch_k4a_tests})
+  get_filename_component(name ${source} NAME_WE)
+  target_compile_definitions(${name} PRIVATE REMOTETOUCH_TEST_OUTPUT_DIR="${CMAKE_BINARY_DIR}/test-out/${name}"
+                                             REMOTETOUCH_MKVINFO="${REMOTETOUCH_MKVINFO}")
+endforeach()
+
+# simulate --format k4a refuses cameras whose images are not a k4a mode's size, before rendering.
+add_cli_test(cli_simulate_k4a_not_a_mode 1
+             "k4a: camera 'top-left' has colour 640x360, not a k4a colour resolution \\(1280x720, .*--resolution-scale 1"
+             ${rt} simulate --scene clap --format k4a --frames 1 --out ${CMAKE_BINARY_DIR}/test-out/simulate-k4a-refused)
