@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "camera/k4a_inspection.h"
 #include "camera/k4a_recording_reader.h"
@@ -277,6 +278,9 @@ TEST_CASE("k4a reader: bad files are refused naming the file and what is wrong")
                       Contains("depth_mode.mkv': unknown depth mode K4A_DEPTH_MODE 'NFOV_3X3BINNED'"));
     CHECK_THROWS_WITH(RecordingReader(patched(good, "color_mode.mkv", "MJPG_720P", "MJPG_721P")),
                       Contains("color_mode.mkv': unknown colour mode K4A_COLOR_MODE 'MJPG_721P'"));
+    // A track whose FourCC is not the mode's.
+    CHECK_THROWS_WITH(RecordingReader(patched(good, "wrong_fourcc.mkv", "MJPG", "YUY2")),
+                      Contains("COLOR track has FourCC 'YUY2', mode MJPG_720P records 'MJPG'"));
     // A mode that exists but is not the track's size.
     CHECK_THROWS_WITH(RecordingReader(patched(good, "wrong_size.mkv", "NFOV_2X2BINNED", "WFOV_2X2BINNED")),
                       Contains("DEPTH track is 320x288, mode WFOV_2X2BINNED is 512x512"));
@@ -303,4 +307,40 @@ TEST_CASE("k4a reader: bad files are refused naming the file and what is wrong")
     RecordingReader reader(write_recording("big_jpeg", ColorFormat::mjpg, 1, 0, big));
     CHECK_THROWS_WITH(reader.next_capture(), Contains("big_jpeg.mkv': COLOR frame at device time 7000000 us"));
   }
+}
+
+TEST_CASE("k4a reader: damaged bytes anywhere end in captures of the mode's size or in a RecordingError") {
+  const std::filesystem::path good = write_recording("to_damage", ColorFormat::mjpg, 3);
+  const std::vector<char> original = read_bytes(good);
+  std::mt19937 random(47);
+  size_t refused = 0, read = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    INFO("trial " << trial);
+    std::vector<char> bytes = original;
+    // Even trials damage the header (tracks, attachment, tags: the first 4 kB), odd ones the
+    // captures after it.
+    const bool header = trial % 2 == 0;
+    for (int i = 0; i < 16; ++i) {
+      const size_t at = header ? std::uniform_int_distribution<size_t>(0, 4095)(random)
+                               : std::uniform_int_distribution<size_t>(4096, bytes.size() - 1)(random);
+      bytes[at] = char(random());
+    }
+    const std::filesystem::path file = write_bytes("damaged.mkv", bytes);
+    try {
+      RecordingReader reader(file);
+      for (int n = 0; n < 10; ++n) {
+        const std::optional<Capture> capture = reader.next_capture();
+        if (!capture) break;
+        ++read;
+        if (capture->color_device_us) CHECK(capture->color.texels.size() == size_t(1280) * 720 * 4);
+        if (capture->depth_device_us) CHECK(capture->depth_mm.texels.size() == size_t(320) * 288);
+      }
+    } catch (const RecordingError& e) {
+      ++refused;
+      CHECK_THAT(e.what(), Contains("damaged.mkv'"));
+    }
+  }
+  std::printf("k4a reader, damaged files: %zu of 60 refused, %zu captures read\n", refused, read);
+  CHECK(refused > 0);
+  CHECK(read > 0);
 }

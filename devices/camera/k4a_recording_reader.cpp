@@ -10,6 +10,7 @@ extern "C" {
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -65,6 +66,21 @@ std::optional<T> parse_integer(const std::string& text) {
   return value;
 }
 
+// 'MJPG', or the number when its bytes are not all printable.
+std::string fourcc_text(uint32_t fourcc) {
+  std::string text;
+  for (int i = 0; i < 4; ++i) {
+    const char c = char(fourcc >> (8 * i));
+    if (c < 0x20 || c > 0x7e) {
+      char hex[16];
+      std::snprintf(hex, sizeof(hex), "0x%08x", fourcc);
+      return hex;
+    }
+    text += c;
+  }
+  return "'" + text + "'";
+}
+
 HostImage rgba_from(const uint8_t* pixels, uint32_t width, uint32_t height) {
   HostImage image(width, height, PixelFormat::RGBA8);
   for (size_t i = 0; i < image.texels.size(); ++i) image.texels[i] = pixels[i] / 255.0f;
@@ -74,6 +90,7 @@ HostImage rgba_from(const uint8_t* pixels, uint32_t width, uint32_t height) {
 }  // namespace
 
 struct RecordingReader::Demuxer {
+  std::string where;  // the file, quoted, as errors name it
   AVFormatContext* format = nullptr;
   int color_stream = -1, depth_stream = -1;
   std::unique_ptr<AVCodecContext, CodecDeleter> jpeg;
@@ -89,6 +106,113 @@ struct RecordingReader::Demuxer {
     sws_freeContext(scaler);
     avformat_close_input(&format);
   }
+
+  int64_t timecode_us(const AVPacket& packet) const {
+    const AVStream* stream = format->streams[packet.stream_index];
+    const int64_t ts = packet.pts != AV_NOPTS_VALUE ? packet.pts : packet.dts;
+    return av_rescale_q(ts, stream->time_base, AVRational{1, 1000000});
+  }
+
+  // A file cut short loses its last blocks whole: the last block read must be at the duration
+  // the header declares (the time of the last block written), when it declares one.
+  void check_complete() {
+    if (format->duration == AV_NOPTS_VALUE || format->duration <= 0) return;
+    const int64_t declared_us = av_rescale_q(format->duration, AV_TIME_BASE_Q, AVRational{1, 1000000});
+    if (last_block_us < declared_us)
+      truncation = where + ": the file ends at " + std::to_string(last_block_us) + " us of its " +
+                   std::to_string(declared_us) + " us: truncated";
+  }
+
+  // The next COLOR or DEPTH packet, other tracks (IR, IMU) skipped; empty at the end.
+  Packet read_packet() {
+    if (pending) return std::move(pending);
+    while (!ended) {
+      Packet packet(av_packet_alloc());
+      const int error = av_read_frame(format, packet.get());
+      if (error == AVERROR_EOF) {
+        ended = true;
+        check_complete();
+        break;
+      }
+      if (error < 0) throw RecordingError(where + ": the file is truncated or damaged (" + av_error(error) + ")");
+      if (packet->stream_index == color_stream || packet->stream_index == depth_stream) {
+        last_block_us = std::max(last_block_us, timecode_us(*packet));
+        return packet;
+      }
+    }
+    return nullptr;
+  }
+
+  HostImage decode_depth(const AVPacket& packet, DepthMode mode, const std::string& frame_name) const {
+    const SensorCut& cut = sensor_cut(mode);
+    const size_t expected = size_t(cut.output_width) * cut.output_height * 2;
+    if ((packet.flags & AV_PKT_FLAG_CORRUPT) || size_t(packet.size) != expected)
+      throw RecordingError(frame_name + " has " + std::to_string(packet.size) + " bytes, " +
+                           std::string(depth_mode_name(mode)) + " needs " + std::to_string(expected) +
+                           " (truncated or damaged)");
+    HostImage depth(cut.output_width, cut.output_height, PixelFormat::R16U);
+    for (size_t i = 0; i < depth.texels.size(); ++i)
+      depth.texels[i] = float((uint32_t(packet.data[2 * i]) << 8) | packet.data[2 * i + 1]);  // big-endian
+    return depth;
+  }
+
+  HostImage decode_color(const AVPacket& packet, ColorFormat format, ColorResolution resolution,
+                         const std::string& frame_name) {
+    const SensorCut& cut = sensor_cut(resolution);
+    const int w = int(cut.output_width), h = int(cut.output_height);
+    if (packet.flags & AV_PKT_FLAG_CORRUPT) throw RecordingError(frame_name + " is truncated or damaged");
+    AVPixelFormat source_format = AV_PIX_FMT_NONE;
+    const uint8_t* planes[4] = {};
+    int strides[4] = {};
+    size_t expected = 0;
+    switch (format) {
+      case ColorFormat::mjpg: {
+        int error = avcodec_send_packet(jpeg.get(), &packet);
+        if (error >= 0) error = avcodec_receive_frame(jpeg.get(), frame.get());
+        if (error < 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) || frame->decode_error_flags)
+          throw RecordingError(frame_name + " is not a decodable JPEG (" +
+                               (error < 0 ? av_error(error) : std::string("decode errors")) + ")");
+        if (frame->width != w || frame->height != h)
+          throw RecordingError(frame_name + " decodes to " + std::to_string(frame->width) + "x" +
+                               std::to_string(frame->height) + ", the track is " + std::to_string(w) + "x" +
+                               std::to_string(h));
+        source_format = AVPixelFormat(frame->format);
+        for (int i = 0; i < 4; ++i) planes[i] = frame->data[i], strides[i] = frame->linesize[i];
+        break;
+      }
+      case ColorFormat::nv12:
+        source_format = AV_PIX_FMT_NV12;
+        expected = size_t(w) * h * 3 / 2;
+        planes[0] = packet.data, strides[0] = w;
+        planes[1] = packet.data + size_t(w) * h, strides[1] = w;
+        break;
+      case ColorFormat::yuy2:
+        source_format = AV_PIX_FMT_YUYV422;
+        expected = size_t(w) * h * 2;
+        planes[0] = packet.data, strides[0] = w * 2;
+        break;
+      case ColorFormat::bgra:
+        source_format = AV_PIX_FMT_BGRA;
+        expected = size_t(w) * h * 4;
+        planes[0] = packet.data, strides[0] = w * 4;
+        break;
+    }
+    if (format != ColorFormat::mjpg && size_t(packet.size) != expected)
+      throw RecordingError(frame_name + " has " + std::to_string(packet.size) + " bytes, " +
+                           std::string(color_format_name(format)) + " " + std::to_string(w) + "x" + std::to_string(h) +
+                           " needs " + std::to_string(expected) + " (truncated or damaged)");
+    // Chroma interpolated at full resolution with exact rounding: subsampled colour as close to
+    // the scene as it can be.
+    scaler = sws_getCachedContext(scaler, w, h, source_format, w, h, AV_PIX_FMT_RGBA,
+                                  SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT | SWS_FULL_CHR_H_INP, nullptr,
+                                  nullptr, nullptr);
+    if (!scaler) throw RecordingError(frame_name + ": no conversion from its pixel format to RGBA");
+    rgba.resize(size_t(w) * h * 4);
+    uint8_t* out[4] = {rgba.data(), nullptr, nullptr, nullptr};
+    int out_strides[4] = {w * 4, 0, 0, 0};
+    sws_scale(scaler, planes, strides, 0, h, out, out_strides);
+    return rgba_from(rgba.data(), uint32_t(w), uint32_t(h));
+  }
 };
 
 RecordingReader::RecordingReader(const std::filesystem::path& path)
@@ -99,6 +223,7 @@ RecordingReader::RecordingReader(const std::filesystem::path& path)
   av_log_set_level(AV_LOG_FATAL);
   if (!std::filesystem::is_regular_file(path)) throw fail("no such file");
   Demuxer& d = *demuxer_;
+  d.where = where;
   if (const int error = avformat_open_input(&d.format, path.c_str(), nullptr, nullptr); error < 0) {
     // The demuxer reads the header up to the first cluster: a file without one ends there.
     if (error == AVERROR_EOF)
@@ -142,12 +267,9 @@ RecordingReader::RecordingReader(const std::filesystem::path& path)
   const auto check_track = [&](int index, const char* name, const SensorCut& cut, uint32_t fourcc,
                                const std::string& mode_name) {
     const AVCodecParameters* codec = d.format->streams[index]->codecpar;
-    if (codec->codec_tag != fourcc) {
-      char got[5] = {char(codec->codec_tag), char(codec->codec_tag >> 8), char(codec->codec_tag >> 16),
-                     char(codec->codec_tag >> 24), 0};
-      char want[5] = {char(fourcc), char(fourcc >> 8), char(fourcc >> 16), char(fourcc >> 24), 0};
-      throw fail(std::string(name) + " track has FourCC '" + got + "', mode " + mode_name + " records '" + want + "'");
-    }
+    if (codec->codec_tag != fourcc)
+      throw fail(std::string(name) + " track has FourCC " + fourcc_text(codec->codec_tag) + ", mode " + mode_name +
+                 " records " + fourcc_text(fourcc));
     if (uint32_t(codec->width) != cut.output_width || uint32_t(codec->height) != cut.output_height)
       throw fail(std::string(name) + " track is " + std::to_string(codec->width) + "x" + std::to_string(codec->height) +
                  ", mode " + mode_name + " is " + std::to_string(cut.output_width) + "x" +
@@ -223,48 +345,13 @@ RecordingReader::~RecordingReader() = default;
 
 std::optional<Capture> RecordingReader::next_capture() {
   Demuxer& d = *demuxer_;
-  const std::string where = "'" + path_.string() + "'";
   const uint64_t half_period_us = frame_period_ns(info_.fps) / 2000;
-
-  // A file cut short loses its last blocks whole: the last block read must be at the duration
-  // the header declares (the time of the last block written), when it declares one.
-  const auto check_complete = [&] {
-    if (d.format->duration == AV_NOPTS_VALUE || d.format->duration <= 0) return;
-    const int64_t declared_us = av_rescale_q(d.format->duration, AV_TIME_BASE_Q, AVRational{1, 1000000});
-    if (d.last_block_us < declared_us)
-      d.truncation = where + ": the file ends at " + std::to_string(d.last_block_us) + " us of its " +
-                     std::to_string(declared_us) + " us: truncated";
-  };
-  // The next COLOR or DEPTH packet, other tracks (IR, IMU) skipped.
-  const auto read_packet = [&]() -> Packet {
-    if (d.pending) return std::move(d.pending);
-    while (!d.ended) {
-      Packet packet(av_packet_alloc());
-      const int error = av_read_frame(d.format, packet.get());
-      if (error == AVERROR_EOF) {
-        d.ended = true;
-        check_complete();
-        break;
-      }
-      if (error < 0) throw RecordingError(where + ": the file is truncated or damaged (" + av_error(error) + ")");
-      if (packet->stream_index == d.color_stream || packet->stream_index == d.depth_stream) {
-        const AVStream* stream = d.format->streams[packet->stream_index];
-        const int64_t ts = packet->pts != AV_NOPTS_VALUE ? packet->pts : packet->dts;
-        d.last_block_us = std::max(d.last_block_us, av_rescale_q(ts, stream->time_base, AVRational{1, 1000000}));
-        return packet;
-      }
-    }
-    return nullptr;
-  };
   const auto device_us = [&](const AVPacket& packet) {
-    const AVStream* stream = d.format->streams[packet.stream_index];
-    const int64_t ts = packet.pts != AV_NOPTS_VALUE ? packet.pts : packet.dts;
-    return uint64_t(std::max<int64_t>(0, av_rescale_q(ts, stream->time_base, AVRational{1, 1000000}))) +
-           info_.start_offset_us;
+    return uint64_t(std::max<int64_t>(0, d.timecode_us(packet))) + info_.start_offset_us;
   };
 
   Packet color, depth;
-  while (Packet packet = read_packet()) {
+  while (Packet packet = d.read_packet()) {
     const bool is_color = packet->stream_index == d.color_stream;
     Packet& slot = is_color ? color : depth;
     const Packet& other = is_color ? depth : color;
@@ -289,77 +376,17 @@ std::optional<Capture> RecordingReader::next_capture() {
   }
 
   Capture capture;
+  const auto frame_name = [&](const char* track, uint64_t time) {
+    return d.where + ": " + track + " frame at device time " + std::to_string(time) + " us";
+  };
   if (depth) {
-    const uint64_t time = device_us(*depth);
-    capture.depth_device_us = time;
-    const SensorCut& cut = sensor_cut(info_.depth_mode);
-    const size_t expected = size_t(cut.output_width) * cut.output_height * 2;
-    if ((depth->flags & AV_PKT_FLAG_CORRUPT) || size_t(depth->size) != expected)
-      throw RecordingError(where + ": DEPTH frame at device time " + std::to_string(time) + " us has " +
-                           std::to_string(depth->size) + " bytes, " + std::string(depth_mode_name(info_.depth_mode)) +
-                           " needs " + std::to_string(expected) + " (truncated or damaged)");
-    capture.depth_mm = HostImage(cut.output_width, cut.output_height, PixelFormat::R16U);
-    for (size_t i = 0; i < capture.depth_mm.texels.size(); ++i)
-      capture.depth_mm.texels[i] = float((uint32_t(depth->data[2 * i]) << 8) | depth->data[2 * i + 1]);
+    capture.depth_device_us = device_us(*depth);
+    capture.depth_mm = d.decode_depth(*depth, info_.depth_mode, frame_name("DEPTH", *capture.depth_device_us));
   }
   if (color) {
-    const uint64_t time = device_us(*color);
-    capture.color_device_us = time;
-    const SensorCut& cut = sensor_cut(info_.color_resolution);
-    const int w = int(cut.output_width), h = int(cut.output_height);
-    const std::string frame_name = where + ": COLOR frame at device time " + std::to_string(time) + " us";
-    if (color->flags & AV_PKT_FLAG_CORRUPT) throw RecordingError(frame_name + " is truncated or damaged");
-    AVPixelFormat source_format = AV_PIX_FMT_NONE;
-    const uint8_t* planes[4] = {};
-    int strides[4] = {};
-    size_t expected = 0;
-    switch (info_.color_format) {
-      case ColorFormat::mjpg: {
-        int error = avcodec_send_packet(d.jpeg.get(), color.get());
-        if (error >= 0) error = avcodec_receive_frame(d.jpeg.get(), d.frame.get());
-        if (error < 0 || (d.frame->flags & AV_FRAME_FLAG_CORRUPT) || d.frame->decode_error_flags)
-          throw RecordingError(frame_name + " is not a decodable JPEG (" +
-                               (error < 0 ? av_error(error) : std::string("decode errors")) + ")");
-        if (d.frame->width != w || d.frame->height != h)
-          throw RecordingError(frame_name + " decodes to " + std::to_string(d.frame->width) + "x" +
-                               std::to_string(d.frame->height) + ", the track is " + std::to_string(w) + "x" +
-                               std::to_string(h));
-        source_format = AVPixelFormat(d.frame->format);
-        for (int i = 0; i < 4; ++i) planes[i] = d.frame->data[i], strides[i] = d.frame->linesize[i];
-        break;
-      }
-      case ColorFormat::nv12:
-        source_format = AV_PIX_FMT_NV12;
-        expected = size_t(w) * h * 3 / 2;
-        planes[0] = color->data, strides[0] = w;
-        planes[1] = color->data + size_t(w) * h, strides[1] = w;
-        break;
-      case ColorFormat::yuy2:
-        source_format = AV_PIX_FMT_YUYV422;
-        expected = size_t(w) * h * 2;
-        planes[0] = color->data, strides[0] = w * 2;
-        break;
-      case ColorFormat::bgra:
-        source_format = AV_PIX_FMT_BGRA;
-        expected = size_t(w) * h * 4;
-        planes[0] = color->data, strides[0] = w * 4;
-        break;
-    }
-    if (info_.color_format != ColorFormat::mjpg && size_t(color->size) != expected)
-      throw RecordingError(frame_name + " has " + std::to_string(color->size) + " bytes, " +
-                           std::string(color_format_name(info_.color_format)) + " " + std::to_string(w) + "x" +
-                           std::to_string(h) + " needs " + std::to_string(expected) + " (truncated or damaged)");
-    // Chroma interpolated at full resolution with exact rounding: subsampled colour as close to
-    // the scene as it can be.
-    d.scaler = sws_getCachedContext(d.scaler, w, h, source_format, w, h, AV_PIX_FMT_RGBA,
-                                    SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT | SWS_FULL_CHR_H_INP, nullptr,
-                                    nullptr, nullptr);
-    if (!d.scaler) throw RecordingError(frame_name + ": no conversion from its pixel format to RGBA");
-    d.rgba.resize(size_t(w) * h * 4);
-    uint8_t* out[4] = {d.rgba.data(), nullptr, nullptr, nullptr};
-    int out_strides[4] = {w * 4, 0, 0, 0};
-    sws_scale(d.scaler, planes, strides, 0, h, out, out_strides);
-    capture.color = rgba_from(d.rgba.data(), uint32_t(w), uint32_t(h));
+    capture.color_device_us = device_us(*color);
+    capture.color = d.decode_color(*color, info_.color_format, info_.color_resolution,
+                                   frame_name("COLOR", *capture.color_device_us));
   }
   return capture;
 }
