@@ -10,6 +10,8 @@ foreach(source ${remotetouch_k4a_tests})
   target_compile_definitions(${name} PRIVATE REMOTETOUCH_TEST_OUTPUT_DIR="${CMAKE_BINARY_DIR}/test-out/${name}"
                                              REMOTETOUCH_MKVINFO="${REMOTETOUCH_MKVINFO}")
 endforeach()
+# The writer's test also asks libavformat how it sees what we wrote.
+target_link_libraries(test_k4a_recording_writer PRIVATE PkgConfig::FFMPEG)
 
 # simulate --format k4a refuses cameras whose images are not a k4a mode's size, before rendering.
 add_cli_test(cli_simulate_k4a_not_a_mode 1

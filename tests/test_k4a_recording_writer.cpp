@@ -1,5 +1,6 @@
-// k4a recordings as we write them (devices/camera/k4a_recording_writer.h), read back by an
-// independent Matroska reader (mkvinfo) and held to the rules the SDK's playback applies: video
+// k4a recordings as we write them (devices/camera/k4a_recording_writer.h), read back by
+// independent Matroska readers (mkvinfo; libavformat, as it reads real recordings) and held to the
+// rules the SDK's playback applies: video
 // tracks COLOR and DEPTH of codec V_MS/VFW/FOURCC with a 40-byte BITMAPINFOHEADER naming the
 // FourCC, a DefaultDuration of a 5, 15 or 30 fps period, sizes of the recorded modes, the
 // K4A_DEPTH_MODE tag, the track-UID tags pointing at the tracks, the calibration attachment,
@@ -13,6 +14,10 @@
 #include <sstream>
 
 #include "camera/k4a_recording_writer.h"
+
+extern "C" {
+#include <libavformat/avformat.h>
+}
 
 using namespace rt;
 using namespace rt::camera::k4a;
@@ -221,4 +226,42 @@ TEST_CASE("k4a writer: the frame period of each k4a rate, and bad arguments refu
                     Contains("BGRA colour of 921600 bytes, the mode needs 3686400"));
   CHECK_THROWS_WITH(RecordingWriter("/nonexistent-dir/x.mkv", test_config()),
                     Contains("cannot create '/nonexistent-dir/x.mkv'"));
+}
+
+TEST_CASE("k4a writer: libavformat sees MJPG colour, gray16be depth, 30 fps and the calibration attachment") {
+  std::filesystem::create_directories(kOut);
+  const std::filesystem::path file = kOut / "libavformat.mkv";
+  {
+    RecordingWriter writer(file, test_config());
+    for (uint32_t i = 0; i < 2; ++i)
+      writer.write_capture(1'000'000 + i * 33'333, encode_mjpg(gradient_rgba(1280, 720, 0.2f), 90),
+                           depth_ramp(320, 288, i));
+  }
+  AVFormatContext* format = nullptr;
+  REQUIRE(avformat_open_input(&format, file.c_str(), nullptr, nullptr) == 0);
+  REQUIRE(avformat_find_stream_info(format, nullptr) >= 0);
+  const AVStream *color = nullptr, *depth = nullptr, *attachment = nullptr;
+  for (unsigned i = 0; i < format->nb_streams; ++i) {
+    const AVStream* stream = format->streams[i];
+    const AVDictionaryEntry* title = av_dict_get(stream->metadata, "title", nullptr, 0);
+    if (title && std::string(title->value) == "COLOR") color = stream;
+    if (title && std::string(title->value) == "DEPTH") depth = stream;
+    if (stream->codecpar->codec_type == AVMEDIA_TYPE_ATTACHMENT) attachment = stream;
+  }
+  REQUIRE(color);
+  REQUIRE(depth);
+  REQUIRE(attachment);
+  CHECK(color->codecpar->codec_id == AV_CODEC_ID_MJPEG);
+  CHECK(color->codecpar->codec_tag == 0x47504A4Du);  // "MJPG"
+  CHECK(color->codecpar->width == 1280);
+  CHECK(depth->codecpar->codec_id == AV_CODEC_ID_RAWVIDEO);
+  CHECK(depth->codecpar->codec_tag == 0x67363162u);  // "b16g"
+  CHECK(depth->codecpar->format == AV_PIX_FMT_GRAY16BE);
+  CHECK(depth->codecpar->height == 288);
+  CHECK(color->avg_frame_rate.num == 30);
+  CHECK(color->avg_frame_rate.den == 1);
+  CHECK(std::string(av_dict_get(attachment->metadata, "filename", nullptr, 0)->value) == "calibration.json");
+  CHECK(std::string(av_dict_get(format->metadata, "K4A_WIRED_SYNC_MODE", nullptr, 0)->value) == "SUBORDINATE");
+  CHECK(std::string(av_dict_get(depth->metadata, "K4A_DEPTH_MODE", nullptr, 0)->value) == "NFOV_2X2BINNED");
+  avformat_close_input(&format);
 }

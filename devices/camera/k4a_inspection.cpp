@@ -1,5 +1,6 @@
 #include "camera/k4a_inspection.h"
 
+#include <chrono>
 #include <cstdio>
 
 #include "config/json.h"
@@ -52,7 +53,9 @@ InspectionSummary inspect_recording(const std::filesystem::path& recording, size
   nlohmann::json captures = nlohmann::json::array();
   InspectionSummary summary;
   while (summary.captures < max_captures) {
+    const auto start = std::chrono::steady_clock::now();
     const std::optional<Capture> capture = reader.next_capture();
+    summary.decode_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (!capture) break;
     const size_t index = summary.captures++;
     nlohmann::json entry = {{"index", index}, {"color_device_us", nullptr}, {"depth_device_us", nullptr}};

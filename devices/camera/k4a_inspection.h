@@ -18,6 +18,7 @@ nlohmann::json recording_info_to_json(const RecordingInfo& info);
 
 struct InspectionSummary {
   size_t captures = 0;
+  double decode_ms = 0;  // demuxing and decoding them all, PNG writing left out
 };
 
 // Reads up to `max_captures` captures into `out`: camera.json (the above plus "captures", one

@@ -23,8 +23,9 @@ class InspectCameraCommand : public Command {
   }
   int run() override {
     const camera::k4a::InspectionSummary summary = camera::k4a::inspect_recording(file_, frames_, out_);
-    std::printf("inspect-camera: %zu captures of '%s' -> %s\n", summary.captures, file_.string().c_str(),
-                (out_ / "camera.json").string().c_str());
+    std::printf("inspect-camera: %zu captures of '%s' -> %s (demuxed and decoded in %.1f ms a capture)\n",
+                summary.captures, file_.string().c_str(), (out_ / "camera.json").string().c_str(),
+                summary.decode_ms / double(summary.captures));
     return 0;
   }
 
