@@ -82,18 +82,21 @@ std::vector<uint8_t> color_codec_private(ColorFormat format, const SensorCut& cu
                             raw_color_bytes(format, cut));
 }
 
-// Matroska UIDs: random, non-zero, distinct within the file.
+// Matroska UIDs: random (so that tracks stay told apart across files), non-zero, distinct
+// within the file.
 class UidSource {
  public:
   UidSource() : random_(std::random_device{}()) {}
   uint64_t next() {
     uint64_t uid = 0;
-    while (uid == 0) uid = random_() >> 4;
+    while (uid == 0 || std::find(given_.begin(), given_.end(), uid) != given_.end()) uid = random_() >> 4;
+    given_.push_back(uid);
     return uid;
   }
 
  private:
   std::mt19937_64 random_;
+  std::vector<uint64_t> given_;
 };
 
 uint8_t to_byte(float value) { return uint8_t(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f)); }
@@ -101,6 +104,53 @@ uint8_t to_byte(float value) { return uint8_t(std::lround(std::clamp(value, 0.0f
 void require_rgba8(const HostImage& rgba) {
   if (rgba.format != PixelFormat::RGBA8 && rgba.format != PixelFormat::RGBA32F)
     throw std::invalid_argument(std::string("k4a colour: expected an RGBA image, got ") + format_name(rgba.format));
+}
+
+KaxTrackEntry& add_video_track(KaxTracks& tracks, uint64_t number, uint64_t uid, const char* name,
+                               const std::vector<uint8_t>& codec_private, const SensorCut& cut, uint64_t period_ns) {
+  auto& track = AddNewChild<KaxTrackEntry>(tracks);
+  track.SetGlobalTimecodeScale(kTimecodeScaleNs);
+  GetChild<KaxTrackNumber>(track).SetValue(number);
+  GetChild<KaxTrackUID>(track).SetValue(uid);
+  GetChild<KaxTrackType>(track).SetValue(track_video);
+  GetChild<KaxTrackName>(track).SetValueUTF8(name);
+  GetChild<KaxCodecID>(track).SetValue("V_MS/VFW/FOURCC");
+  GetChild<KaxCodecPrivate>(track).CopyBuffer(codec_private.data(), uint32(codec_private.size()));
+  GetChild<KaxTrackDefaultDuration>(track).SetValue(period_ns);
+  auto& video = GetChild<KaxTrackVideo>(track);
+  GetChild<KaxVideoPixelWidth>(video).SetValue(cut.output_width);
+  GetChild<KaxVideoPixelHeight>(video).SetValue(cut.output_height);
+  track.EnableLacing(false);
+  return track;
+}
+
+void add_attachment(KaxAttachments& attachments, const char* name, const std::string& bytes, uint64_t uid) {
+  auto& attached = AddNewChild<KaxAttached>(attachments);
+  GetChild<KaxFileName>(attached).SetValueUTF8(name);
+  GetChild<KaxMimeType>(attached).SetValue("application/octet-stream");
+  GetChild<KaxFileUID>(attached).SetValue(uid);
+  GetChild<KaxFileData>(attached).CopyBuffer(reinterpret_cast<const binary*>(bytes.data()), uint32(bytes.size()));
+}
+
+enum class TagTarget { none, track, attachment };
+
+void add_tag(KaxTags& tags, const std::string& name, const std::string& value, TagTarget target = TagTarget::none,
+             uint64_t uid = 0) {
+  auto& tag = AddNewChild<KaxTag>(tags);
+  auto& targets = GetChild<KaxTagTargets>(tag);
+  if (target == TagTarget::track) {
+    GetChild<KaxTagTargetType>(targets).SetValue("TRACK");
+    GetChild<KaxTagTrackUID>(targets).SetValue(uid);
+  } else if (target == TagTarget::attachment) {
+    GetChild<KaxTagTargetType>(targets).SetValue("ATTACHMENT");
+    GetChild<KaxTagAttachmentUID>(targets).SetValue(uid);
+  } else {
+    // Targets is mandatory: an empty one would not be written at all.
+    GetChild<KaxTagTrackUID>(targets).SetValue(0);
+  }
+  auto& simple = GetChild<KaxTagSimple>(tag);
+  GetChild<KaxTagName>(simple).SetValueUTF8(name);
+  GetChild<KaxTagString>(simple).SetValueUTF8(value);
 }
 
 }  // namespace
@@ -196,75 +246,34 @@ void RecordingWriter::write_header(uint64_t start_offset_ns) {
 
   KaxTracks& tracks = GetChild<KaxTracks>(segment);
   const uint64_t period_ns = frame_period_ns(config_.fps);
-  const auto add_track = [&](uint64_t number, const char* name, const std::vector<uint8_t>& codec_private,
-                             const SensorCut& cut) -> KaxTrackEntry& {
-    auto& track = AddNewChild<KaxTrackEntry>(tracks);
-    track.SetGlobalTimecodeScale(kTimecodeScaleNs);
-    GetChild<KaxTrackNumber>(track).SetValue(number);
-    GetChild<KaxTrackUID>(track).SetValue(m.uids.next());
-    GetChild<KaxTrackType>(track).SetValue(track_video);
-    GetChild<KaxTrackName>(track).SetValueUTF8(name);
-    GetChild<KaxCodecID>(track).SetValue("V_MS/VFW/FOURCC");
-    GetChild<KaxCodecPrivate>(track).CopyBuffer(codec_private.data(), uint32(codec_private.size()));
-    GetChild<KaxTrackDefaultDuration>(track).SetValue(period_ns);
-    auto& video = GetChild<KaxTrackVideo>(track);
-    GetChild<KaxVideoPixelWidth>(video).SetValue(cut.output_width);
-    GetChild<KaxVideoPixelHeight>(video).SetValue(cut.output_height);
-    track.EnableLacing(false);
-    return track;
-  };
   const SensorCut& color_cut = sensor_cut(config_.color_resolution);
   const SensorCut& depth_cut = sensor_cut(config_.depth_mode);
-  m.color = &add_track(1, "COLOR", color_codec_private(config_.color_format, color_cut), color_cut);
-  m.depth = &add_track(2, "DEPTH",
-                       bitmap_info_header(depth_cut.output_width, depth_cut.output_height, 16, kDepthFourcc,
-                                          depth_cut.output_width * depth_cut.output_height * 2),
-                       depth_cut);
+  const uint64_t color_uid = m.uids.next(), depth_uid = m.uids.next(), calibration_uid = m.uids.next();
+  m.color = &add_video_track(tracks, 1, color_uid, "COLOR", color_codec_private(config_.color_format, color_cut),
+                             color_cut, period_ns);
+  m.depth = &add_video_track(tracks, 2, depth_uid, "DEPTH",
+                             bitmap_info_header(depth_cut.output_width, depth_cut.output_height, 16, kDepthFourcc,
+                                                depth_cut.output_width * depth_cut.output_height * 2),
+                             depth_cut, period_ns);
   tracks.Render(m.io);
 
   KaxAttachments& attachments = GetChild<KaxAttachments>(segment);
-  auto& attached = AddNewChild<KaxAttached>(attachments);
-  const std::string calibration = write_calibration_json(config_.calibration);
-  const uint64_t calibration_uid = m.uids.next();
-  GetChild<KaxFileName>(attached).SetValueUTF8("calibration.json");
-  GetChild<KaxMimeType>(attached).SetValue("application/octet-stream");
-  GetChild<KaxFileUID>(attached).SetValue(calibration_uid);
-  GetChild<KaxFileData>(attached).CopyBuffer(reinterpret_cast<const binary*>(calibration.data()),
-                                             uint32(calibration.size()));
+  add_attachment(attachments, "calibration.json", write_calibration_json(config_.calibration), calibration_uid);
   attachments.Render(m.io);
 
   KaxTags& tags = GetChild<KaxTags>(segment);
-  enum class Target { none, track, attachment };
-  const auto add_tag = [&](const std::string& name, const std::string& value, Target target, uint64_t uid) {
-    auto& tag = AddNewChild<KaxTag>(tags);
-    auto& targets = GetChild<KaxTagTargets>(tag);
-    if (target == Target::track) {
-      GetChild<KaxTagTargetType>(targets).SetValue("TRACK");
-      GetChild<KaxTagTrackUID>(targets).SetValue(uid);
-    } else if (target == Target::attachment) {
-      GetChild<KaxTagTargetType>(targets).SetValue("ATTACHMENT");
-      GetChild<KaxTagAttachmentUID>(targets).SetValue(uid);
-    } else {
-      // Targets is mandatory: an empty one would not be written at all.
-      GetChild<KaxTagTrackUID>(targets).SetValue(0);
-    }
-    auto& simple = GetChild<KaxTagSimple>(tag);
-    GetChild<KaxTagName>(simple).SetValueUTF8(name);
-    GetChild<KaxTagString>(simple).SetValueUTF8(value);
-  };
-  const uint64_t color_uid = GetChild<KaxTrackUID>(*m.color).GetValue();
-  const uint64_t depth_uid = GetChild<KaxTrackUID>(*m.depth).GetValue();
-  add_tag("K4A_COLOR_TRACK", std::to_string(color_uid), Target::track, color_uid);
-  add_tag("K4A_COLOR_MODE", color_mode_tag(config_.color_format, config_.color_resolution), Target::track, color_uid);
-  add_tag("K4A_DEPTH_TRACK", std::to_string(depth_uid), Target::track, depth_uid);
-  add_tag("K4A_DEPTH_MODE", std::string(depth_mode_name(config_.depth_mode)), Target::track, depth_uid);
-  add_tag("K4A_DEPTH_DELAY_NS", std::to_string(config_.depth_delay_ns), Target::none, 0);
-  add_tag("K4A_WIRED_SYNC_MODE", std::string(wired_sync_mode_name(config_.wired_sync)), Target::none, 0);
+  add_tag(tags, "K4A_COLOR_TRACK", std::to_string(color_uid), TagTarget::track, color_uid);
+  add_tag(tags, "K4A_COLOR_MODE", color_mode_tag(config_.color_format, config_.color_resolution), TagTarget::track,
+          color_uid);
+  add_tag(tags, "K4A_DEPTH_TRACK", std::to_string(depth_uid), TagTarget::track, depth_uid);
+  add_tag(tags, "K4A_DEPTH_MODE", std::string(depth_mode_name(config_.depth_mode)), TagTarget::track, depth_uid);
+  add_tag(tags, "K4A_DEPTH_DELAY_NS", std::to_string(config_.depth_delay_ns));
+  add_tag(tags, "K4A_WIRED_SYNC_MODE", std::string(wired_sync_mode_name(config_.wired_sync)));
   if (config_.wired_sync == WiredSyncMode::subordinate)
-    add_tag("K4A_SUBORDINATE_DELAY_NS", std::to_string(config_.subordinate_delay_ns), Target::none, 0);
-  add_tag("K4A_START_OFFSET_NS", std::to_string(start_offset_ns), Target::none, 0);
-  if (!config_.serial.empty()) add_tag("K4A_DEVICE_SERIAL_NUMBER", config_.serial, Target::none, 0);
-  add_tag("K4A_CALIBRATION_FILE", "calibration.json", Target::attachment, calibration_uid);
+    add_tag(tags, "K4A_SUBORDINATE_DELAY_NS", std::to_string(config_.subordinate_delay_ns));
+  add_tag(tags, "K4A_START_OFFSET_NS", std::to_string(start_offset_ns));
+  if (!config_.serial.empty()) add_tag(tags, "K4A_DEVICE_SERIAL_NUMBER", config_.serial);
+  add_tag(tags, "K4A_CALIBRATION_FILE", "calibration.json", TagTarget::attachment, calibration_uid);
   tags.Render(m.io);
 }
 
