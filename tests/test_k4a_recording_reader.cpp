@@ -344,3 +344,33 @@ TEST_CASE("k4a reader: damaged bytes anywhere end in captures of the mode's size
   CHECK(refused > 0);
   CHECK(read > 0);
 }
+
+TEST_CASE("k4a reader: a capture whose colour or depth was dropped comes alone, the next ones whole") {
+  std::filesystem::create_directories(kOut);
+  const std::filesystem::path file = kOut / "dropped.mkv";
+  {
+    RecordingWriter writer(file, test_config(ColorFormat::mjpg));
+    const auto jpeg = [](uint32_t i) { return encode_mjpg(test_color(1280, 720, i), kJpegQuality); };
+    writer.write_capture(kStartUs, jpeg(0), test_depth(320, 288, 0));
+    writer.write_capture(kStartUs + kPeriodUs, {}, test_depth(320, 288, 1));  // colour dropped
+    writer.write_capture(kStartUs + 2 * kPeriodUs, jpeg(2), HostImage());     // depth dropped
+    writer.write_capture(kStartUs + 3 * kPeriodUs, jpeg(3), test_depth(320, 288, 3));
+    CHECK_THROWS_WITH(writer.write_capture(kStartUs + 4 * kPeriodUs, {}, HostImage()),
+                      Contains("a capture without colour or depth"));
+  }
+  RecordingReader reader(file);
+  std::vector<Capture> captures;
+  while (std::optional<Capture> capture = reader.next_capture()) captures.push_back(std::move(*capture));
+  REQUIRE(captures.size() == 4);
+  CHECK(captures[0].color_device_us == kStartUs);
+  CHECK(captures[0].depth_device_us == kStartUs + 200);
+  CHECK(!captures[1].color_device_us);
+  CHECK(captures[1].color.width == 0);
+  CHECK(captures[1].depth_device_us == kStartUs + kPeriodUs + 200);
+  CHECK(captures[1].depth_mm.texels == test_depth(320, 288, 1).texels);
+  CHECK(captures[2].color_device_us == kStartUs + 2 * kPeriodUs);
+  CHECK(!captures[2].depth_device_us);
+  CHECK(captures[2].color.width == 1280);
+  CHECK(captures[3].color_device_us == kStartUs + 3 * kPeriodUs);
+  CHECK(captures[3].depth_mm.texels == test_depth(320, 288, 3).texels);
+}

@@ -280,31 +280,37 @@ void RecordingWriter::write_header(uint64_t start_offset_ns) {
 void RecordingWriter::write_capture(uint64_t color_device_time_us, std::span<const uint8_t> color,
                                     const HostImage& depth_mm) {
   if (closed_) throw std::logic_error("k4a recording: write after close");
+  const bool has_color = !color.empty(), has_depth = depth_mm.width > 0 || depth_mm.height > 0;
+  if (!has_color && !has_depth) throw std::invalid_argument("k4a recording: a capture without colour or depth");
   const SensorCut& depth_cut = sensor_cut(config_.depth_mode);
-  if (depth_mm.format != PixelFormat::R16U || depth_mm.width != depth_cut.output_width ||
-      depth_mm.height != depth_cut.output_height)
+  if (has_depth && (depth_mm.format != PixelFormat::R16U || depth_mm.width != depth_cut.output_width ||
+                    depth_mm.height != depth_cut.output_height))
     throw std::invalid_argument(std::string("k4a recording: depth must be ") + format_name(PixelFormat::R16U) + " " +
                                 std::to_string(depth_cut.output_width) + "x" + std::to_string(depth_cut.output_height) +
                                 " (" + std::string(depth_mode_name(config_.depth_mode)) + "), got " +
                                 format_name(depth_mm.format) + " " + std::to_string(depth_mm.width) + "x" +
                                 std::to_string(depth_mm.height));
-  if (color.empty()) throw std::invalid_argument("k4a recording: empty colour image");
-  const SensorCut& color_cut = sensor_cut(config_.color_resolution);
-  const size_t raw_size = raw_color_bytes(config_.color_format, color_cut);
-  if (raw_size != 0 && color.size() != raw_size)
+  const size_t raw_size = raw_color_bytes(config_.color_format, sensor_cut(config_.color_resolution));
+  if (has_color && raw_size != 0 && color.size() != raw_size)
     throw std::invalid_argument("k4a recording: " + std::string(color_format_name(config_.color_format)) +
                                 " colour of " + std::to_string(color.size()) + " bytes, the mode needs " +
                                 std::to_string(raw_size));
   const int64_t depth_time_signed = int64_t(color_device_time_us) + config_.depth_delay_ns / 1000;
-  if (depth_time_signed < 0) throw std::invalid_argument("k4a recording: depth time before the device's zero");
-  const uint64_t depth_time_us = uint64_t(depth_time_signed);
-  const uint64_t first_us = std::min(color_device_time_us, depth_time_us);
+  if (has_depth && depth_time_signed < 0)
+    throw std::invalid_argument("k4a recording: depth time before the device's zero");
+  const uint64_t depth_time_us = uint64_t(std::max<int64_t>(0, depth_time_signed));
+  const uint64_t first_us = !has_depth   ? color_device_time_us
+                            : !has_color ? depth_time_us
+                                         : std::min(color_device_time_us, depth_time_us);
+  const uint64_t last_us = !has_depth   ? color_device_time_us
+                           : !has_color ? depth_time_us
+                                        : std::max(color_device_time_us, depth_time_us);
   if (captures_ > 0 && first_us <= last_time_us_)
     throw std::invalid_argument("k4a recording: capture times must increase (" + std::to_string(first_us) +
                                 " us after " + std::to_string(last_time_us_) + " us)");
   Matroska& m = *file_;
   if (captures_ == 0) write_header(first_us * 1000);
-  last_time_us_ = std::max(color_device_time_us, depth_time_us);
+  last_time_us_ = last_us;
 
   // Depth is stored big-endian ("b16g").
   std::vector<uint8_t> depth_bytes(depth_mm.texels.size() * 2);
@@ -326,9 +332,12 @@ void RecordingWriter::write_capture(uint64_t color_device_time_us, std::span<con
     const uint8_t* data;
     size_t size;
   };
-  Frame frames[2] = {{m.color, color_device_time_us * 1000 - m.start_offset_ns, color.data(), color.size()},
-                     {m.depth, depth_time_us * 1000 - m.start_offset_ns, depth_bytes.data(), depth_bytes.size()}};
-  if (frames[1].time_ns < frames[0].time_ns) std::swap(frames[0], frames[1]);
+  std::vector<Frame> frames;
+  if (has_color)
+    frames.push_back({m.color, color_device_time_us * 1000 - m.start_offset_ns, color.data(), color.size()});
+  if (has_depth)
+    frames.push_back({m.depth, depth_time_us * 1000 - m.start_offset_ns, depth_bytes.data(), depth_bytes.size()});
+  std::sort(frames.begin(), frames.end(), [](const Frame& a, const Frame& b) { return a.time_ns < b.time_ns; });
   for (const Frame& frame : frames) {
     auto& block = AddNewChild<KaxSimpleBlock>(cluster);
     block.SetParent(cluster);
@@ -339,13 +348,13 @@ void RecordingWriter::write_capture(uint64_t color_device_time_us, std::span<con
   }
   cluster.Render(m.io, m.cues);
 
-  // An index entry per second of the colour track, as the SDK keeps it.
+  // An index entry a second, as the SDK keeps it, at the cluster's first block.
   const uint64_t cue_gap_ns = 1'000'000'000ull;
   if (captures_ == 0 || cluster_ns >= m.last_timecode_ns + cue_gap_ns) {
     auto& point = AddNewChild<KaxCuePoint>(m.cues);
     GetChild<KaxCueTime>(point).SetValue(cluster_ns / kTimecodeScaleNs);
     auto& positions = GetChild<KaxCueTrackPositions>(point);
-    GetChild<KaxCueTrack>(positions).SetValue(1);
+    GetChild<KaxCueTrack>(positions).SetValue(GetChild<KaxTrackNumber>(*frames.front().track).GetValue());
     GetChild<KaxCueClusterPosition>(positions).SetValue(m.segment.GetRelativePosition(cluster));
     m.last_timecode_ns = cluster_ns;
   }

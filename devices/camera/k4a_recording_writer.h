@@ -52,8 +52,9 @@ class RecordingWriter {
 
   // One capture: the colour track's bytes at the colour camera's device time (encode_mjpg or
   // encode_bgra; NV12 and YUY2 frames of the mode's size as the device gives them), and depth in
-  // millimetres (R16U, the mode's size) at that time plus the depth delay. Device times must
-  // increase from capture to capture. Throws std::invalid_argument for images of the wrong size.
+  // millimetres (R16U, the mode's size) at that time plus the depth delay. A camera that dropped
+  // one of the two gives no colour bytes, or a 0x0 depth image. Device times must increase from
+  // capture to capture. Throws std::invalid_argument for images of the wrong size.
   void write_capture(uint64_t color_device_time_us, std::span<const uint8_t> color, const HostImage& depth_mm);
   // Writes the index, the duration and the seek head. Throws on an I/O error.
   void close();
