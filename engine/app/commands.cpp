@@ -19,6 +19,7 @@ namespace rt::app {
   X("bench", bench_accuracy)               \
   X("", simulate)                          \
   X("", keygen)                            \
+  X("", inspect_camera)                    \
   X("eval", eval_ibr)                      \
   X("eval", eval_hand)                     \
   X("eval", eval_dual)                     \

@@ -23,6 +23,16 @@ class SimulateCommand : public Command {
     command_->add_option("--resolution-scale", simulate_.resolution_scale, "Camera resolution scale")
         ->check(CLI::Range(0.01, 1.0))
         ->default_str("the scene's");
+    command_->add_option("--format", simulate_.format,
+                         "recording: PNG folders (README); k4a: one Azure Kinect recording (.mkv, MJPG colour, "
+                         "b16g depth, calibration.json) per camera, site.json beside them. k4a needs every camera's "
+                         "images at a k4a mode's size (colour 1280x720 .. 4096x3072, depth 320x288 .. 1024x1024; "
+                         "the default site at --resolution-scale 1): other sizes are refused, not resampled")
+        ->check(CLI::IsMember({"recording", "k4a"}))
+        ->capture_default_str();
+    command_->add_option("--jpeg-quality", simulate_.jpeg_quality, "k4a colour: the MJPG quality")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
     command_->add_option("--gt-width", simulate_.gt_width, "Ground-truth target view width")
         ->check(CLI::Range(1u, 16384u))->capture_default_str();
     command_->add_option("--gt-height", simulate_.gt_height, "Ground-truth target view height")

@@ -35,6 +35,10 @@ struct SimulateOptions {
   bool frames_given = false;   // --frames overrides the scene's frame count
   uint32_t gt_width = 640, gt_height = 360;  // the ground-truth target view
   double resolution_scale = 0.0;             // of the cameras; 0 = the scene's own
+  // "recording" (engine/sim/recording.h) or "k4a": one k4a recording per camera
+  // (devices/camera/k4a_site_writer.h), the site, tracker and ground truth beside them.
+  std::string format = "recording";
+  int jpeg_quality = 90;                     // k4a colour (MJPG)
 };
 
 struct EvalDualOptions {

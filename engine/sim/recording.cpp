@@ -72,10 +72,11 @@ void RecordingWriter::write_frame(const RgbdFrame& frame) {
   frames_.flush();
 }
 
-void RecordingWriter::write_ground_truth(uint64_t frame, const HostImage& target_rgba, const HostImage& target_depth_m,
-                                         const HostImage& target_part, const std::vector<HostImage>& camera_parts) {
-  const std::filesystem::path gt = dir_ / "gt";
-  write_image(ground_truth_color_path(dir_, frame), target_rgba);
+void write_ground_truth(const std::filesystem::path& dir, uint64_t frame, const HostImage& target_rgba,
+                        const HostImage& target_depth_m, const HostImage& target_part,
+                        const std::vector<HostImage>& camera_parts) {
+  const std::filesystem::path gt = dir / "gt";
+  write_image(ground_truth_color_path(dir, frame), target_rgba);
   HostImage millimetres(target_depth_m.width, target_depth_m.height, PixelFormat::R16U);
   for (size_t i = 0; i < millimetres.texels.size(); ++i)
     millimetres.texels[i] = std::clamp(std::floor(target_depth_m.texels[i] * 1000.0f + 0.5f), 0.0f, 65535.0f);

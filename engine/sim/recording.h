@@ -23,15 +23,22 @@ std::filesystem::path depth_path(const std::filesystem::path& dir, size_t camera
 // gt/target_color_<NNNNNN>.png: the target view's RGBA as written by write_ground_truth.
 std::filesystem::path ground_truth_color_path(const std::filesystem::path& dir, uint64_t frame);
 
+// Ground truth of a frame under `dir`/gt: the target view's RGBA, depth (16-bit mm) and hand
+// mask, and each camera's foreground mask (8-bit, 255 = the user).
+void write_ground_truth(const std::filesystem::path& dir, uint64_t frame, const HostImage& target_rgba,
+                        const HostImage& target_depth_m, const HostImage& target_part,
+                        const std::vector<HostImage>& camera_parts);
+
 class RecordingWriter {
  public:
   // `calibration` is the site description's JSON; the format tag is added to it.
   RecordingWriter(const std::filesystem::path& dir, nlohmann::json calibration);
   void write_frame(const RgbdFrame& frame);
-  // Ground truth of a frame: the target view's RGBA, depth (16-bit mm) and hand mask, and
-  // each camera's foreground mask (8-bit, 255 = the user).
+  // sim::write_ground_truth into this recording's folder.
   void write_ground_truth(uint64_t frame, const HostImage& target_rgba, const HostImage& target_depth_m,
-                          const HostImage& target_part, const std::vector<HostImage>& camera_parts);
+                          const HostImage& target_part, const std::vector<HostImage>& camera_parts) {
+    sim::write_ground_truth(dir_, frame, target_rgba, target_depth_m, target_part, camera_parts);
+  }
   const std::filesystem::path& dir() const { return dir_; }
 
  private:

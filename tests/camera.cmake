@@ -1,0 +1,32 @@
+# The RGB-D cameras (devices/camera/): k4a recordings written, read back through FFmpeg, and
+# checked against an independent Matroska reader (mkvinfo, Debian mkvtoolnix).
+find_program(REMOTETOUCH_MKVINFO mkvinfo)
+if(NOT REMOTETOUCH_MKVINFO AND REMOTETOUCH_REQUIRE_ALL_TESTS)
+  message(FATAL_ERROR "mkvinfo not found: install mkvtoolnix (scripts/packages.txt)")
+endif()
+file(GLOB remotetouch_k4a_tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test_k4a_*.cpp)
+foreach(source ${remotetouch_k4a_tests})
+  get_filename_component(name ${source} NAME_WE)
+  target_compile_definitions(${name} PRIVATE REMOTETOUCH_TEST_OUTPUT_DIR="${CMAKE_BINARY_DIR}/test-out/${name}"
+                                             REMOTETOUCH_MKVINFO="${REMOTETOUCH_MKVINFO}")
+endforeach()
+# The writer's test also asks libavformat how it sees what we wrote.
+target_link_libraries(test_k4a_recording_writer PRIVATE PkgConfig::FFMPEG)
+
+# simulate --format k4a refuses cameras whose images are not a k4a mode's size, before rendering.
+add_cli_test(cli_simulate_k4a_not_a_mode 1
+             "k4a: camera 'top-left' has colour 640x360, not a k4a colour resolution \\(1280x720, .*--resolution-scale 1"
+             ${rt} simulate --scene clap --format k4a --frames 1 --out ${CMAKE_BINARY_DIR}/test-out/simulate-k4a-refused)
+
+# simulate --format k4a and inspect-camera as a user runs them: one frame of the default site at
+# its cameras' own resolution (k4a modes), then the first camera's recording read back.
+set(k4a_simulated ${CMAKE_BINARY_DIR}/test-out/simulate-k4a)
+add_test(NAME cli_simulate_k4a
+         COMMAND ${rt} simulate --scene clap --format k4a --frames 1 --resolution-scale 1 --gt-width 64 --gt-height 36
+                 --out ${k4a_simulated})
+set_tests_properties(cli_simulate_k4a PROPERTIES FIXTURES_SETUP k4a_simulated TIMEOUT 300)
+add_cli_test(cli_inspect_camera 0 "inspect-camera: 1 captures of '.*top-left.mkv'"
+             ${rt} inspect-camera ${k4a_simulated}/top-left.mkv --frames 3 --out ${k4a_simulated}/inspect-top-left)
+set_tests_properties(cli_inspect_camera PROPERTIES FIXTURES_REQUIRED k4a_simulated)
+add_cli_test(cli_inspect_camera_missing 1 "remotetouch: error: '.*nonexistent.mkv': no such file"
+             ${rt} inspect-camera ${CMAKE_BINARY_DIR}/nonexistent.mkv --out ${CMAKE_BINARY_DIR}/test-out/inspect-missing)
