@@ -85,7 +85,7 @@ else:
                 group = words[0]
             elif group:
                 words = [group] + words
-            help_text([w for w in words if not w.isupper()])
+            help_text([w for w in words if re.fullmatch(r"[a-z][a-z-]*", w)])
 
 ran = set()
 for args in lines:
