@@ -98,7 +98,9 @@ void Sender::look_for_eyes_before_the_call() {
   std::optional<sim::RgbdFrame> waiting = simulator_->next_frame();
   simulator_->seek(0);
   if (!waiting) return;
-  for (int tries = 0; !eye_finder_->decided() && tries < 20000; ++tries) {
+  for (int tries = 0; !eye_finder_->decided() && tries < 20000 && monotonic_now_us() < common_.eye_search_deadline_us &&
+                     !stop_signal_received();
+       ++tries) {
     if (eye_finder_->wants_frame()) eye_finder_->offer(monotonic_now_us(), waiting->cameras);
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }

@@ -27,6 +27,9 @@ class GlfwWindow;
 
 namespace rt::site {
 
+// SIGINT or SIGTERM has asked the site to stop (site_run.cpp notes it).
+bool stop_signal_received();
+
 struct SiteCommon {
   SiteRunOptions options;
   std::string name;  // "A" or "B"
@@ -48,6 +51,9 @@ struct SiteCommon {
   uint64_t epoch_us = 0, end_us = 0;
   std::atomic<bool> stopping{false};
   std::atomic<bool> sender_done{false};  // no more portraits will be sent
+  // The search for the user's eyes before the call ends here at the latest (the connect
+  // timeout, counted from the site's start), or at a stop signal; it goes on during the call.
+  uint64_t eye_search_deadline_us = UINT64_MAX;
 
   double scene_time_s(uint64_t now_us) const { return double(now_us - epoch_us) * 1e-6 * options.time_scale; }
   // The monotonic time at which the scene clock reads `scene_s` (the inverse of scene_time_s).

@@ -37,6 +37,12 @@ void install_stop_handlers() {
   for (const int signal : {SIGINT, SIGTERM}) sigaction(signal, &action, nullptr);
 }
 
+}  // namespace
+
+bool stop_signal_received() { return g_stop_signal != 0; }
+
+namespace {
+
 const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
 
 // --profile: each graph's passes with their median GPU time, as metrics.json has them.
@@ -181,6 +187,7 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
   };
   net_ = std::make_unique<net::Session>(net_options);
   common_.net = net_.get();
+  common_.eye_search_deadline_us = started_us_ + uint64_t(options.connect_timeout_s * 1e6);
   // The sender first: a replay replaces the scene's site, which the receiver then shows.
   sender_ = std::make_unique<Sender>(common_, *touch_);
   receiver_ = std::make_unique<Receiver>(common_);

@@ -100,6 +100,7 @@ elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
 [ "$(grep -c "connect to 127.0.0.1:$port failed: Connection refused" lonely.err)" -eq 2 ] ||
   fail "the unreachable peer was not reported once, with the reason, and in the final message"
 grep -q "no connection to the other site within 3 s of the start" lonely.err || fail "no final message"
-# The wait counts from the start: well under the timeout plus the start-up it used to add.
-[ "$elapsed_ms" -lt 4500 ] || fail "a 3-s connect timeout ended after $elapsed_ms ms"
+# The wait counts from the start (the search for the eyes before the call included): the end
+# comes within a second of the timeout.
+[ "$elapsed_ms" -lt 4000 ] || fail "a 3-s connect timeout ended after $elapsed_ms ms"
 echo "two sites by hand: defaults, the end of a peer and an unreachable peer hold"
