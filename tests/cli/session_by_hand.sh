@@ -2,8 +2,8 @@
 # Two sites started by hand as the README shows them, with the defaults a new user gets: each
 # site's output folder names the site, a second run in a live run's folder is refused, the time
 # scale follows the device, each site ends with its table; one site ending ends the other's
-# session; an unreachable peer is reported once, with the reason, within the connect timeout
-# counted from the start.
+# session; an unreachable peer, or one whose name does not resolve, is reported once, with the
+# reason, within the connect timeout counted from the start.
 #   session_by_hand.sh BINARY OUT
 set -euo pipefail
 binary=$1 out=$2
@@ -103,4 +103,19 @@ grep -q "no connection to the other site within 3 s of the start" lonely.err || 
 # The wait counts from the start (the search for the eyes before the call included): the end
 # comes within a second of the timeout.
 [ "$elapsed_ms" -lt 4000 ] || fail "a 3-s connect timeout ended after $elapsed_ms ms"
+
+# 4. A peer's name that does not resolve: once, with the reason. In a network namespace of its
+# own with no way out, so that the lookup fails here and nothing leaves this machine.
+if unshare -n true 2> /dev/null; then
+  set +e
+  unshare -n "$binary" site --site B --peer no-such-host.invalid:7000 --key-file session.key --connect-timeout 2 \
+    --out unresolved "${small[@]}" > unresolved.out 2> unresolved.err
+  unresolved_status=$?
+  set -e
+  [ "$unresolved_status" -eq 2 ] || fail "a site whose peer does not resolve exited with $unresolved_status, expected 2"
+  [ "$(grep -c "cannot resolve no-such-host.invalid: ." unresolved.err)" -eq 2 ] ||
+    fail "the unresolvable peer was not reported once, with the reason, and in the final message"
+else
+  echo "not checked: a peer's name that does not resolve (no network namespace here: unshare -n needs root)"
+fi
 echo "two sites by hand: defaults, the end of a peer and an unreachable peer hold"
