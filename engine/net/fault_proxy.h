@@ -33,6 +33,7 @@ struct FaultCounts {
   uint64_t records_forwarded = 0;
   uint64_t records_dropped = 0;  // lost, each cutting its link
   uint64_t records_deleted = 0;  // by delete_next_record
+  uint64_t lengths_rewritten = 0;  // by rewrite_next_record_length
   uint64_t garbage_injections = 0, garbage_bytes = 0;
   uint64_t disconnects = 0;
   uint64_t bytes_swallowed = 0;  // by the blackhole
@@ -62,6 +63,10 @@ class FaultProxy {
   // rest, as an attacker in the path could (the sizes tell message types apart): the receiver's
   // counters must notice the gap.
   void delete_next_record(uint32_t ciphertext_length);
+  // Rewrites the length in the next connector-to-listener record's header (the bytes behind it
+  // go on as they were), as an attacker in the path could: the receiver must find the stream out
+  // of step, or the link dead, without trusting the length.
+  void rewrite_next_record_length(uint32_t new_length);
   FaultCounts counts() const;
 
  private:

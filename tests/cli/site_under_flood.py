@@ -9,6 +9,7 @@ usage: site_under_flood.py BINARY OUT
 """
 import json
 import os
+import secrets
 import socket
 import subprocess
 import sys
@@ -88,7 +89,7 @@ def main():
     os.makedirs(out)
     key = f"{out}/session.key"
     with open(key, "w") as f:
-        f.write("%064d\n" % 42)
+        f.write(secrets.token_hex(32) + "\n")  # a hand-made key is refused as too regular
     os.chmod(key, 0o600)
     common = ["--scene", "clap", "--frames", "30", "--width", "32", "--height", "18", "--resolution-scale", "0.05",
               "--time-scale", "1", "--connect-timeout", "60", "--key-file", key]
