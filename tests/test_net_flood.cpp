@@ -190,3 +190,80 @@ TEST_CASE("1,000 strangers a second from 64 networks: the peer gets in within a 
   CHECK(cpu_s < 0.3 * wall_s);
   stop = true;
 }
+
+TEST_CASE("a stranger flooding from the peer's own address (its host, its NAT) does not keep the peer out") {
+  ensure_sodium();
+  test::LogLines log;
+  const SessionKey key = random_session_key();
+  SessionOptions listener_options = test::test_session_options(Role::Listener, key, log, "B");
+  listener_options.handshake_timeout = SessionOptions{}.handshake_timeout;
+  Session listener(listener_options);
+  listener.start();
+  SessionOptions options = test::test_session_options(Role::Connector, key, log, "A");
+  options.port = listener.local_port();
+  options.reconnect_min = SessionOptions{}.reconnect_min;
+  options.reconnect_max = SessionOptions{}.reconnect_max;
+  {
+    // The peer connects once from 127.0.0.1, then its run ends.
+    Session first(options);
+    first.start();
+    REQUIRE(first.wait_connected(kPatience));
+  }
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(listener.local_port());
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  // A stranger on that address (never shed: it is the peer's) floods silent connections and
+  // forged hellos, 1,000 a second; the peer's next run tries halfway.
+  std::atomic<bool> stop{false};
+  FloodResult result;
+  const double seconds = std::min(flood_seconds(), 4.0);
+  const auto flood_start = std::chrono::steady_clock::now();
+  std::thread flooder([&] {
+    const auto prefix = Handshake::hello_prefix(Role::Connector);
+    std::deque<std::pair<std::chrono::steady_clock::time_point, int>> silent;
+    const auto end = flood_start + std::chrono::duration<double>(seconds);
+    for (uint64_t k = 0; !stop; ++k) {
+      const auto due = flood_start + std::chrono::microseconds(k * 1000);
+      if (due >= end) break;
+      std::this_thread::sleep_until(due);
+      const auto now = std::chrono::steady_clock::now();
+      while (!silent.empty() && now - silent.front().first > std::chrono::seconds(1)) {
+        ::close(silent.front().second);
+        silent.pop_front();
+      }
+      const int fd = connect_from(address, "127.0.0.1");
+      ++result.connections;
+      if (fd < 0) {
+        ++result.failed;
+        continue;
+      }
+      if (k % 2) {
+        silent.emplace_back(now, fd);
+        continue;
+      }
+      std::array<uint8_t, kHelloSize> hello{};
+      std::copy(prefix.begin(), prefix.end(), hello.begin());
+      randombytes_buf(hello.data() + kHelloPrefixSize, kHelloSize - kHelloPrefixSize);
+      (void)::send(fd, hello.data(), hello.size(), MSG_NOSIGNAL);
+      ::close(fd);
+    }
+    for (const auto& [when, fd] : silent) ::close(fd);
+  });
+  std::this_thread::sleep_until(flood_start + std::chrono::duration<double>(seconds / 2));
+  Session again(options);
+  const auto tried = std::chrono::steady_clock::now();
+  again.start();
+  const bool connected = again.wait_connected(kPatience);
+  const double connect_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tried).count();
+  stop = true;
+  flooder.join();
+  const NetCounters c = listener.counters();
+  std::cout << "a stranger on the peer's address: " << result.connections << " connections (" << result.failed
+            << " could not connect); the peer connected after " << connect_s * 1000 << " ms\n  listener " << c.to_json().dump()
+            << "\n";
+  CHECK(connected);
+  CHECK(connect_s < 1.0);
+  CHECK(c.handshakes_started == c.handshakes_ok);
+  CHECK(c.handshakes_ok == 2);
+}
