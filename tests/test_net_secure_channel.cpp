@@ -260,6 +260,9 @@ TEST_CASE("the hello gate: a MAC of the key over every byte, then a timestamp la
   CHECK(gate.check(second) == HelloVerdict::Replayed);
   CHECK(gate.check(first) == HelloVerdict::Replayed);
   CHECK(gate.check(Handshake(key, Role::Connector).hello()) == HelloVerdict::Accepted);
+  // Genuine, but stamped before the last one accepted (recorded earlier, or a clock set back).
+  CHECK(gate.check(Handshake(key, Role::Connector, gate.last_accepted() - 1).hello()) == HelloVerdict::Replayed);
+  CHECK(gate.check(Handshake(key, Role::Connector, gate.last_accepted() + 1).hello()) == HelloVerdict::Accepted);
   // The MAC key is derived from K (crypto_kdf), not K itself.
   std::array<uint8_t, kHelloMacSize> with_k{};
   crypto_auth(with_k.data(), first.data(), kHelloMacAt, key.bytes.data());
@@ -443,6 +446,8 @@ TEST_CASE("a message larger than a record goes in records of at most 64 KiB, and
   const auto wire = sealer.seal_message(message);
   // Three records: 64 KiB, 64 KiB, the rest; each a header, the flag and the tag more.
   CHECK(wire.size() == message.size() + 3 * (kRecordHeaderSize + kRecordFlagSize + kRecordTagSize));
+  CHECK(wire.size() == sealed_size(message.size()));
+  CHECK(sealer.seal_message(std::vector<uint8_t>(10)).size() == sealed_size(10));
   std::vector<uint8_t> out;
   std::string reason;
   size_t at = 0;

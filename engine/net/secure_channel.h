@@ -103,6 +103,12 @@ inline constexpr size_t kMaxRecordPayload = 64 * 1024;  // a message's bytes in 
 // The most a receiver allocates for a record before it has authenticated it.
 inline constexpr size_t kMaxRecordCiphertext = kRecordFlagSize + kMaxRecordPayload + kRecordTagSize;
 
+// What a message of `message_bytes` costs on the wire: its records' headers, flags and tags included.
+constexpr size_t sealed_size(size_t message_bytes) {
+  const size_t records = message_bytes == 0 ? 1 : (message_bytes + kMaxRecordPayload - 1) / kMaxRecordPayload;
+  return message_bytes + records * (kRecordHeaderSize + kRecordFlagSize + kRecordTagSize);
+}
+
 // The hello's MAC, keyed with a key derived from K: the listener's first check of a connector.
 class HelloAuthenticator {
  public:
