@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <new>
 
@@ -385,4 +386,32 @@ TEST_CASE("a record length rewritten in the path: no buffer beyond one record's 
   // a second more.
   CHECK(detected_s < std::chrono::duration<double>(lost_after).count() + 0.5);
   link.report("record lengths rewritten in the path");
+}
+
+TEST_CASE("a slow link: a portrait takes longer than the liveness timeout, each of its records comes within it, the link stays up") {
+  const PortraitMessage portrait = test::test_portrait(640, 480, 9, 3);
+  const auto bytes = encode_message(portrait);
+  REQUIRE(bytes.size() > 4 * kMaxRecordPayload);
+  // The whole portrait takes three seconds through the bottleneck, twice the liveness timeout;
+  // one record of it a fraction of that.
+  FaultOptions faults;
+  faults.bytes_per_second = double(bytes.size()) / 3.0;
+  const auto lost_after = std::chrono::milliseconds(1500);
+  ProxiedLink link(faults, std::chrono::milliseconds(20), lost_after);
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(20)));
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(20)));
+  const auto sent = std::chrono::steady_clock::now();
+  link.connector->send_encoded(MessageType::Portrait, bytes);
+  std::optional<PortraitMessage> got;
+  REQUIRE(eventually([&] { return (got = link.listener.take_portrait()).has_value(); }, std::chrono::seconds(30)));
+  const double took_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  std::cout << "a portrait of " << bytes.size() << " bytes at " << faults.bytes_per_second / 1e3 << " kB/s: arrived after "
+            << took_s * 1000 << " ms, liveness timeout " << lost_after.count() << " ms\n";
+  CHECK(took_s > std::chrono::duration<double>(lost_after).count());
+  CHECK(got->frame_index == portrait.frame_index);
+  CHECK(std::memcmp(got->depth.texels.data(), portrait.depth.texels.data(), portrait.depth.texels.size() * 4) == 0);
+  CHECK(link.listener.counters().connections_lost == 0);
+  CHECK(link.connector->counters().connections_lost == 0);
+  CHECK(link.listener.counters().handshakes_ok == 1);
+  link.report("a slow link");
 }

@@ -297,7 +297,7 @@ TEST_CASE("portraits: only the newest unsent one goes, only the newest received 
   for (uint64_t i = 0; i < 50; ++i) CHECK(touches[i].timestamp_us == i);
 }
 
-TEST_CASE("a portrait larger than one read piece (256 KiB) arrives intact") {
+TEST_CASE("a portrait of many records (each at most 64 KiB of it) arrives intact") {
   Link link;
   link.connector->start();
   REQUIRE(link.listener.wait_connected(kPatience));

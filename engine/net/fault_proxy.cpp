@@ -193,7 +193,9 @@ struct FaultProxy::Impl {
     auto extra = std::chrono::microseconds(0);
     if (options.jitter.count() > 0)
       extra = std::chrono::microseconds(std::uniform_int_distribution<int64_t>(0, options.jitter.count())(random));
-    const auto release = std::max(pipe.last_release, Clock::now() + options.delay + extra);
+    auto release = std::max(pipe.last_release, Clock::now() + options.delay + extra);
+    if (options.bytes_per_second > 0)
+      release += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(double(bytes.size()) / options.bytes_per_second));
     pipe.last_release = release;
     if (lost) bytes.clear();
     pipe.queue.push_back({release, std::move(bytes), lost});

@@ -22,6 +22,9 @@ struct FaultOptions {
   // both directions, as a TCP connection that could not get it through dies; the connector then
   // reconnects. Records before it still arrive.
   double loss = 0.0;
+  // A bottleneck, each direction: a record (or handshake message) leaves its bytes' time at this
+  // rate after the one before it. 0: as fast as loopback goes.
+  double bytes_per_second = 0.0;
   std::optional<std::chrono::milliseconds> disconnect_after;  // cut the connections once, this long after start()
   std::optional<std::chrono::milliseconds> garbage_after;     // inject garbage once, this long after start()
   size_t garbage_bytes = 64;
