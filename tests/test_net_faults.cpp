@@ -19,17 +19,30 @@ using rt::test::eventually;
 
 // The largest single allocation since the last reset, whichever thread made it: a receiver that
 // sized a buffer by an unauthenticated record length would show it here.
-// (Out of line: GCC takes free() inlined after a new-expression for a mismatch.)
 static std::atomic<size_t> g_largest_allocation{0};
-__attribute__((noinline)) void* operator new(size_t size) {
+static void note_allocation(size_t size) {
   size_t seen = g_largest_allocation.load(std::memory_order_relaxed);
   while (size > seen && !g_largest_allocation.compare_exchange_weak(seen, size, std::memory_order_relaxed)) {
   }
+}
+#if defined(__SANITIZE_ADDRESS__)
+// Under AddressSanitizer its allocator is asked (a replaced operator new would not match the
+// deletes its runtime makes); its hook sees malloc and operator new alike. (GCC ships no header
+// declaring it; its runtime has it, as LLVM's sanitizer/allocator_interface.h declares it.)
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*)(const volatile void*, size_t), void (*)(const volatile void*));
+static void asan_allocated(const volatile void*, size_t size) { note_allocation(size); }
+static void asan_freed(const volatile void*) {}
+[[maybe_unused]] static const int g_allocation_hook = __sanitizer_install_malloc_and_free_hooks(asan_allocated, asan_freed);
+#else
+// (Out of line: GCC takes free() inlined after a new-expression for a mismatch.)
+__attribute__((noinline)) void* operator new(size_t size) {
+  note_allocation(size);
   if (void* p = std::malloc(size ? size : 1)) return p;
   throw std::bad_alloc();
 }
 __attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
 __attribute__((noinline)) void operator delete(void* p, size_t) noexcept { std::free(p); }
+#endif
 
 namespace {
 
