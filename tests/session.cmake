@@ -27,13 +27,19 @@ add_test(NAME session_demo_lossy
 add_test(NAME session_site_signal
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_signal.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-signal)
 set_tests_properties(session_site_signal PROPERTIES TIMEOUT 300)
-# A wrong key: both sites refuse the handshake and give up cleanly, saying why.
+# A wrong key: both sites refuse the handshake, the connector says why at each attempt and tries
+# again until its connect timeout; both give up cleanly, saying why.
 add_test(NAME session_site_wrong_key
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_wrong_key.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-wrong-key)
+# A fake listener (an older release's) refuses the connecting site once: the site says why, keeps
+# trying, and the real listener, up later on that port, gets the call.
+add_test(NAME session_site_refused_then_listener
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_refused_then_listener.sh ${rt}
+                 ${CMAKE_BINARY_DIR}/test-out/session-refused-then-listener)
 add_cli_test(session_site_bad_config 1 "remotetouch: error: .*site_config_bad\\.json: unknown field 'peers'"
              ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
 set_tests_properties(session_demo_clap session_demo_miss session_demo_seat session_demo_wave session_demo_disconnect session_demo_outage session_demo_lossy
-                     session_site_wrong_key
+                     session_site_wrong_key session_site_refused_then_listener
                      PROPERTIES TIMEOUT 300
                      # Two site processes each on a real-time scene clock, sharing the CPU with a CPU
                      # Vulkan driver: they run alone. Beside other lavapipe tests under ctest -j2, the
@@ -58,8 +64,11 @@ file(CHMOD ${CMAKE_BINARY_DIR}/test-out/keygen/open.key PERMISSIONS OWNER_READ O
 add_cli_test(session_site_open_key_file 1 "open.key is open to the group or others \\(mode 0644\\): chmod 600"
              ${rt} site --site A --key-file ${CMAKE_BINARY_DIR}/test-out/keygen/open.key
                    --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-open-key)
-add_cli_test(session_site_bad_key_file 1 "remotetouch: error: .*site_config_bad\\.json: session key: expected 64 hex digits"
-             ${rt} site --site A --key-file ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json
+# (Owner-only, so that the contents are what is refused: the permissions are checked first.)
+file(WRITE ${CMAKE_BINARY_DIR}/test-out/keygen/bad.key "{\"not\": \"a key\"}\n")
+file(CHMOD ${CMAKE_BINARY_DIR}/test-out/keygen/bad.key PERMISSIONS OWNER_READ OWNER_WRITE)
+add_cli_test(session_site_bad_key_file 1 "remotetouch: error: .*bad\\.key: session key: expected 64 hex digits"
+             ${rt} site --site A --key-file ${CMAKE_BINARY_DIR}/test-out/keygen/bad.key
                    --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-bad-key)
 # A site replaying a recording (`site --replay`): site B of clap recorded once by `simulate`
 # (tiny: 115 frames at a tenth of the cameras' resolution, ground truth at the display's size),

@@ -1,10 +1,12 @@
-// The per-address token bucket a listener sheds floods with: the burst, the refill, addresses
-// apart, a clock that goes back, and the bound on how many addresses it remembers.
+// The per-network token bucket a listener sheds floods with: the burst, the refill, networks
+// apart, a clock that goes back, the bound on how many it remembers, what a network is.
 #include <catch2/catch.hpp>
 
 #include "net/connection_rate_limit.h"
 
+using rt::net::address_key;
 using rt::net::ConnectionRateLimit;
+using rt::net::prefix_key;
 
 namespace {
 int admitted(ConnectionRateLimit& limit, const std::string& address, int tries, uint64_t now_us) {
@@ -68,4 +70,23 @@ TEST_CASE("a rate limit that would admit nothing is refused") {
   CHECK_THROWS_WITH(ConnectionRateLimit(0, 20, 16), Catch::Contains("rate must be positive"));
   CHECK_THROWS(ConnectionRateLimit(10, 0, 16));
   CHECK_THROWS(ConnectionRateLimit(10, 20, 0));
+}
+
+TEST_CASE("networks, not addresses: an IPv4 /24 and an IPv6 /64 share one bucket") {
+  auto prefix = [](const char* text) { return prefix_key(address_key(asio::ip::make_address(text))); };
+  CHECK(prefix("192.0.2.1") == prefix("192.0.2.254"));
+  CHECK(prefix("192.0.2.1") != prefix("192.0.3.1"));
+  CHECK(prefix("2001:db8:1:2::1") == prefix("2001:db8:1:2:ffff:ffff:ffff:ffff"));
+  CHECK(prefix("2001:db8:1:2::1") != prefix("2001:db8:1:3::1"));
+  CHECK(prefix("::ffff:192.0.2.7") == prefix("192.0.2.1"));  // IPv4 mapped into IPv6
+  CHECK(address_key(asio::ip::make_address("::ffff:192.0.2.7")) == address_key(asio::ip::make_address("192.0.2.7")));
+  // A stranger with a whole /64 (an address per connection) has one rate, not 2^64 of them.
+  ConnectionRateLimit limit(10, 20, 1024);
+  int admitted = 0;
+  for (int i = 0; i < 100; ++i) {
+    const std::string address = "2001:db8:1:2::" + std::to_string(i + 1);
+    admitted += limit.admit(prefix(address.c_str()), 0);
+  }
+  CHECK(admitted == 20);
+  CHECK(limit.addresses_tracked() == 1);
 }

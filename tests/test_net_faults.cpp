@@ -3,7 +3,11 @@
 // add up; they are printed as JSON for the record.
 #include <catch2/catch.hpp>
 
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
 #include <iostream>
+#include <new>
 
 #include "net_test_messages.h"
 #include "net_test_sessions.h"
@@ -12,6 +16,33 @@
 using namespace rt;
 using namespace rt::net;
 using rt::test::eventually;
+
+// The largest single allocation since the last reset, whichever thread made it: a receiver that
+// sized a buffer by an unauthenticated record length would show it here.
+static std::atomic<size_t> g_largest_allocation{0};
+static void note_allocation(size_t size) {
+  size_t seen = g_largest_allocation.load(std::memory_order_relaxed);
+  while (size > seen && !g_largest_allocation.compare_exchange_weak(seen, size, std::memory_order_relaxed)) {
+  }
+}
+#if defined(__SANITIZE_ADDRESS__)
+// Under AddressSanitizer its allocator is asked (a replaced operator new would not match the
+// deletes its runtime makes); its hook sees malloc and operator new alike. (GCC ships no header
+// declaring it; its runtime has it, as LLVM's sanitizer/allocator_interface.h declares it.)
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*)(const volatile void*, size_t), void (*)(const volatile void*));
+static void asan_allocated(const volatile void*, size_t size) { note_allocation(size); }
+static void asan_freed(const volatile void*) {}
+[[maybe_unused]] static const int g_allocation_hook = __sanitizer_install_malloc_and_free_hooks(asan_allocated, asan_freed);
+#else
+// (Out of line: GCC takes free() inlined after a new-expression for a mismatch.)
+__attribute__((noinline)) void* operator new(size_t size) {
+  note_allocation(size);
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+__attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete(void* p, size_t) noexcept { std::free(p); }
+#endif
 
 namespace {
 
@@ -147,9 +178,9 @@ TEST_CASE("a record deleted on the way (a counter gap) is refused, the connectio
   link.connector->send(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
   link.connector->send(TouchEventMessage{2, TouchEventMessage::Kind::End, 0});
   REQUIRE(eventually([&] { return link.listener.counters().messages_in[kTouch] == 2; }));
-  // The attacker in the path picks the touch events out by their size: 12-byte message header +
-  // 26-byte touch + 16-byte tag.
-  const uint32_t touch_record = uint32_t(encode_message(TouchEventMessage{}).size() + kRecordTagSize);
+  // The attacker in the path picks the touch events out by their size: 1-byte fragment flag +
+  // 12-byte message header + 26-byte touch + 16-byte tag.
+  const uint32_t touch_record = uint32_t(kRecordFlagSize + encode_message(TouchEventMessage{}).size() + kRecordTagSize);
   link.proxy->delete_next_record(touch_record);
   link.connector->send(TouchEventMessage{3, TouchEventMessage::Kind::Start, 0});
   // The next record (a heartbeat, at the latest) reveals the gap.
@@ -322,4 +353,78 @@ TEST_CASE("a link gone silent: heartbeats time out on both sides, handshakes tim
   CHECK(link.log.contains("[A] session re-established with"));
   CHECK(link.log.contains("attempts failed meanwhile, the last: "));
   link.report("blackhole");
+}
+
+TEST_CASE("a record length rewritten in the path: no buffer beyond one record's bound, the link rebuilt within the liveness timeout") {
+  const auto lost_after = std::chrono::milliseconds(1500);
+  ProxiedLink link(FaultOptions{}, std::chrono::milliseconds(20), lost_after);
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(20)));
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(20)));
+  link.connector->send(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
+  REQUIRE(eventually([&] { return link.listener.counters().messages_in[kTouch] == 1; }, std::chrono::seconds(20)));
+
+  // The old limit, a whole portrait's worth: refused at once, nothing of that size allocated.
+  g_largest_allocation = 0;
+  link.proxy->rewrite_next_record_length(uint32_t(kMaxMessageSize + kRecordTagSize));
+  REQUIRE(eventually([&] { return link.listener.counters().connections_lost == 1; }, std::chrono::seconds(20)));
+  CHECK(link.listener.counters().rejected_by_reason.at("record_oversize") == 1);
+  CHECK(g_largest_allocation.load() <= kMaxRecordCiphertext);
+  REQUIRE(eventually([&] { return link.connector->status().connected() && link.listener.status().connected(); },
+                     std::chrono::seconds(20)));
+
+  // The longest a record may be: accepted as a length, but what follows in the stream (the
+  // heartbeats, a few dozen bytes each) never completes it into an authentic record, and bytes
+  // that are no record are no sign of life: the listener finds the link dead within its liveness
+  // timeout (plus a heartbeat period for its check), and it is rebuilt. Touch events written
+  // meanwhile arrive on the new link, acknowledged there.
+  g_largest_allocation = 0;
+  const uint64_t lost_before = link.listener.counters().connections_lost;
+  link.proxy->rewrite_next_record_length(uint32_t(kMaxRecordCiphertext));
+  // The next record the connector sends is the one rewritten: a touch event, then its kin.
+  link.connector->send(TouchEventMessage{2, TouchEventMessage::Kind::End, 0});
+  REQUIRE(eventually([&] { return link.proxy->counts().lengths_rewritten == 2; }, std::chrono::seconds(20)));
+  const auto tampered = std::chrono::steady_clock::now();
+  REQUIRE(eventually([&] { return link.listener.counters().connections_lost == lost_before + 1; }, std::chrono::seconds(20)));
+  const double detected_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tampered).count();
+  CHECK(g_largest_allocation.load() <= kMaxRecordCiphertext);
+  CHECK_THAT(link.listener.status().reason, Catch::Contains("no data from the peer"));
+  REQUIRE(eventually([&] { return link.connector->status().connected() && link.listener.status().connected(); },
+                     std::chrono::seconds(20)));
+  const double rebuilt_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tampered).count();
+  REQUIRE(eventually([&] { return link.listener.counters().messages_in[kTouch] == 2; }, std::chrono::seconds(20)));
+  std::cout << "a record length rewritten to " << kMaxRecordCiphertext << ": the listener found the link dead after "
+            << detected_s * 1000 << " ms (liveness timeout " << lost_after.count() << " ms), rebuilt after " << rebuilt_s * 1000
+            << " ms\n";
+  // The heartbeat period (50 ms here) is the resolution of the check; a loaded machine gets half
+  // a second more.
+  CHECK(detected_s < std::chrono::duration<double>(lost_after).count() + 0.5);
+  link.report("record lengths rewritten in the path");
+}
+
+TEST_CASE("a slow link: a portrait takes longer than the liveness timeout, each of its records comes within it, the link stays up") {
+  const PortraitMessage portrait = test::test_portrait(640, 480, 9, 3);
+  const auto bytes = encode_message(portrait);
+  REQUIRE(bytes.size() > 4 * kMaxRecordPayload);
+  // The whole portrait takes three seconds through the bottleneck, twice the liveness timeout;
+  // one record of it a fraction of that.
+  FaultOptions faults;
+  faults.bytes_per_second = double(bytes.size()) / 3.0;
+  const auto lost_after = std::chrono::milliseconds(1500);
+  ProxiedLink link(faults, std::chrono::milliseconds(20), lost_after);
+  REQUIRE(link.connector->wait_connected(std::chrono::seconds(20)));
+  REQUIRE(link.listener.wait_connected(std::chrono::seconds(20)));
+  const auto sent = std::chrono::steady_clock::now();
+  link.connector->send_encoded(MessageType::Portrait, bytes);
+  std::optional<PortraitMessage> got;
+  REQUIRE(eventually([&] { return (got = link.listener.take_portrait()).has_value(); }, std::chrono::seconds(30)));
+  const double took_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  std::cout << "a portrait of " << bytes.size() << " bytes at " << faults.bytes_per_second / 1e3 << " kB/s: arrived after "
+            << took_s * 1000 << " ms, liveness timeout " << lost_after.count() << " ms\n";
+  CHECK(took_s > std::chrono::duration<double>(lost_after).count());
+  CHECK(got->frame_index == portrait.frame_index);
+  CHECK(std::memcmp(got->depth.texels.data(), portrait.depth.texels.data(), portrait.depth.texels.size() * 4) == 0);
+  CHECK(link.listener.counters().connections_lost == 0);
+  CHECK(link.connector->counters().connections_lost == 0);
+  CHECK(link.listener.counters().handshakes_ok == 1);
+  link.report("a slow link");
 }

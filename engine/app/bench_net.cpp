@@ -139,13 +139,13 @@ int run_bench_net(const RunOptions& options) {
     // N portraits sent from the first one's send to the last one's are N - 1 intervals.
     const double portraits_per_second = sent > 1 ? double(sent - 1) / seconds : 0.0;
     // What the stream costs at the full 30 fps, whether or not this machine encoded that fast.
-    const double record_bytes = median(message_bytes) + double(kRecordHeaderSize + kRecordTagSize);
+    const double record_bytes = double(sealed_size(size_t(median(message_bytes))));
     const double nominal = record_bytes * 30.0;
     const PortraitMessage sample = bench_portrait(width, height, 0);
     const double jpeg = double(encode_color_jpeg(sample.color, encode.jpeg_quality).size());
     const double alpha = double(encode_float_plane_png(sample.color, 3, encode.png_compression).size());
     const double depth = double(encode_float_plane_png(sample.depth, 0, encode.png_compression).size());
-    std::printf("  %ux%u: %.0f B per portrait record (color JPEG %.0f, alpha %.0f, depth %.0f); at 30 fps %.2f MB/s = %.1f Mbit/s\n"
+    std::printf("  %ux%u: %.0f B per portrait in its records (color JPEG %.0f, alpha %.0f, depth %.0f); at 30 fps %.2f MB/s = %.1f Mbit/s\n"
                 "      measured on the wire: %.2f MB/s over %.2f s (%.1f portraits/s sent, %llu stale); "
                 "encode %.1f ms (CPU %.1f ms), decode %.1f ms (CPU %.1f ms), median\n",
                 width, height, record_bytes, jpeg, alpha, depth, nominal / 1e6, nominal * 8 / 1e6, bytes_per_second / 1e6,
@@ -170,7 +170,7 @@ int run_bench_net(const RunOptions& options) {
         {"decode_cpu_ms_median", median(decode_cpu_ms)}};
   }
   // The small streams, for the budget: one message each, record overhead included.
-  const auto overhead = kRecordHeaderSize + kRecordTagSize;
+  const auto overhead = sealed_size(0);
   const double eye = double(encode_message(EyeMessage{1, {0, 0, -0.7}, true}).size() + overhead);
   HandSkeleton hand;
   for (auto& digit : hand.digits) digit.fill(Eigen::Vector3d::Zero());

@@ -5,6 +5,19 @@
 
 namespace rt::net {
 
+std::string address_key(const asio::ip::address& address) {
+  if (address.is_v4()) {
+    const auto bytes = address.to_v4().to_bytes();
+    return std::string(bytes.begin(), bytes.end());
+  }
+  const auto v6 = address.to_v6();
+  if (v6.is_v4_mapped()) return address_key(asio::ip::make_address_v4(asio::ip::v4_mapped, v6));
+  const auto bytes = v6.to_bytes();
+  return std::string(bytes.begin(), bytes.end());
+}
+
+std::string prefix_key(const std::string& address_key) { return address_key.substr(0, address_key.size() == 4 ? 3 : 8); }
+
 ConnectionRateLimit::ConnectionRateLimit(uint32_t per_second, uint32_t burst, size_t max_addresses)
     : per_second_(per_second), burst_(uint64_t(burst) * kToken), max_addresses_(max_addresses) {
   if (per_second == 0 || burst == 0 || max_addresses == 0)

@@ -1,14 +1,23 @@
 #pragma once
-// How often each address may open a new connection: a token bucket per address. A listener
-// closes a connection over its address's rate before reading anything from it, so that one
-// stranger's flood costs it an accept and a close while any other address (the real peer's)
+// How often each network (see prefix_key) may open a new connection: a token bucket per network.
+// A listener closes a connection over its network's rate before reading anything from it, so that
+// one stranger's flood costs it an accept and a close while any other network (the real peer's)
 // still gets in at once.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
 
+#include <asio/ip/address.hpp>
+
 namespace rt::net {
+
+// An IP address by its bytes (printing it costs more than the rest of shedding a connection); an
+// IPv4 address mapped into IPv6 is the IPv4 address.
+std::string address_key(const asio::ip::address& address);
+// The network an address belongs to, as the rate limit counts it: an IPv4 /24 or an IPv6 /64, of
+// which one host or one customer of a provider can have many addresses.
+std::string prefix_key(const std::string& address_key);
 
 class ConnectionRateLimit {
  public:

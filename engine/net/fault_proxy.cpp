@@ -16,6 +16,7 @@ namespace rt::net {
 nlohmann::json FaultCounts::to_json() const {
   return {{"connections", connections},   {"records_forwarded", records_forwarded}, {"records_dropped", records_dropped},
           {"records_deleted", records_deleted},
+          {"lengths_rewritten", lengths_rewritten},
           {"garbage_injections", garbage_injections}, {"garbage_bytes", garbage_bytes}, {"disconnects", disconnects},
           {"bytes_swallowed", bytes_swallowed}};
 }
@@ -74,6 +75,7 @@ struct FaultProxy::Impl {
   bool closing = false;
   bool blackhole = false;
   std::optional<uint32_t> delete_length;  // delete the next record of this ciphertext length
+  std::optional<uint32_t> rewrite_length;  // write this length into the next record's header
   uint16_t bound_port = 0;
   mutable std::mutex mutex;
   FaultCounts counts;
@@ -145,7 +147,7 @@ struct FaultProxy::Impl {
       }
       uint32_t length = 0;
       std::memcpy(&length, pipe.buffer.data(), 4);
-      if (length > kMaxMessageSize + kRecordTagSize) {
+      if (length > kMaxRecordCiphertext) {
         pipe.raw = true;
         enqueue(p, pipe, pipe.buffer, false);
         return read(p, pipe);
@@ -168,6 +170,12 @@ struct FaultProxy::Impl {
       counts.bytes_swallowed += bytes.size();
       return;
     }
+    if (is_record && rewrite_length && &pipe == &p->up) {
+      std::memcpy(bytes.data(), &*rewrite_length, 4);
+      rewrite_length.reset();
+      std::lock_guard lock(mutex);
+      ++counts.lengths_rewritten;
+    }
     if (is_record && delete_length && &pipe == &p->up && bytes.size() == kRecordHeaderSize + *delete_length) {
       delete_length.reset();
       std::lock_guard lock(mutex);
@@ -185,7 +193,9 @@ struct FaultProxy::Impl {
     auto extra = std::chrono::microseconds(0);
     if (options.jitter.count() > 0)
       extra = std::chrono::microseconds(std::uniform_int_distribution<int64_t>(0, options.jitter.count())(random));
-    const auto release = std::max(pipe.last_release, Clock::now() + options.delay + extra);
+    auto release = std::max(pipe.last_release, Clock::now() + options.delay + extra);
+    if (options.bytes_per_second > 0)
+      release += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(double(bytes.size()) / options.bytes_per_second));
     pipe.last_release = release;
     if (lost) bytes.clear();
     pipe.queue.push_back({release, std::move(bytes), lost});
@@ -291,6 +301,10 @@ void FaultProxy::disconnect_now() {
 
 void FaultProxy::inject_garbage_now(size_t bytes) {
   asio::post(impl_->io, [this, bytes] { impl_->garbage(bytes); });
+}
+
+void FaultProxy::rewrite_next_record_length(uint32_t new_length) {
+  asio::post(impl_->io, [this, new_length] { impl_->rewrite_length = new_length; });
 }
 
 void FaultProxy::delete_next_record(uint32_t ciphertext_length) {

@@ -22,6 +22,9 @@ struct FaultOptions {
   // both directions, as a TCP connection that could not get it through dies; the connector then
   // reconnects. Records before it still arrive.
   double loss = 0.0;
+  // A bottleneck, each direction: a record (or handshake message) leaves its bytes' time at this
+  // rate after the one before it. 0: as fast as loopback goes.
+  double bytes_per_second = 0.0;
   std::optional<std::chrono::milliseconds> disconnect_after;  // cut the connections once, this long after start()
   std::optional<std::chrono::milliseconds> garbage_after;     // inject garbage once, this long after start()
   size_t garbage_bytes = 64;
@@ -33,6 +36,7 @@ struct FaultCounts {
   uint64_t records_forwarded = 0;
   uint64_t records_dropped = 0;  // lost, each cutting its link
   uint64_t records_deleted = 0;  // by delete_next_record
+  uint64_t lengths_rewritten = 0;  // by rewrite_next_record_length
   uint64_t garbage_injections = 0, garbage_bytes = 0;
   uint64_t disconnects = 0;
   uint64_t bytes_swallowed = 0;  // by the blackhole
@@ -62,6 +66,10 @@ class FaultProxy {
   // rest, as an attacker in the path could (the sizes tell message types apart): the receiver's
   // counters must notice the gap.
   void delete_next_record(uint32_t ciphertext_length);
+  // Rewrites the length in the next connector-to-listener record's header (the bytes behind it
+  // go on as they were), as an attacker in the path could: the receiver must find the stream out
+  // of step, or the link dead, without trusting the length.
+  void rewrite_next_record_length(uint32_t new_length);
   FaultCounts counts() const;
 
  private:

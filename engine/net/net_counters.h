@@ -23,12 +23,17 @@ struct NetCounters {
   // way; TCP itself loses nothing): each ended its connection. Also in rejected_by_reason.
   uint64_t records_out_of_sequence = 0;
   uint64_t handshakes_ok = 0, handshakes_refused = 0;
+  // Handshake state made (an ephemeral key pair): a listener makes one only for a hello whose MAC
+  // proved the key and whose timestamp was new. The hellos it refused for either, before making any.
+  uint64_t handshakes_started = 0, hellos_not_authentic = 0, hellos_replayed = 0;
   uint64_t connections_lost = 0;  // an active connection that died (not a peer's announced end)
   uint64_t sessions_ended_by_peer = 0;  // the peer said it was ending its session, then closed
   uint64_t reconnects = 0;  // sessions established after the first
   uint64_t accept_errors = 0;  // the listener's accept failed (e.g. out of descriptors)
   uint64_t handshakes_dropped_for_room = 0;  // pending handshakes closed to make room for newer ones
-  uint64_t connections_shed = 0;  // closed at accept, unread: their address opened too many too fast
+  uint64_t connections_shed = 0;  // closed at accept, unread: their network opened too many too fast
+  // Closed at accept, unread: the room for connections awaiting their hello was full of young ones.
+  uint64_t connections_turned_away = 0;
   // Touch events are acknowledged (acked: by the peer): one not yet acknowledged goes again on
   // the next connection (resent), a copy that arrives twice is dropped (duplicates_in), and beyond the session's
   // room for unacknowledged ones the oldest is given up (unacked_dropped).

@@ -6,20 +6,28 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <array>
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 namespace rt::net {
 namespace {
 
 constexpr uint8_t kHelloMagic[4] = {'R', 'T', 'H', 'S'};
-// Hello: magic 0..3 | version 4..5 | role 6 | reserved 7 | nonce 8..39 | ephemeral public key 40..71.
-constexpr size_t kNonceAt = 8, kEphemeralAt = 40;
-static_assert(kEphemeralAt + 32 == kHelloSize);
+// Hello: magic 0..3 | version 4..5 | role 6 | reserved 7 | nonce 8..39 | ephemeral public key 40..71 |
+// timestamp 72..79 | MAC 80..111.
+constexpr size_t kNonceAt = 8, kEphemeralAt = 40, kTimestampAt = 72;
+static_assert(kTimestampAt + 8 == kHelloMacAt);
+static_assert(kHelloMacSize == crypto_auth_BYTES);
+// crypto_kdf's context: eight characters naming what the subkey is for.
+constexpr char kHelloKdfContext[crypto_kdf_CONTEXTBYTES + 1] = "RTHello1";
+constexpr uint64_t kHelloKdfSubkeyId = 1;
 
 // BLAKE2b-256 over the concatenation of `parts`, keyed with `key` (unkeyed when it is null).
 std::array<uint8_t, 32> hash_of(const std::array<uint8_t, 32>* key, std::initializer_list<std::span<const uint8_t>> parts) {
@@ -45,28 +53,32 @@ std::array<uint8_t, crypto_aead_xchacha20poly1305_ietf_NPUBBYTES> nonce_of(uint6
 
 }  // namespace
 
+SessionKey::~SessionKey() { sodium_memzero(bytes.data(), bytes.size()); }
+
 void ensure_sodium() {
   static const int result = sodium_init();  // thread-safe, idempotent
   if (result < 0) throw std::runtime_error("libsodium failed to initialise");
 }
 
-SessionKey session_key_from_hex(const std::string& hex_in) {
-  size_t first = 0, last = hex_in.size();
-  while (first < last && std::isspace(uint8_t(hex_in[first]))) ++first;
-  while (last > first && std::isspace(uint8_t(hex_in[last - 1]))) --last;
-  const std::string hex = hex_in.substr(first, last - first);
+SessionKey session_key_from_hex(std::string_view hex) {
+  while (!hex.empty() && std::isspace(uint8_t(hex.front()))) hex.remove_prefix(1);
+  while (!hex.empty() && std::isspace(uint8_t(hex.back()))) hex.remove_suffix(1);
   if (hex.size() != 64)
     throw std::invalid_argument("session key: expected 64 hex digits (32 bytes), got " + std::to_string(hex.size()) +
                                 " characters");
   SessionKey key;
-  for (size_t i = 0; i < 32; ++i) {
-    auto digit = [&](char c) -> int {
-      if (c >= '0' && c <= '9') return c - '0';
-      if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-      if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-      throw std::invalid_argument(std::string("session key: '") + c + "' is not a hex digit");
-    };
-    key.bytes[i] = uint8_t(digit(hex[2 * i]) << 4 | digit(hex[2 * i + 1]));
+  // A view, no copy: nothing of the key's text is left behind; the errors name a position only.
+  for (size_t i = 0; i < 64; ++i) {
+    const char c = hex[i];
+    int digit = -1;
+    if (c >= '0' && c <= '9') digit = c - '0';
+    if (c >= 'a' && c <= 'f') digit = c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') digit = c - 'A' + 10;
+    if (digit < 0) {
+      sodium_memzero(key.bytes.data(), key.bytes.size());
+      throw std::invalid_argument("session key: character " + std::to_string(i + 1) + " of 64 is not a hex digit");
+    }
+    key.bytes[i / 2] = uint8_t(key.bytes[i / 2] | digit << (i % 2 ? 0 : 4));
   }
   return key;
 }
@@ -94,9 +106,19 @@ SessionKey load_session_key_file(const std::filesystem::path& path) {
   // Non-blocking: a FIFO named as the key must not hang the site before it is refused.
   buffer.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (buffer.fd < 0) throw std::invalid_argument(name + " cannot be opened: " + std::strerror(errno));
+  // Who may have seen or changed the key, before anything of it is read: a key others could read
+  // or write is no secret between two sites.
   struct stat info {};
   if (::fstat(buffer.fd, &info) != 0 || !S_ISREG(info.st_mode))
     throw std::invalid_argument(name + " is not a regular file");
+  if (info.st_uid != ::geteuid())
+    throw std::invalid_argument(name + " belongs to user " + std::to_string(info.st_uid) + ", not to us (user " +
+                                std::to_string(::geteuid()) + "): make our own with remotetouch keygen FILE");
+  if (info.st_mode & (S_IRWXG | S_IRWXO)) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", unsigned(info.st_mode & 07777));
+    throw std::invalid_argument(name + " is open to the group or others (mode " + mode + "): chmod 600 " + path.string());
+  }
   if (info.st_size > off_t(kMaxKeyFileBytes))
     throw std::invalid_argument(name + " is " + std::to_string(info.st_size) + " bytes, longer than a key's line (64 hex digits)");
   size_t size = 0;
@@ -110,23 +132,29 @@ SessionKey load_session_key_file(const std::filesystem::path& path) {
   if (size > kMaxKeyFileBytes) throw std::invalid_argument(name + " is longer than a key's line (64 hex digits)");
   SessionKey key;
   try {
-    key = session_key_from_hex(std::string(buffer.bytes.data(), size));
+    key = session_key_from_hex(std::string_view(buffer.bytes.data(), size));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(path.string() + ": " + e.what());
   }
-  if (is_weak_session_key(key))
-    throw std::invalid_argument(name + " holds a weak key (every byte the same): make one with remotetouch keygen FILE");
-  if (info.st_mode & (S_IRWXG | S_IRWXO)) {
-    char mode[8];
-    std::snprintf(mode, sizeof mode, "%04o", unsigned(info.st_mode & 07777));
-    throw std::invalid_argument(name + " is open to the group or others (mode " + mode + "): chmod 600 " + path.string());
+  if (is_weak_session_key(key)) {
+    sodium_memzero(key.bytes.data(), key.bytes.size());
+    throw std::invalid_argument(name + " holds a weak key (too regular to be a secret: a placeholder or a hand-typed "
+                                       "key): make one with remotetouch keygen FILE");
   }
   return key;
 }
 
 SessionKey write_new_session_key_file(const std::filesystem::path& path) {
   const SessionKey key = random_session_key();
-  std::string line = to_hex(key) + "\n";
+  // Made where it stays: no hex copy of the key left behind in a freed buffer.
+  std::string line;
+  line.reserve(66);
+  {
+    std::string hex = to_hex(key);
+    line.append(hex);
+    sodium_memzero(hex.data(), hex.size());
+  }
+  line += '\n';
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
   if (fd < 0) {
     sodium_memzero(line.data(), line.size());
@@ -155,20 +183,71 @@ SessionKey random_session_key() {
 }
 
 bool is_weak_session_key(const SessionKey& key) {
-  return std::all_of(key.bytes.begin(), key.bytes.end(), [&](uint8_t b) { return b == key.bytes[0]; });
+  std::array<bool, 256> value_seen{}, step_seen{};
+  int values = 0, steps = 0;
+  for (size_t i = 0; i < key.bytes.size(); ++i) {
+    if (!std::exchange(value_seen[key.bytes[i]], true)) ++values;
+    if (i > 0 && !std::exchange(step_seen[uint8_t(key.bytes[i] - key.bytes[i - 1])], true)) ++steps;
+  }
+  constexpr int kFewest = 16;
+  return values < kFewest || steps < kFewest;
 }
 
 std::string to_hex(const SessionKey& key) {
   char out[65];
   sodium_bin2hex(out, sizeof out, key.bytes.data(), key.bytes.size());
-  return out;
+  std::string hex(out, 64);
+  sodium_memzero(out, sizeof out);
+  return hex;
+}
+
+HelloAuthenticator::HelloAuthenticator(const SessionKey& key) {
+  ensure_sodium();
+  static_assert(sizeof key_ == crypto_auth_KEYBYTES);
+  crypto_kdf_derive_from_key(key_.data(), key_.size(), kHelloKdfSubkeyId, kHelloKdfContext, key.bytes.data());
+}
+
+HelloAuthenticator::~HelloAuthenticator() { sodium_memzero(key_.data(), key_.size()); }
+
+void HelloAuthenticator::sign(std::span<uint8_t> hello) const {
+  if (hello.size() != kHelloSize) throw std::logic_error("hello MAC: a hello of the wrong size");
+  crypto_auth(hello.data() + kHelloMacAt, hello.data(), kHelloMacAt, key_.data());
+}
+
+bool HelloAuthenticator::verify(std::span<const uint8_t> hello) const {
+  return hello.size() == kHelloSize && crypto_auth_verify(hello.data() + kHelloMacAt, hello.data(), kHelloMacAt, key_.data()) == 0;
+}
+
+uint64_t hello_timestamp(std::span<const uint8_t> hello) {
+  uint64_t timestamp = 0;
+  if (hello.size() >= kTimestampAt + 8) std::memcpy(&timestamp, hello.data() + kTimestampAt, 8);
+  return timestamp;
+}
+
+uint64_t next_hello_timestamp() {
+  static std::atomic<uint64_t> last{0};
+  const uint64_t now = uint64_t(
+      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+  uint64_t previous = last.load();
+  uint64_t next = 0;
+  do next = std::max(now, previous + 1);
+  while (!last.compare_exchange_weak(previous, next));
+  return next;
+}
+
+HelloVerdict HelloGate::check(std::span<const uint8_t> hello) {
+  if (!authenticator_.verify(hello)) return HelloVerdict::NotAuthentic;
+  const uint64_t timestamp = hello_timestamp(hello);
+  if (timestamp <= last_accepted_) return HelloVerdict::Replayed;
+  last_accepted_ = timestamp;
+  return HelloVerdict::Accepted;
 }
 
 const char* role_name(Role role) { return role == Role::Connector ? "connector" : "listener"; }
 
-Handshake::Handshake(const SessionKey& key, Role role) : key_(key.bytes), role_(role) {
-  ensure_sodium();
-  if (is_weak_session_key(key)) throw std::invalid_argument("handshake: a weak session key (every byte the same)");
+Handshake::Handshake(const SessionKey& key, Role role)
+    : key_(key.bytes), role_(role), authenticator_(key), timestamp_(next_hello_timestamp()) {
+  if (is_weak_session_key(key)) throw std::invalid_argument("handshake: a weak session key (too regular to be a secret)");
   randombytes_buf(own_nonce_.data(), own_nonce_.size());
   randombytes_buf(ephemeral_secret_.data(), ephemeral_secret_.size());
   crypto_scalarmult_base(ephemeral_public_.data(), ephemeral_secret_.data());
@@ -177,6 +256,8 @@ Handshake::Handshake(const SessionKey& key, Role role) : key_(key.bytes), role_(
 Handshake::Handshake(const SessionKey& key, Role role, const std::array<uint8_t, 32>& nonce) : Handshake(key, role) {
   own_nonce_ = nonce;
 }
+
+Handshake::Handshake(const SessionKey& key, Role role, uint64_t timestamp) : Handshake(key, role) { timestamp_ = timestamp; }
 
 Handshake::~Handshake() {
   sodium_memzero(ephemeral_secret_.data(), ephemeral_secret_.size());
@@ -189,14 +270,23 @@ void Handshake::wipe() {
   wiped_ = true;
 }
 
-std::array<uint8_t, kHelloSize> Handshake::hello() const {
-  std::array<uint8_t, kHelloSize> out{};
+std::array<uint8_t, kHelloPrefixSize> Handshake::hello_prefix(Role role) {
+  std::array<uint8_t, kHelloPrefixSize> out{};
   std::memcpy(out.data(), kHelloMagic, 4);
   std::memcpy(out.data() + 4, &kHandshakeVersion, 2);
-  out[6] = uint8_t(role_);
+  out[6] = uint8_t(role);
   out[7] = 0;
+  return out;
+}
+
+std::array<uint8_t, kHelloSize> Handshake::hello() const {
+  std::array<uint8_t, kHelloSize> out{};
+  const auto prefix = hello_prefix(role_);
+  std::memcpy(out.data(), prefix.data(), prefix.size());
   std::memcpy(out.data() + kNonceAt, own_nonce_.data(), 32);
   std::memcpy(out.data() + kEphemeralAt, ephemeral_public_.data(), 32);
+  std::memcpy(out.data() + kTimestampAt, &timestamp_, 8);
+  authenticator_.sign(out);
   return out;
 }
 
@@ -235,6 +325,8 @@ std::optional<std::string> Handshake::receive_hello(std::span<const uint8_t> hel
   if (hello.size() != kHelloSize)
     return "handshake: hello of " + std::to_string(hello.size()) + " bytes, expected " + std::to_string(kHelloSize);
   if (auto error = check_hello_prefix(hello, role_)) return error;
+  if (!authenticator_.verify(hello))
+    return std::string("handshake: the peer's hello is not authenticated with our session key (wrong key on one side?)");
   if (sodium_memcmp(hello.data() + kNonceAt, own_nonce_.data(), 32) == 0 ||
       sodium_memcmp(hello.data() + kEphemeralAt, ephemeral_public_.data(), 32) == 0)
     return std::string("handshake: peer echoed our nonce or key (a reflected hello)");
@@ -291,18 +383,47 @@ TrafficKeys Handshake::keys() const {
   return keys;
 }
 
-std::vector<uint8_t> RecordSealer::seal(std::span<const uint8_t> plaintext) {
-  std::vector<uint8_t> record(kRecordHeaderSize + plaintext.size() + kRecordTagSize);
-  const uint32_t length = uint32_t(plaintext.size() + kRecordTagSize);
-  const uint64_t counter = counter_++;
-  std::memcpy(record.data(), &length, 4);
-  std::memcpy(record.data() + 4, &counter, 8);
+RecordSealer::~RecordSealer() { sodium_memzero(key_.data(), key_.size()); }
+
+namespace {
+
+void seal_into(std::vector<uint8_t>& out, std::span<const uint8_t> fragment, bool final, uint64_t counter,
+               const std::array<uint8_t, kTrafficKeySize>& key) {
+  if (fragment.size() > kMaxRecordPayload) throw std::logic_error("record: a fragment over kMaxRecordPayload");
+  const size_t at = out.size();
+  out.resize(at + kRecordHeaderSize + kRecordFlagSize + fragment.size() + kRecordTagSize);
+  uint8_t* record = out.data() + at;
+  const uint32_t length = uint32_t(kRecordFlagSize + fragment.size() + kRecordTagSize);
+  std::memcpy(record, &length, 4);
+  std::memcpy(record + 4, &counter, 8);
+  // The flag and the fragment side by side in the output, then encrypted in place.
+  uint8_t* plaintext = record + kRecordHeaderSize;
+  plaintext[0] = final ? 1 : 0;
+  if (!fragment.empty()) std::memcpy(plaintext + kRecordFlagSize, fragment.data(), fragment.size());
   const auto nonce = nonce_of(counter);
   unsigned long long written = 0;
-  crypto_aead_xchacha20poly1305_ietf_encrypt(record.data() + kRecordHeaderSize, &written, plaintext.data(),
-                                             plaintext.size(), record.data(), kRecordHeaderSize, nullptr, nonce.data(),
-                                             key_.data());
-  return record;
+  crypto_aead_xchacha20poly1305_ietf_encrypt(plaintext, &written, plaintext, kRecordFlagSize + fragment.size(), record,
+                                             kRecordHeaderSize, nullptr, nonce.data(), key.data());
+}
+
+}  // namespace
+
+std::vector<uint8_t> RecordSealer::seal(std::span<const uint8_t> fragment, bool final) {
+  std::vector<uint8_t> out;
+  seal_into(out, fragment, final, counter_++, key_);
+  return out;
+}
+
+std::vector<uint8_t> RecordSealer::seal_message(std::span<const uint8_t> message) {
+  const size_t records = std::max<size_t>(1, (message.size() + kMaxRecordPayload - 1) / kMaxRecordPayload);
+  std::vector<uint8_t> out;
+  out.reserve(message.size() + records * (kRecordHeaderSize + kRecordFlagSize + kRecordTagSize));
+  for (size_t i = 0; i < records; ++i) {
+    const size_t at = i * kMaxRecordPayload;
+    seal_into(out, message.subspan(at, std::min(kMaxRecordPayload, message.size() - at)), i + 1 == records, counter_++,
+              key_);
+  }
+  return out;
 }
 
 const char* record_error_name(RecordError error) {
@@ -311,45 +432,73 @@ const char* record_error_name(RecordError error) {
     case RecordError::Oversize: return "record_oversize";
     case RecordError::AuthFailed: return "auth_failed";
     case RecordError::OutOfSequence: return "out_of_sequence";
+    case RecordError::BadFragment: return "bad_fragment";
   }
   return "unknown";
+}
+
+RecordOpener::RecordOpener(const std::array<uint8_t, kTrafficKeySize>& key, size_t max_message)
+    : key_(key), max_message_(max_message) {
+  fragment_.reserve(kMaxRecordCiphertext);
+}
+
+RecordOpener::~RecordOpener() {
+  sodium_memzero(key_.data(), key_.size());
+  sodium_memzero(fragment_.data(), fragment_.size());
+  sodium_memzero(partial_.data(), partial_.size());
 }
 
 RecordError RecordOpener::check_header(std::span<const uint8_t> header, RecordHeader* out, std::string* reason) const {
   std::memcpy(&out->ciphertext_length, header.data(), 4);
   std::memcpy(&out->counter, header.data() + 4, 8);
-  if (out->ciphertext_length < kRecordTagSize || out->ciphertext_length > max_plaintext_ + kRecordTagSize) {
-    *reason = "record length " + std::to_string(out->ciphertext_length) + " outside " + std::to_string(kRecordTagSize) +
-              ".." + std::to_string(max_plaintext_ + kRecordTagSize) + ": the stream is out of step";
+  constexpr size_t kShortest = kRecordFlagSize + kRecordTagSize;
+  if (out->ciphertext_length < kShortest || out->ciphertext_length > kMaxRecordCiphertext) {
+    *reason = "record length " + std::to_string(out->ciphertext_length) + " outside " + std::to_string(kShortest) + ".." +
+              std::to_string(kMaxRecordCiphertext) + ": the stream is out of step";
     return RecordError::Oversize;
   }
   return RecordError::None;
 }
 
 RecordError RecordOpener::open(std::span<const uint8_t> header, std::span<const uint8_t> ciphertext,
-                               std::vector<uint8_t>* plaintext, std::string* reason) {
+                               std::vector<uint8_t>* message, std::string* reason, bool* complete) {
+  message->clear();
+  if (complete) *complete = false;
   RecordHeader h;
   if (auto e = check_header(header, &h, reason); e != RecordError::None) return e;
   if (ciphertext.size() != h.ciphertext_length) {
     *reason = "record body of " + std::to_string(ciphertext.size()) + " bytes, header says " + std::to_string(h.ciphertext_length);
     return RecordError::AuthFailed;
   }
-  plaintext->resize(ciphertext.size() - kRecordTagSize);
+  fragment_.resize(ciphertext.size() - kRecordTagSize);  // within the capacity reserved
   const auto nonce = nonce_of(h.counter);
   unsigned long long written = 0;
-  if (crypto_aead_xchacha20poly1305_ietf_decrypt(plaintext->data(), &written, nullptr, ciphertext.data(), ciphertext.size(),
+  if (crypto_aead_xchacha20poly1305_ietf_decrypt(fragment_.data(), &written, nullptr, ciphertext.data(), ciphertext.size(),
                                                  header.data(), kRecordHeaderSize, nonce.data(), key_.data()) != 0) {
-    plaintext->clear();
     *reason = "record " + std::to_string(h.counter) + " failed authentication (tampered, forged or out of step)";
     return RecordError::AuthFailed;
   }
   if (h.counter != last_ + 1) {
-    plaintext->clear();
     *reason = "record " + std::to_string(h.counter) + " out of sequence after " + std::to_string(last_) + " (" +
               (h.counter > last_ ? std::to_string(h.counter - last_ - 1) + " deleted on the way" : "replayed or reordered") + ")";
     return RecordError::OutOfSequence;
   }
   last_ = h.counter;
+  const uint8_t flag = fragment_[0];
+  const size_t bytes = fragment_.size() - kRecordFlagSize;
+  if (flag > 1) {
+    *reason = "record " + std::to_string(h.counter) + " has fragment flag " + std::to_string(flag) + ", not 0 or 1";
+    return RecordError::BadFragment;
+  }
+  if (partial_.size() + bytes > max_message_) {
+    *reason = "a message of more than " + std::to_string(max_message_) + " bytes (record " + std::to_string(h.counter) + ")";
+    return RecordError::BadFragment;
+  }
+  partial_.insert(partial_.end(), fragment_.begin() + kRecordFlagSize, fragment_.end());
+  if (flag == 0) return RecordError::None;
+  if (complete) *complete = true;
+  message->swap(partial_);
+  partial_.clear();
   return RecordError::None;
 }
 

@@ -1,5 +1,6 @@
 #include "net/session.h"
 
+#include <pthread.h>
 #include <sodium.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -14,6 +15,7 @@
 #include <thread>
 
 #include "net/connection_rate_limit.h"
+#include "net/log_limit.h"
 #include "time/monotonic_clock.h"
 
 namespace rt::net {
@@ -58,7 +60,10 @@ struct Connection {
   std::array<uint8_t, kHelloSize> hello_in{};
   std::array<uint8_t, kProofSize> proof_in{};
   std::array<uint8_t, kRecordHeaderSize> header_in{};
-  std::vector<uint8_t> body_in;
+  std::vector<uint8_t> body_in;  // one record's, its capacity reserved once authenticated
+  // Listener: the connector's hello carried a MAC of our key and a new timestamp. Until then the
+  // connection has cost a socket and a read, nothing more.
+  bool hello_authentic = false;
   std::deque<std::vector<uint8_t>> handshake_out;
   std::vector<uint8_t> writing_buffer;
   uint64_t touches_written = 0;  // the sequence of the last touch event written on this connection
@@ -70,29 +75,28 @@ struct Connection {
   uint64_t last_rx_us = 0;
   uint64_t opened_us = 0;
   std::string peer, address;  // address: the peer's IP alone, for the per-address cap
-  std::string address_key;    // the IP's bytes, as the listener's rate limit knows it
+  std::string address_key;    // the IP's bytes: the peer's last address is recognised by it
 };
 using ConnectionPtr = std::shared_ptr<Connection>;
 
-// An IP address as the listener's rate limit knows it: its bytes (printing it costs more than
-// the rest of shedding a connection).
-std::string address_key(const asio::ip::address& address) {
-  if (address.is_v4()) {
-    const auto bytes = address.to_v4().to_bytes();
-    return std::string(bytes.begin(), bytes.end());
-  }
-  const auto bytes = address.to_v6().to_bytes();
-  return std::string(bytes.begin(), bytes.end());
-}
+// Connections whose hello has not come yet: strangers open them at will (within their network's
+// rate), so their number is bounded, and room is made by closing the oldest, but never one
+// younger than kHelloGrace (its hello, sent with the connection, is on its way: this is what lets
+// the real peer's connection live to be read under a flood), and never one from the address the
+// peer last authenticated from for a stranger's. With every one younger, the newcomer is closed:
+// at most kMaxAwaitingHello / kHelloGrace new connections a second get past accept, whatever
+// the number of networks they come from.
+constexpr size_t kMaxAwaitingHello = 256;
+constexpr uint64_t kHelloGraceUs = 250'000;
+// Handshakes under way (an authentic hello came, a key pair was made): only a holder of the key
+// gets here, so a few suffice; the oldest goes for the newest (a reconnecting peer's stale one).
+constexpr size_t kMaxPendingHandshakes = 4;
+// New handshakes a second, in all: a holder of the key reconnects a few times a second at most.
+constexpr uint32_t kNewHandshakesPerSecond = 20;
 
-// Handshakes under way at once: beyond these the oldest is dropped for the newest, so that
-// silent or slow strangers cannot keep the real peer out, nor hold descriptors and memory.
-constexpr size_t kMaxPendingHandshakes = 16;
-constexpr size_t kMaxPendingHandshakesPerAddress = 4;
-
-// New connections an address may open while it is not the authenticated peer's: a connector
-// retries a few times a second at most, so beyond this it is a flood, and its connections are
-// closed at accept, unread. Remembering an address costs little; how many is bounded.
+// New connections a network may open while it is not the authenticated peer's address: a
+// connector retries a few times a second at most, so beyond this it is a flood, and its
+// connections are closed at accept, unread. Remembering a network costs little; how many is bounded.
 constexpr uint32_t kNewConnectionsPerSecondPerAddress = 10;
 constexpr uint32_t kNewConnectionBurstPerAddress = 20;
 constexpr size_t kRateLimitedAddresses = 1024;
@@ -119,17 +123,21 @@ constexpr size_t kMaxUnackedTouches = 256;
 }  // namespace
 
 struct Session::Impl {
-  explicit Impl(SessionOptions o) : options(std::move(o)), acceptor(io), connect_timer(io), tick_timer(io), accept_timer(io), goodbye_timer(io) {
+  explicit Impl(SessionOptions o)
+      : options(std::move(o)), hello_gate(options.key), acceptor(io), connect_timer(io), tick_timer(io), accept_timer(io),
+        goodbye_timer(io) {
     ensure_sodium();
     if (is_weak_session_key(options.key))
-      throw std::invalid_argument("session key is weak (every byte the same, e.g. all zero): make one with remotetouch keygen FILE");
+      throw std::invalid_argument(
+          "session key is weak (too regular to be a secret, e.g. all zero or hand-typed): make one with remotetouch keygen FILE");
     if (!options.log) options.log = [](const std::string& line) { std::cerr << line << "\n"; };
     do randombytes_buf(&touch_session, sizeof touch_session);
     while (touch_session == 0);
   }
 
   SessionOptions options;
-  asio::io_context io;  // first: destroyed last
+  HelloGate hello_gate;  // the listener's: MAC and replay window of the connectors' hellos
+  asio::io_context io;  // destroyed after everything below that uses it
   tcp::acceptor acceptor;
   asio::steady_timer connect_timer, tick_timer, accept_timer, goodbye_timer;
   // Accept errors (no descriptors left, say) persist until something closes: waiting before the
@@ -140,6 +148,7 @@ struct Session::Impl {
   std::chrono::steady_clock::time_point accept_error_logged{};
   ConnectionRateLimit connection_rate{kNewConnectionsPerSecondPerAddress, kNewConnectionBurstPerAddress,
                                       kRateLimitedAddresses};
+  ConnectionRateLimit handshake_rate{kNewHandshakesPerSecond, kNewHandshakesPerSecond, 1};
   // The address the peer last authenticated from (its bytes): its reconnections are never shed,
   // even while a stranger on the same address floods us.
   std::string peer_address_key;
@@ -184,32 +193,7 @@ struct Session::Impl {
   bool portrait_stop = false;                            // under `mutex`
 
   void log(const std::string& line) { options.log("[" + options.name + "] " + line); }
-  // At most one line a second per kind of event, with how many were not logged: a peer that
-  // provokes refusals must not flood the log.
-  struct LogLimit {
-    std::chrono::steady_clock::time_point last{};
-    uint64_t suppressed = 0;
-  };
-  std::map<std::string, LogLimit> log_limits;
-  std::mutex log_limits_mutex;  // the portrait decoder's thread rejects too
-  void log_limited(const std::string& kind, const std::string& line) {
-    log_limited(kind, [&] { return line; });
-  }
-  // `make_line` is called only when the line is due.
-  template <typename MakeLine>
-    requires std::is_invocable_r_v<std::string, MakeLine>
-  void log_limited(const std::string& kind, MakeLine&& make_line) {
-    std::lock_guard lock(log_limits_mutex);
-    LogLimit& limit = log_limits[kind];
-    const auto now = std::chrono::steady_clock::now();
-    if (limit.last != std::chrono::steady_clock::time_point{} && now - limit.last < std::chrono::seconds(1)) {
-      ++limit.suppressed;
-      return;
-    }
-    log(make_line() + (limit.suppressed ? " (and " + std::to_string(limit.suppressed) + " more like it in the last second)" : ""));
-    limit.suppressed = 0;
-    limit.last = now;
-  }
+  LogLimit log_limited{[this](const std::string& line) { log(line); }};
 
   void set_status(ConnectionState state, std::string reason, std::string peer) {
     std::lock_guard lock(mutex);
@@ -236,21 +220,67 @@ struct Session::Impl {
 
   // ---- connection lifecycle (network thread) ----
 
-  // Makes room for one more handshake from `address`: the oldest pending one (from that address
-  // when it has too many, else from any) is dropped.
-  void cap_pending_handshakes(const std::string& address) {
-    for (const bool same_address : {true, false}) {
-      std::vector<ConnectionPtr> pending;
-      for (const auto& c : connections)
-        if (c != active && !c->closed && (!same_address || c->address == address)) pending.push_back(c);
-      if (pending.size() < (same_address ? kMaxPendingHandshakesPerAddress : kMaxPendingHandshakes)) continue;
-      const ConnectionPtr oldest =
-          *std::min_element(pending.begin(), pending.end(), [](const auto& a, const auto& b) { return a->opened_us < b->opened_us; });
-      count([](NetCounters& k) { ++k.handshakes_dropped_for_room; });
-      log_limited("handshake dropped", "handshake with " + oldest->peer + " dropped: too many handshakes under way (" +
-                                           std::string(same_address ? "from its address" : "in all") + ")");
-      close(oldest);
+  // Room for a new connection from `address_key` among those whose hello has not come yet (see
+  // kMaxAwaitingHello): false when none can be made, and the newcomer is to be closed.
+  bool make_room_for_hello(const std::string& newcomer_key, uint64_t now_us) {
+    if (connections.size() < kMaxAwaitingHello) return true;  // they are among the connections
+    const bool newcomer_is_peer = !peer_address_key.empty() && newcomer_key == peer_address_key;
+    size_t awaiting = 0;
+    ConnectionPtr oldest;
+    for (const auto& c : connections) {
+      if (c == active || c->closed || c->hello_authentic) continue;
+      ++awaiting;
+      if (!newcomer_is_peer && !peer_address_key.empty() && c->address_key == peer_address_key) continue;
+      if (now_us - c->opened_us < kHelloGraceUs) continue;
+      if (!oldest || c->opened_us < oldest->opened_us) oldest = c;
     }
+    if (awaiting < kMaxAwaitingHello) return true;
+    if (!oldest) {
+      count([](NetCounters& k) { ++k.connections_turned_away; });
+      log_limited("turned away", [] {
+        return "new connections closed at accept: " + std::to_string(kMaxAwaitingHello) +
+               " connections already wait for their hello, each for less than " + std::to_string(kHelloGraceUs / 1000) + " ms";
+      });
+      return false;
+    }
+    count([](NetCounters& k) { ++k.handshakes_dropped_for_room; });
+    log_limited("handshake dropped", [&] {
+      return "connection with " + oldest->peer + " dropped: too many connections wait for their hello";
+    });
+    close(oldest);
+    return true;
+  }
+
+  // Room for one more handshake whose hello was authentic: the oldest under way goes.
+  void make_room_for_handshake() {
+    std::vector<ConnectionPtr> pending;
+    for (const auto& c : connections)
+      if (c != active && !c->closed && c->handshake) pending.push_back(c);
+    if (pending.size() < kMaxPendingHandshakes) return;
+    const ConnectionPtr oldest =
+        *std::min_element(pending.begin(), pending.end(), [](const auto& a, const auto& b) { return a->opened_us < b->opened_us; });
+    count([](NetCounters& k) { ++k.handshakes_dropped_for_room; });
+    log_limited("handshake dropped", "handshake with " + oldest->peer + " dropped: too many handshakes under way");
+    close(oldest);
+  }
+
+  // The connector's authenticated hello, before anything is spent on it: the MAC, the replay
+  // window, the rate of new handshakes. Empty when it may go on.
+  std::optional<std::string> check_connector_hello(const ConnectionPtr& c) {
+    switch (hello_gate.check(c->hello_in)) {
+      case HelloVerdict::NotAuthentic:
+        count([](NetCounters& k) { ++k.hellos_not_authentic; });
+        return "handshake: the hello is not authenticated with our session key (a stranger, or the wrong key on one side)";
+      case HelloVerdict::Replayed:
+        count([](NetCounters& k) { ++k.hellos_replayed; });
+        return "handshake: the hello is no later than the last one accepted (replayed, or the peer's clock went back)";
+      case HelloVerdict::Accepted: break;
+    }
+    if (!handshake_rate.admit({}, monotonic_now_us()))
+      return "handshake: more than " + std::to_string(kNewHandshakesPerSecond) + " new handshakes a second";
+    c->hello_authentic = true;
+    make_room_for_handshake();
+    return std::nullopt;
   }
 
   void begin(const ConnectionPtr& c) {
@@ -260,11 +290,10 @@ struct Session::Impl {
     c->address = ec ? "?" : endpoint.address().to_string();
     if (!ec) c->address_key = address_key(endpoint.address());
     c->peer = ec ? "?" : c->address + ":" + std::to_string(endpoint.port());
-    c->opened_us = monotonic_now_us();
-    cap_pending_handshakes(c->address);
+    if (!c->opened_us) c->opened_us = monotonic_now_us();
     connections.insert(c);
-    // The connector says hello at once; the listener only to a peer whose hello starts right, so
-    // that a stranger's garbage costs it no ephemeral key and no write.
+    // The connector says hello at once; the listener only to a connector whose hello proved the
+    // key, so that a stranger costs it no key pair, no write, and learns nothing keyed.
     if (options.role == Role::Connector) say_hello(c);
     c->handshake_timer.expires_after(options.handshake_timeout);
     c->handshake_timer.async_wait([this, c](std::error_code e) {
@@ -277,16 +306,30 @@ struct Session::Impl {
     asio::async_read(c->socket, asio::buffer(c->hello_in.data(), kHelloPrefixSize), [this, c](std::error_code e, size_t n) {
       count([&](NetCounters& k) { k.bytes_in += n; });
       if (c->closed || c->refused) return;
+      // A listener that read our hello and closed did not take it; one that closes unread (a
+      // reset) is shedding connections, a temporary state.
+      if (e == asio::error::eof && options.role == Role::Connector)
+        return refuse(c, "the listener closed the connection without a hello: it did not take ours (the wrong session key "
+                         "on one side?), or it is turning connections away");
       if (e) return refuse(c, "peer closed during the handshake (" + e.message() + ")", false);
       const auto prefix = std::span(c->hello_in).first(kHelloPrefixSize);
-      // Whoever speaks RemoteTouch gets our hello, another version too: it learns ours from it.
-      if (!c->handshake && Handshake::has_hello_magic(prefix)) say_hello(c);
-      if (auto error = Handshake::check_hello_prefix(prefix, options.role)) return refuse(c, *error);
+      if (auto error = Handshake::check_hello_prefix(prefix, options.role)) {
+        // A RemoteTouch peer of another version learns ours from our hello's first bytes.
+        if (options.role == Role::Listener && Handshake::has_hello_magic(prefix)) {
+          const auto ours = Handshake::hello_prefix(options.role);
+          c->handshake_out.emplace_back(ours.begin(), ours.end());
+        }
+        return refuse(c, *error);
+      }
       asio::async_read(c->socket, asio::buffer(c->hello_in.data() + kHelloPrefixSize, kHelloSize - kHelloPrefixSize),
                        [this, c](std::error_code e2, size_t n2) {
                          count([&](NetCounters& k) { k.bytes_in += n2; });
                          if (c->closed || c->refused) return;
                          if (e2) return refuse(c, "peer closed during the handshake (" + e2.message() + ")", false);
+                         if (options.role == Role::Listener) {
+                           if (auto error = check_connector_hello(c)) return refuse(c, *error);
+                           say_hello(c);
+                         }
                          if (auto error = c->handshake->receive_hello(c->hello_in)) return refuse(c, *error);
                          on_hello(c);
                        });
@@ -295,6 +338,7 @@ struct Session::Impl {
 
   void say_hello(const ConnectionPtr& c) {
     c->handshake = std::make_unique<Handshake>(options.key, options.role);
+    count([](NetCounters& k) { ++k.handshakes_started; });
     const auto hello = c->handshake->hello();
     c->handshake_out.emplace_back(hello.begin(), hello.end());
     pump(c);
@@ -338,6 +382,10 @@ struct Session::Impl {
     c->socket.close(ignored);
     c->handshake_timer.cancel();
     connections.erase(c);
+    // The keys go with the connection, not when the last handler holding it is done.
+    c->handshake.reset();
+    c->sealer.reset();
+    c->opener.reset();
   }
 
   // `definite`: the peer said something unacceptable (wrong key, not our protocol): status
@@ -352,7 +400,7 @@ struct Session::Impl {
       ++attempts_failed_while_lost;
       last_failed_attempt = reason;
     } else {
-      log_limited("refused", "connection with " + c->peer + " refused: " + reason);
+      log_limited("refused", [&] { return "connection with " + c->peer + " refused: " + reason; });
     }
     c->refused = true;
     if (c->handshake_out.empty() && !c->writing)
@@ -378,6 +426,7 @@ struct Session::Impl {
     c->sealer.emplace(keys.send);
     c->opener.emplace(keys.receive, kMaxMessageSize);
     sodium_memzero(&keys, sizeof keys);
+    c->body_in.reserve(kMaxRecordCiphertext);
     c->last_rx_us = monotonic_now_us();
     if (active) {
       log("a new authenticated connection from " + c->peer + " replaces the one with " + active->peer);
@@ -431,6 +480,8 @@ struct Session::Impl {
     if (options.role == Role::Connector) schedule_connect();
   }
 
+  // A record's length is not authenticated until its record is: it may size one record's buffer,
+  // never more, and the bytes it promises count as life only once they authenticate.
   void read_record(const ConnectionPtr& c) {
     asio::async_read(c->socket, asio::buffer(c->header_in), [this, c](std::error_code e, size_t n) {
       count([&](NetCounters& k) { k.bytes_in += n; });
@@ -442,41 +493,32 @@ struct Session::Impl {
         reject(record_error_name(RecordError::Oversize), reason);
         return drop(c, reason);
       }
-      c->body_in.resize(header.ciphertext_length);
-      read_body(c, 0);
-    });
-  }
-
-  // In pieces, each one proof of life: a big portrait on a slow link takes longer than
-  // `lost_after`, and the peer is not lost while its bytes keep coming.
-  // Whatever has arrived counts as life, however little: a slow link carrying a big record is
-  // not a dead one.
-  void read_body(const ConnectionPtr& c, size_t done) {
-    constexpr size_t kPiece = 256 * 1024;
-    const size_t piece = std::min(kPiece, c->body_in.size() - done);
-    c->socket.async_read_some(asio::buffer(c->body_in.data() + done, piece), [this, c, done](std::error_code e, size_t n) {
-      count([&](NetCounters& k) { k.bytes_in += n; });
-      if (c->closed) return;
-      if (e) return drop(c, e == asio::error::eof ? "the peer closed the connection" : e.message());
-      c->last_rx_us = monotonic_now_us();
-      if (done + n < c->body_in.size()) return read_body(c, done + n);
-      on_record(c);
-      if (!c->closed) read_record(c);
+      c->body_in.resize(header.ciphertext_length);  // within the capacity reserved
+      asio::async_read(c->socket, asio::buffer(c->body_in), [this, c](std::error_code e2, size_t n2) {
+        count([&](NetCounters& k) { k.bytes_in += n2; });
+        if (c->closed) return;
+        if (e2) return drop(c, e2 == asio::error::eof ? "the peer closed the connection" : e2.message());
+        on_record(c);
+        if (!c->closed) read_record(c);
+      });
     });
   }
 
   void on_record(const ConnectionPtr& c) {
     std::vector<uint8_t> plaintext;
     std::string reason;
+    bool complete = false;
     // Every record error ends the connection: a forged or corrupted record, and an authentic one
     // out of sequence (TCP loses nothing: a gap means one was deleted on the way, perhaps a
     // touch event picked out by its size). The connector then builds a new one.
-    const RecordError error = c->opener->open(c->header_in, c->body_in, &plaintext, &reason);
+    const RecordError error = c->opener->open(c->header_in, c->body_in, &plaintext, &reason, &complete);
     if (error != RecordError::None) {
       if (error == RecordError::OutOfSequence) count([](NetCounters& k) { ++k.records_out_of_sequence; });
       reject(record_error_name(error), reason);
       return drop(c, reason);
     }
+    c->last_rx_us = monotonic_now_us();
+    if (!complete) return;
     DecodeError header_error;
     const auto header = decode_header(plaintext, &header_error);
     if (header && header->type == uint16_t(MessageType::Portrait)) {
@@ -597,7 +639,7 @@ struct Session::Impl {
       type = next->type;
       touch_sequence = next->touch_sequence;
       goodbye = next->goodbye;
-      c->writing_buffer = c->sealer->seal(next->bytes);
+      c->writing_buffer = c->sealer->seal_message(next->bytes);
     } else {
       return;
     }
@@ -680,15 +722,14 @@ struct Session::Impl {
     });
   }
 
-  // A connection from an address over its rate is closed before anything is read or allocated.
-  bool admit(const tcp::endpoint& from) {
-    const asio::ip::address address = from.address();
-    const std::string key = address_key(address);
-    if (key == peer_address_key || connection_rate.admit(key, monotonic_now_us())) return true;
+  // A connection from a network over its rate is closed before anything is read or allocated.
+  bool admit(const tcp::endpoint& from, const std::string& key, uint64_t now_us) {
+    if (key == peer_address_key || connection_rate.admit(prefix_key(key), now_us)) return true;
     count([](NetCounters& k) { ++k.connections_shed; });
     log_limited("shed", [&] {
-      return "connections from " + address.to_string() + " closed unread: more than " +
-             std::to_string(kNewConnectionsPerSecondPerAddress) + " new ones a second from that address";
+      return "connections from " + from.address().to_string() + " closed unread: more than " +
+             std::to_string(kNewConnectionsPerSecondPerAddress) + " new ones a second from its network (" +
+             (from.address().is_v4() ? "/24" : "/64") + ")";
     });
     return false;
   }
@@ -714,12 +755,15 @@ struct Session::Impl {
         if (fd < 0) return accept_failed(std::error_code(errno, std::generic_category()));
         accept_backoff = std::chrono::milliseconds(0);
         from.resize(length);
-        if (!admit(from)) {
+        const std::string key = address_key(from.address());
+        const uint64_t now_us = monotonic_now_us();
+        if (!admit(from, key, now_us) || !make_room_for_hello(key, now_us)) {
           ::close(fd);
           shed = true;
           continue;
         }
         auto c = std::make_shared<Connection>(io);
+        c->opened_us = now_us;
         std::error_code assign_error;
         c->socket.assign(from.protocol(), fd, assign_error);
         if (assign_error) {
@@ -863,6 +907,8 @@ void Session::start() {
   }
   s.portrait_thread = std::thread([&s] { s.decode_portraits(); });
   s.thread = std::thread([&s] { s.io.run(); });
+  // Named, so that its share of a core can be told apart (top -H, /proc/PID/task/*/comm).
+  pthread_setname_np(s.thread.native_handle(), ("net " + s.options.name).substr(0, 15).c_str());
 }
 
 void Session::stop() {

@@ -12,7 +12,7 @@
 // in a handler called on the network thread. stop() says goodbye (a last heartbeat marked
 // `ending`), so that the peer tells the session's end from a lost connection.
 //
-// A dropped connection (socket error, no data for `lost_after`, a record that breaks the stream)
+// A dropped connection (socket error, no authenticated record for `lost_after`, a record that breaks the stream)
 // is retried with exponential backoff by the connecting side; the listener keeps accepting, and
 // a newly authenticated connection replaces the old one. status() says whether the remote side
 // is there, so the display can keep running and show "remote lost".
@@ -40,7 +40,7 @@ struct SessionOptions {
   EncodeOptions encode;
   DecodeOptions decode;  // e.g. the display's size: a portrait of another size is not decoded
   std::chrono::milliseconds heartbeat_period{200};
-  std::chrono::milliseconds lost_after{1000};        // nothing received for this long: connection lost
+  std::chrono::milliseconds lost_after{1000};        // no authenticated record for this long: connection lost
   std::chrono::milliseconds handshake_timeout{2000};
   std::chrono::milliseconds reconnect_min{50}, reconnect_max{2000};
   size_t incoming_touch_capacity = 1024;  // beyond this, unpolled touch events are dropped (counted)

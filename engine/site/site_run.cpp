@@ -339,27 +339,41 @@ int SiteRun::run() {
   // Waited for in slices, so that a stop signal ends the wait too. The timeout counts from the
   // site's start: what it does before listening or connecting is part of the user's wait.
   const uint64_t give_up_us = started_us_ + uint64_t(options.connect_timeout_s * 1e6);
-  // A connector whose peer refused it outright (the wrong key, not our protocol) stops at once:
-  // trying again with the same key cannot succeed. A listener keeps waiting for the right peer.
+  // A refusal is no reason to give up before the connect timeout: whoever refused may be a
+  // stranger's listener on the address, the other site's previous release, a key being replaced
+  // there, or a listener under a flood. The session tries again with back-off; each failed attempt
+  // is told here with its reason, so that a wrong key is plain long before the timeout.
   const bool connector = !options.peer.empty();
-  auto refused = [&] { return connector && net_->status().state == net::ConnectionState::Refused; };
+  uint64_t failures_told = 0;
+  auto tell_failures = [&] {
+    const uint64_t failures = net_->counters().handshakes_refused;
+    if (!connector || failures == failures_told) return;
+    const uint64_t more = failures - failures_told - 1;
+    failures_told = failures;
+    const net::ConnectionStatus status = net_->status();
+    const uint64_t now = monotonic_now_us();
+    const double left_s = now < give_up_us ? double(give_up_us - now) * 1e-6 : 0.0;
+    char left[32];
+    std::snprintf(left, sizeof left, "%.1f", left_s);
+    std::cerr << "site " << common_.name << ": "
+              << (status.state == net::ConnectionState::Refused ? "the other site refused the connection ("
+                                                                  : "a connection attempt failed (")
+              << status.reason << ")" << (more ? " (and " + std::to_string(more) + " more attempts)" : "")
+              << "; trying again for up to " << left << " s\n";
+  };
   bool connected = false;
   while (!(connected = net_->wait_connected(std::chrono::milliseconds(100))) && !g_stop_signal && !window_quit() &&
-         !refused() && monotonic_now_us() < give_up_us) {
+         monotonic_now_us() < give_up_us) {
+    tell_failures();
   }
   if (!connected && window_quit()) return stop_before_connected("window", 0);
   if (!connected && g_stop_signal) return stop_before_connected(signal_name(g_stop_signal), 128 + g_stop_signal);
   if (!connected) {
     const net::ConnectionStatus status = net_->status();
-    const bool was_refused = connector && status.state == net::ConnectionState::Refused;
     events_.write("connect_failed", monotonic_now_us(), {{"state", net::connection_state_name(status.state)}, {"reason", status.reason}});
-    if (was_refused)
-      std::cerr << "site " << common_.name << ": the other site refused the connection (" << status.reason
-                << "); not trying again\n";
-    else
-      std::cerr << "site " << common_.name << ": no connection to the other site within " << options.connect_timeout_s
-                << " s of the start (" << net::connection_state_name(status.state)
-                << (status.reason.empty() ? "" : ": " + status.reason) << ")\n";
+    std::cerr << "site " << common_.name << ": no connection to the other site within " << options.connect_timeout_s
+              << " s of the start (" << net::connection_state_name(status.state)
+              << (status.reason.empty() ? "" : ": " + status.reason) << ")\n";
     return 2;
   }
   common_.epoch_us = monotonic_now_us();

@@ -23,7 +23,8 @@ wait_for() {
   done
 }
 for tool in Xvfb xdotool xwd; do command -v "$tool" > /dev/null || fail "$tool is missing (scripts/packages.txt)"; done
-printf '%064d\n' 42 > "$out/session.key"
+# A random key: a hand-made one (a padded number) is refused as too regular to be a secret.
+head -c 32 /dev/urandom | od -An -v -tx1 | tr -d ' \n' > "$out/session.key"
 chmod 600 "$out/session.key"
 common=(--scene clap --width 96 --height 54 --resolution-scale 0.1 --connect-timeout 60 --key-file "$out/session.key")
 
