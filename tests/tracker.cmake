@@ -11,7 +11,8 @@ add_cli_test(session_site_bad_tracker 105 "--tracker: 'kinect' is not a tracker:
              $<TARGET_FILE:remotetouch> site --tracker kinect)
 add_cli_test(session_site_bad_tracker_url 105 "--tracker: Leap service URL 'http://127.0.0.1' must start with ws://"
              $<TARGET_FILE:remotetouch> site --tracker leap:http://127.0.0.1)
-file(WRITE ${CMAKE_BINARY_DIR}/test-out/leap-key/session.key "0000000000000000000000000000000000000000000000000000000000000042\n")
+# A key as keygen makes them (a regular one is refused as hand-typed before the tracker is tried).
+file(WRITE ${CMAKE_BINARY_DIR}/test-out/leap-key/session.key "ef4c138bc13e1d1eef4148b0ac1e2341c56d40ce7f6250f97978354b6794b7eb\n")
 file(CHMOD ${CMAKE_BINARY_DIR}/test-out/leap-key/session.key PERMISSIONS OWNER_READ OWNER_WRITE)
 add_cli_test(session_site_no_leap_service 1
              "remotetouch: error: no Leap service answers at ws://127.0.0.1:1/v6.json within 3000 ms: cannot connect: Connection refused"
