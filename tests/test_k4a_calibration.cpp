@@ -93,6 +93,17 @@ Eigen::Vector2d sdk_project(const std::vector<double>& p, const std::array<doubl
 const std::vector<Eigen::Vector3d> kPoints = {
     {0.0, 0.0, 1.0}, {0.31, -0.22, 1.4}, {-0.4, 0.27, 0.9}, {0.12, 0.35, 2.1}, {-0.2, -0.3, 0.7}};
 
+// Our intrinsics at a mode against the SDK's, computed from its own table.
+template <typename Expected>
+void check_same_intrinsics(const CameraIntrinsics& k, const Expected& expected, const SdkMode& sdk) {
+  CHECK(k.width == uint32_t(sdk.out_w));
+  CHECK(k.height == uint32_t(sdk.out_h));
+  CHECK(k.fx == Approx(expected[0]).epsilon(1e-12));
+  CHECK(k.fy == Approx(expected[1]).epsilon(1e-12));
+  CHECK(k.cx == Approx(expected[2]).epsilon(1e-12));
+  CHECK(k.cy == Approx(expected[3]).epsilon(1e-12));
+}
+
 }  // namespace
 
 TEST_CASE("k4a: every depth mode's intrinsics are the SDK's mode-specific calibration") {
@@ -101,12 +112,7 @@ TEST_CASE("k4a: every depth mode's intrinsics are the SDK's mode-specific calibr
     INFO(depth_mode_name(mode));
     const CameraIntrinsics k = depth_intrinsics(calibration.depth, mode);
     const auto expected = sdk_mode_intrinsics(kDepthParameters, sdk);
-    CHECK(k.width == uint32_t(sdk.out_w));
-    CHECK(k.height == uint32_t(sdk.out_h));
-    CHECK(k.fx == Approx(expected[0]).epsilon(1e-12));
-    CHECK(k.fy == Approx(expected[1]).epsilon(1e-12));
-    CHECK(k.cx == Approx(expected[2]).epsilon(1e-12));
-    CHECK(k.cy == Approx(expected[3]).epsilon(1e-12));
+    check_same_intrinsics(k, expected, sdk);
     CHECK(depth_mode_for_size(k.width, k.height) == mode);
   }
 }
@@ -117,12 +123,7 @@ TEST_CASE("k4a: every colour resolution's intrinsics are the SDK's mode-specific
     INFO(sdk.out_h << "p");
     const CameraIntrinsics k = color_intrinsics(calibration.color, resolution);
     const auto expected = sdk_mode_intrinsics(kColorParameters, sdk);
-    CHECK(k.width == uint32_t(sdk.out_w));
-    CHECK(k.height == uint32_t(sdk.out_h));
-    CHECK(k.fx == Approx(expected[0]).epsilon(1e-12));
-    CHECK(k.fy == Approx(expected[1]).epsilon(1e-12));
-    CHECK(k.cx == Approx(expected[2]).epsilon(1e-12));
-    CHECK(k.cy == Approx(expected[3]).epsilon(1e-12));
+    check_same_intrinsics(k, expected, sdk);
     CHECK(color_resolution_for_size(k.width, k.height) == resolution);
   }
 }

@@ -308,9 +308,13 @@ struct Session::Impl {
       if (c->closed || c->refused) return;
       // A listener that read our hello and closed did not take it; one that closes unread (a
       // reset) is shedding connections, a temporary state.
+      // Once our key has worked with this listener, a close while the session is being rebuilt
+      // is the link still down (an outage, a proxy), not a refusal of the key.
       if (e == asio::error::eof && options.role == Role::Connector)
-        return refuse(c, "the listener closed the connection without a hello: it did not take ours (the wrong session key "
-                         "on one side?), or it is turning connections away");
+        return refuse(c,
+                      "the listener closed the connection without a hello: it did not take ours (the wrong session key "
+                      "on one side?), or it is turning connections away",
+                      !ever_connected);
       if (e) return refuse(c, "peer closed during the handshake (" + e.message() + ")", false);
       const auto prefix = std::span(c->hello_in).first(kHelloPrefixSize);
       if (auto error = Handshake::check_hello_prefix(prefix, options.role)) {

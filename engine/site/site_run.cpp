@@ -132,8 +132,8 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
   common_.name = site_name(options.site);
   if (!(options.time_scale >= 0) || !std::isfinite(options.time_scale)) throw std::invalid_argument("--time-scale must be > 0");
   if (options.time_scale == 0) {
-    // A CPU driver renders about a frame a second per site: a scene played in real time would
-    // show a few of its frames. A quarter of real time shows most of them.
+    // A CPU driver renders a site far slower than the scene plays: in real time it would
+    // show few of the scene's frames. A quarter of real time shows most of them.
     const bool cpu = gpu_.context().is_cpu_device();
     common_.options.time_scale = cpu ? 0.25 : 1.0;
     std::cerr << "site " << common_.name << ": time scale " << common_.options.time_scale
