@@ -16,23 +16,10 @@
 
 #include "net/connection_rate_limit.h"
 #include "net/log_limit.h"
+#include "net/session_connection.h"
 #include "time/monotonic_clock.h"
 
 namespace rt::net {
-
-std::pair<std::string, uint16_t> parse_host_port(const std::string& text) {
-  const size_t colon = text.rfind(':');
-  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size())
-    throw std::invalid_argument("'" + text + "' is not HOST:PORT");
-  std::string host = text.substr(0, colon);
-  if (host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
-  const std::string port_text = text.substr(colon + 1);
-  if (port_text.size() > 5 || !std::all_of(port_text.begin(), port_text.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    throw std::invalid_argument("'" + text + "': port '" + port_text + "' is not a number");
-  const unsigned long port = std::stoul(port_text);
-  if (port == 0 || port > 65535) throw std::invalid_argument("'" + text + "': port must be 1..65535");
-  return {host, uint16_t(port)};
-}
 
 const char* connection_state_name(ConnectionState state) {
   switch (state) {
@@ -50,34 +37,8 @@ namespace {
 
 using asio::ip::tcp;
 
-struct Connection {
-  explicit Connection(asio::io_context& io) : socket(io), handshake_timer(io) {}
-  tcp::socket socket;
-  asio::steady_timer handshake_timer;
-  std::unique_ptr<Handshake> handshake;
-  std::optional<RecordSealer> sealer;
-  std::optional<RecordOpener> opener;
-  std::array<uint8_t, kHelloSize> hello_in{};
-  std::array<uint8_t, kProofSize> proof_in{};
-  std::array<uint8_t, kRecordHeaderSize> header_in{};
-  std::vector<uint8_t> body_in;  // one record's, its capacity reserved once authenticated
-  // Listener: the connector's hello carried a MAC of our key and a new timestamp. Until then the
-  // connection has cost a socket and a read, nothing more.
-  bool hello_authentic = false;
-  std::deque<std::vector<uint8_t>> handshake_out;
-  std::vector<uint8_t> writing_buffer;
-  uint64_t touches_written = 0;  // the sequence of the last touch event written on this connection
-  bool writing = false, closed = false;
-  bool peer_ending = false;  // the peer's last heartbeat said it is ending its session
-  // Refused, but a decoy proof is still being written: closed once it is out (or on the
-  // handshake timer), so that the connector learns of the refusal as a wrong proof.
-  bool refused = false;
-  uint64_t last_rx_us = 0;
-  uint64_t opened_us = 0;
-  std::string peer, address;  // address: the peer's IP alone, for the per-address cap
-  std::string address_key;    // the IP's bytes: the peer's last address is recognised by it
-};
-using ConnectionPtr = std::shared_ptr<Connection>;
+using session_detail::Connection;
+using session_detail::ConnectionPtr;
 
 // Connections whose hello has not come yet: strangers open them at will (within their network's
 // rate), so their number is bounded, and room is made by closing the oldest, but never one
