@@ -2,6 +2,9 @@
 // Two sessions on loopback for the network tests: a listener on a free port and a connector to it
 // (directly or through a fault proxy), short timeouts so faults show within a test's seconds, and
 // log lines collected instead of printed.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -46,6 +49,15 @@ inline net::SessionOptions test_session_options(net::Role role, const net::Sessi
 }
 
 // Polls `done` every 2 ms until it holds or `timeout` passes.
+// 127.0.0.1:port, for tests that open raw sockets against a session.
+inline sockaddr_in loopback_address(uint16_t port) {
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(port);
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  return address;
+}
+
 inline bool eventually(const std::function<bool()>& done, std::chrono::milliseconds timeout = std::chrono::milliseconds(3000)) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (!done()) {

@@ -138,10 +138,7 @@ TEST_CASE("1,000 strangers a second from 64 networks: the peer gets in within a 
   listener_options.heartbeat_period = SessionOptions{}.heartbeat_period;
   Session listener(listener_options);
   listener.start();
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(listener.local_port());
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const sockaddr_in address = test::loopback_address(listener.local_port());
   REQUIRE(test::eventually([&] { return thread_cpu_seconds("net B").has_value(); }, kPatience));
 
   const double seconds = flood_seconds();
@@ -209,10 +206,7 @@ TEST_CASE("a stranger flooding from the peer's own address (its host, its NAT) d
     first.start();
     REQUIRE(first.wait_connected(kPatience));
   }
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(listener.local_port());
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const sockaddr_in address = test::loopback_address(listener.local_port());
   // A stranger on that address (never shed: it is the peer's) floods silent connections and
   // forged hellos, 1,000 a second; the peer's next run tries halfway.
   std::atomic<bool> stop{false};

@@ -335,10 +335,7 @@ TEST_CASE("out of descriptors, the listener backs off instead of spinning, and r
   tight.rlim_cur = open_now + 8;
   REQUIRE(::setrlimit(RLIMIT_NOFILE, &tight) == 0);
   std::vector<int> clients;
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(port);
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const sockaddr_in address = test::loopback_address(port);
   for (int i = 0; i < 40; ++i) {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
     if (fd < 0) break;
@@ -402,10 +399,7 @@ TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not f
   const auto started = std::chrono::steady_clock::now();
   Session listener(listener_options);
   listener.start();
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(listener.local_port());
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const sockaddr_in address = test::loopback_address(listener.local_port());
   // More connections that never say anything than the listener keeps waiting for a hello, then
   // forty that send garbage at once, each from a network of its own (the loopback network has
   // them all), so that none is shed at accept for its network's rate.
@@ -456,10 +450,7 @@ TEST_CASE("a flood from one network is shed at accept; the peer, from another or
   const auto started = std::chrono::steady_clock::now();
   Session listener(test::test_session_options(Role::Listener, key, log, "B"));
   listener.start();
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(listener.local_port());
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const sockaddr_in address = test::loopback_address(listener.local_port());
   // Connections the listener is done with: closed unread, refused (the garbage), or dropped for
   // room among the handshakes under way.
   auto handled = [&] {

@@ -157,8 +157,6 @@ nlohmann::json read_json(const std::filesystem::path& path) {
   return json;
 }
 
-std::string cell(const nlohmann::json& value, const char* format = "%.1f") { return site::table_cell(value, format); }
-
 void print_summary(const nlohmann::json& metrics) {
   std::printf("\n");
   site::print_table_row("", {"site A", "site B"});
@@ -167,16 +165,16 @@ void print_summary(const nlohmann::json& metrics) {
   const auto rows_b = site::closing_rows(metrics["sites"]["B"]);
   for (size_t i = 0; i < rows_a.size(); ++i) row(rows_a[i].first, rows_a[i].second, rows_b[i].second);
   row("PSNR final composite dB (mean)",
-      cell(metrics["psnr_db"]["A"]["final_db"]) + " (" + cell(metrics["psnr_db"]["A"]["mean_db"]) + ")",
-      cell(metrics["psnr_db"]["B"]["final_db"]) + " (" + cell(metrics["psnr_db"]["B"]["mean_db"]) + ")");
+      site::table_cell(metrics["psnr_db"]["A"]["final_db"]) + " (" + site::table_cell(metrics["psnr_db"]["A"]["mean_db"]) + ")",
+      site::table_cell(metrics["psnr_db"]["B"]["final_db"]) + " (" + site::table_cell(metrics["psnr_db"]["B"]["mean_db"]) + ")");
   // What the remote user sees of the hand and forearm, per touch phase.
   for (const char* phase : evaluation::kTouchPhaseNames) {
     const nlohmann::json::json_pointer path("/hand_arm/" + std::string(phase));
     auto figures = [&](const nlohmann::json& site) {
       if (!site.contains(path)) return std::string("-");
       const nlohmann::json& f = site.at(path);
-      return cell(f.value("psnr_hand_arm_db", nlohmann::json())) + "/" + cell(f.value("de_hand", nlohmann::json())) + " (" +
-             cell(f.value("frames", nlohmann::json()), "%.0f") + ")";
+      return site::table_cell(f.value("psnr_hand_arm_db", nlohmann::json())) + "/" + site::table_cell(f.value("de_hand", nlohmann::json())) + " (" +
+             site::table_cell(f.value("frames", nlohmann::json()), "%.0f") + ")";
     };
     row(std::string("hand+arm dB/CIEDE2000 (frames) ") + phase, figures(metrics["psnr_db"]["A"]),
         figures(metrics["psnr_db"]["B"]));
