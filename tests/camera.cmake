@@ -30,3 +30,9 @@ add_cli_test(cli_inspect_camera 0 "inspect-camera: 1 captures of '.*top-left.mkv
 set_tests_properties(cli_inspect_camera PROPERTIES FIXTURES_REQUIRED k4a_simulated)
 add_cli_test(cli_inspect_camera_missing 1 "remotetouch: error: '.*nonexistent.mkv': no such file"
              ${rt} inspect-camera ${CMAKE_BINARY_DIR}/nonexistent.mkv --out ${CMAKE_BINARY_DIR}/test-out/inspect-missing)
+
+# A site of k4a recordings played by eval ibr (against the simulator's images: within 0.3 dB)
+# and by the demo as site A's cameras.
+add_test(NAME cli_k4a_site_played
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/k4a_site_played.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/k4a-site-played)
+set_tests_properties(cli_k4a_site_played PROPERTIES TIMEOUT 600 RUN_SERIAL TRUE)

@@ -263,6 +263,8 @@ TEST_CASE("k4a: mode names, tags and frame rates") {
   CHECK(frame_period_ns(30) == 33333333);
   CHECK(frame_rate_for_period(33333333) == 30u);
   CHECK(frame_rate_for_period(66666666) == 15u);
+  CHECK(frame_rate_for_period(66666667) == 15u);  // 1e9 / 15 rounded up, as libavformat gives it
+  CHECK(frame_rate_for_period(200000000) == 5u);
   CHECK(frame_rate_for_period(40000000) == std::nullopt);  // 25 fps
   CHECK(frame_rate_for_period(0) == std::nullopt);
 }

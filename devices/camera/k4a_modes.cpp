@@ -140,7 +140,9 @@ bool is_frame_rate(uint32_t fps) {
 
 std::optional<uint32_t> frame_rate_for_period(uint64_t period_ns) {
   if (period_ns == 0) return std::nullopt;
-  const uint64_t fps = 1'000'000'000ull / period_ns;
+  // Rounded, not truncated: a period rounded up by a nanosecond (15 fps as 66,666,667 ns) is
+  // still that rate.
+  const uint64_t fps = (1'000'000'000ull + period_ns / 2) / period_ns;
   for (uint32_t rate : kFrameRates)
     if (rate == fps) return rate;
   return std::nullopt;

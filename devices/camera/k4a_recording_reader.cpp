@@ -343,21 +343,18 @@ RecordingReader::RecordingReader(const std::filesystem::path& path)
 
 RecordingReader::~RecordingReader() = default;
 
-std::optional<Capture> RecordingReader::next_capture() {
+// The packets of the next capture: a COLOR and a DEPTH block apart by the depth delay, within
+// half a frame period, or one of them alone when the device dropped the other.
+RecordingReader::CapturePackets RecordingReader::read_capture_packets() {
   Demuxer& d = *demuxer_;
   const uint64_t half_period_us = frame_period_ns(info_.fps) / 2000;
-  const auto device_us = [&](const AVPacket& packet) {
-    return uint64_t(std::max<int64_t>(0, d.timecode_us(packet))) + info_.start_offset_us;
-  };
-
-  Packet color, depth;
+  CapturePackets packets;
   while (Packet packet = d.read_packet()) {
     const bool is_color = packet->stream_index == d.color_stream;
-    Packet& slot = is_color ? color : depth;
-    const Packet& other = is_color ? depth : color;
+    std::shared_ptr<AVPacket>& slot = is_color ? packets.color : packets.depth;
+    const std::shared_ptr<AVPacket>& other = is_color ? packets.depth : packets.color;
     bool belongs = !slot;
     if (belongs && other) {
-      // Colour and depth of one capture are apart by the depth delay, within half a period.
       const int64_t color_us = int64_t(device_us(is_color ? *packet : *other));
       const int64_t depth_us = int64_t(device_us(is_color ? *other : *packet)) - info_.depth_delay_ns / 1000;
       belongs = uint64_t(std::llabs(depth_us - color_us)) < half_period_us;
@@ -366,14 +363,33 @@ std::optional<Capture> RecordingReader::next_capture() {
       d.pending = std::move(packet);
       break;
     }
-    slot = std::move(packet);
-    if (color && depth) break;
+    slot = std::shared_ptr<AVPacket>(packet.release(), PacketDeleter{});
+    if (packets.color && packets.depth) break;
   }
   // What was read before the cut is returned first; the next call reports the cut.
-  if (!color && !depth) {
-    if (!d.truncation.empty()) throw RecordingError(d.truncation);
-    return std::nullopt;
-  }
+  if (!packets.color && !packets.depth && !d.truncation.empty()) throw RecordingError(d.truncation);
+  return packets;
+}
+
+uint64_t RecordingReader::device_us(const AVPacket& packet) const {
+  return uint64_t(std::max<int64_t>(0, demuxer_->timecode_us(packet))) + info_.start_offset_us;
+}
+
+std::optional<CaptureTimes> RecordingReader::skip_capture() {
+  const CapturePackets packets = read_capture_packets();
+  if (!packets.color && !packets.depth) return std::nullopt;
+  CaptureTimes times;
+  if (packets.color) times.color_device_us = device_us(*packets.color);
+  if (packets.depth) times.depth_device_us = device_us(*packets.depth);
+  return times;
+}
+
+std::optional<Capture> RecordingReader::next_capture() {
+  Demuxer& d = *demuxer_;
+  const CapturePackets packets = read_capture_packets();
+  const std::shared_ptr<AVPacket>& color = packets.color;
+  const std::shared_ptr<AVPacket>& depth = packets.depth;
+  if (!color && !depth) return std::nullopt;
 
   Capture capture;
   const auto frame_name = [&](const char* track, uint64_t time) {

@@ -21,6 +21,8 @@
 #include "camera/k4a_recording_writer.h"
 #include "image/host_image.h"
 
+struct AVPacket;
+
 namespace rt::camera::k4a {
 
 // Errors start with the file's path and say what is wrong with it.
@@ -52,6 +54,11 @@ struct Capture {
   HostImage depth_mm;  // R16U, 0 = no measurement; empty without depth
 };
 
+// When a capture's images were taken, without decoding them.
+struct CaptureTimes {
+  std::optional<uint64_t> color_device_us, depth_device_us;
+};
+
 class RecordingReader {
  public:
   // Opens the file and checks its tracks, tags and calibration; throws RecordingError.
@@ -65,9 +72,17 @@ class RecordingReader {
   // (corrupt JPEG, a depth frame of the wrong size, a truncated block) throws RecordingError
   // naming the file, the track and the device time.
   std::optional<Capture> next_capture();
+  // The next capture's times, its images left undecoded: how a replay indexes a file and skips
+  // what it has no time to show. Throws RecordingError for a truncated file, as next_capture.
+  std::optional<CaptureTimes> skip_capture();
 
  private:
   struct Demuxer;
+  struct CapturePackets {
+    std::shared_ptr<AVPacket> color, depth;
+  };
+  CapturePackets read_capture_packets();
+  uint64_t device_us(const AVPacket& packet) const;
   std::filesystem::path path_;
   std::unique_ptr<Demuxer> demuxer_;
   RecordingInfo info_;

@@ -39,6 +39,10 @@ class EvalIbrCommand : public Command {
     command->add_option("--resolution-scale", eval_.resolution_scale, "Camera resolution scale (1 is the site's own)")
         ->check(CLI::Range(0.01, 1.0))
         ->default_str("the scene's");
+    command->add_option("--cameras-from", eval_.cameras_from,
+                        "The cameras' images from this recording of the same scene and site (simulate's output: "
+                        "RemoteTouch's format or --format k4a) instead of the simulator's; the rest is as without")
+        ->check(CLI::ExistingDirectory);
     command->add_flag("--dump-passes", options_.dump_passes,
                       "Write every pass output of the last frame (EXR and PNG) to OUT/passes/FUSION/");
     command->add_option("--first-frame", eval_.first_frame, "Scene frame to start at")

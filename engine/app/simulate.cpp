@@ -33,6 +33,11 @@ class SimulateCommand : public Command {
     command_->add_option("--jpeg-quality", simulate_.jpeg_quality, "k4a colour: the MJPG quality")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+    command_->add_option("--supersample", simulate_.supersample,
+                         "Camera colour and ground truth rendered at N x N samples per pixel, box-filtered (odd; "
+                         "eval ibr renders at 3)")
+        ->check(CLI::IsMember({1u, 3u, 5u, 7u}))
+        ->default_str("the scene's");
     command_->add_option("--gt-width", simulate_.gt_width, "Ground-truth target view width")
         ->check(CLI::Range(1u, 16384u))->capture_default_str();
     command_->add_option("--gt-height", simulate_.gt_height, "Ground-truth target view height")

@@ -27,6 +27,9 @@ struct EvalIbrOptions {
   bool frames_given = false;   // else the scene's own frame count
   uint32_t first_frame = 0;    // of the scene: where the run starts
   uint32_t frame_step = 1;     // every Nth frame from there: a whole scene's motion at 1/N of the time
+  // A recording of the same scene and site whose images replace the simulator's (the JPEG of a
+  // k4a recording then is the only difference); empty = the simulator's.
+  std::filesystem::path cameras_from;
 };
 
 struct SimulateOptions {
@@ -39,6 +42,7 @@ struct SimulateOptions {
   // (devices/camera/k4a_site_writer.h), the site, tracker and ground truth beside them.
   std::string format = "recording";
   int jpeg_quality = 90;                     // k4a colour (MJPG)
+  uint32_t supersample = 0;                  // colour samples per pixel, N x N; 0 = the scene's own
 };
 
 struct EvalDualOptions {

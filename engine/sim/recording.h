@@ -11,7 +11,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "sim/rgbd_source.h"
+#include "sim/recorded_rgbd_source.h"
 #include "sim/site_description.h"
 
 namespace rt::sim {
@@ -48,7 +48,7 @@ class RecordingWriter {
 };
 
 // Replays a recording, reproducing exactly the images and times that were written.
-class ReplayRgbdSource : public RgbdSource {
+class ReplayRgbdSource : public RecordedRgbdSource {
  public:
   // Reads calibration.json (the site, and the images' sizes: its intrinsics, or those at its
   // "recorded_scale") and frames.jsonl; throws naming the file, line and field.
@@ -56,19 +56,13 @@ class ReplayRgbdSource : public RgbdSource {
   // Each image's PNG header is checked against the recorded size and kind before it is decoded.
   std::optional<RgbdFrame> next_frame() override;
   const nlohmann::json& calibration() const { return calibration_; }
-  const SiteDescription& site() const { return site_; }  // as calibrated
-  struct RecordedIntrinsics {
-    CameraIntrinsics color, depth;
-  };
-  // Of camera k's images as recorded.
-  const std::vector<RecordedIntrinsics>& recorded_intrinsics() const { return recorded_; }
-  size_t frame_count() const { return frames_.size(); }
-  // Of the i-th line of frames.jsonl, without reading its images: a live replay skips the
-  // frames it could not keep up with.
-  uint64_t frame_index(size_t i) const { return frames_.at(i)["frame"].get<uint64_t>(); }
-  uint64_t frame_timestamp_us(size_t i) const { return frames_.at(i)["timestamp_us"].get<uint64_t>(); }
-  // The next next_frame() reads the i-th line (i == frame_count(): the end).
-  void seek(size_t i);
+  const SiteDescription& site() const override { return site_; }  // as calibrated
+  const std::vector<RecordedIntrinsics>& recorded_intrinsics() const override { return recorded_; }
+  size_t frame_count() const override { return frames_.size(); }
+  // Of the i-th line of frames.jsonl.
+  uint64_t frame_index(size_t i) const override { return frames_.at(i)["frame"].get<uint64_t>(); }
+  uint64_t frame_timestamp_us(size_t i) const override { return frames_.at(i)["timestamp_us"].get<uint64_t>(); }
+  void seek(size_t i) override;
 
  private:
   std::filesystem::path dir_;

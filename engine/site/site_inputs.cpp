@@ -5,9 +5,12 @@
 #include <optional>
 #include <stdexcept>
 
+#include "camera/k4a_site_recordings.h"
+#include "camera/recorded_site.h"
 #include "pipeline/site_simulator.h"
 #include "config/json.h"
 #include "image/image_io.h"
+#include "sim/recording.h"
 #include "sim/tracker_replay.h"
 #include "sim/tracker_space.h"
 
@@ -37,52 +40,53 @@ double ReplayPacing::fps(double fallback_fps) const {
 
 namespace {
 
-sim::ReplayRgbdSource open_recording(const std::filesystem::path& dir) {
-  std::error_code error;
-  if (!std::filesystem::is_directory(dir, error))
-    throw std::runtime_error("--replay: the recording folder '" + dir.string() + "' does not exist (or is not a folder)");
-  return sim::ReplayRgbdSource(dir);
-}
-
-std::vector<uint64_t> recorded_times(const sim::ReplayRgbdSource& source, size_t count) {
-  std::vector<uint64_t> times;
-  for (size_t i = 0; i < count; ++i) times.push_back(source.frame_timestamp_us(i));
-  return times;
+std::unique_ptr<sim::RecordedRgbdSource> open_recording(const std::filesystem::path& dir) {
+  try {
+    return camera::open_recorded_site(dir);
+  } catch (const std::exception& error) {
+    throw std::runtime_error(std::string("--replay: ") + error.what());
+  }
 }
 
 }  // namespace
 
 SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size_t cameras_needed)
     : dir_(dir), source_(open_recording(dir)), pacing_(std::vector<uint64_t>{0}) {
-  const std::string calibration_file = "'" + (dir_ / "calibration.json").string() + "'";
-  site_ = source_.site();
+  const bool k4a = camera::k4a::is_site_of_recordings(dir_);
+  const std::string description = "'" + (dir_ / (k4a ? "site.json" : "calibration.json")).string() + "'";
+  const std::string frames_file = k4a ? "the k4a recordings in '" + dir_.string() + "'" : "'" + (dir_ / "frames.jsonl").string() + "'";
+  site_ = source_->site();
   if (site_.cameras.size() < cameras_needed)
-    throw std::runtime_error(calibration_file + " has " + std::to_string(site_.cameras.size()) +
+    throw std::runtime_error(description + " has " + std::to_string(site_.cameras.size()) +
                              " cameras; the image-based model uses " + std::to_string(cameras_needed));
-  const size_t count = max_frames ? std::min(max_frames, source_.frame_count()) : source_.frame_count();
-  if (count == 0) throw std::runtime_error("'" + (dir_ / "frames.jsonl").string() + "' lists no frames");
+  const size_t count = max_frames ? std::min(max_frames, source_->frame_count()) : source_->frame_count();
+  if (count == 0) throw std::runtime_error(frames_file + (k4a ? " hold no frames" : " lists no frames"));
+  std::vector<uint64_t> times;
+  for (size_t i = 0; i < count; ++i) times.push_back(source_->frame_timestamp_us(i));
   try {
-    pacing_ = ReplayPacing(recorded_times(source_, count));
+    pacing_ = ReplayPacing(std::move(times));
   } catch (const std::invalid_argument& error) {
-    throw std::runtime_error("'" + (dir_ / "frames.jsonl").string() + "': " + error.what());
+    throw std::runtime_error(frames_file + ": " + error.what());
   }
-  origin_us_ = source_.frame_timestamp_us(0);
+  origin_us_ = source_->frame_timestamp_us(0);
   // Every image there before the peer is kept waiting for a site that fails half way; reading
-  // them all would take as long as the replay, so only the first frame is read now.
-  for (size_t i = 0; i < count; ++i)
-    for (size_t k = 0; k < site_.cameras.size(); ++k)
-      for (const auto& file : {sim::color_path(dir_, k, source_.frame_index(i)), sim::depth_path(dir_, k, source_.frame_index(i))})
-        if (!std::filesystem::is_regular_file(file))
-          throw std::runtime_error("recording '" + dir_.string() + "': frame " + std::to_string(source_.frame_index(i)) +
-                                   " has no image '" + file.string() + "'");
-  // The first frame read whole (each image's header checked against the recorded size first).
-  source_.seek(0);
-  source_.next_frame();
+  // them all would take as long as the replay, so only the first frame is read now. (A k4a
+  // recording's captures were all found when it was indexed.)
+  if (!k4a)
+    for (size_t i = 0; i < count; ++i)
+      for (size_t k = 0; k < site_.cameras.size(); ++k)
+        for (const auto& file : {sim::color_path(dir_, k, source_->frame_index(i)), sim::depth_path(dir_, k, source_->frame_index(i))})
+          if (!std::filesystem::is_regular_file(file))
+            throw std::runtime_error("recording '" + dir_.string() + "': frame " + std::to_string(source_->frame_index(i)) +
+                                     " has no image '" + file.string() + "'");
+  // The first frame read whole (each image checked against the recorded size first).
+  source_->seek(0);
+  source_->next_frame();
   for (size_t k = 0; k < site_.cameras.size(); ++k) {
     const sim::RgbdCamera& camera = site_.cameras[k];
     passes::IbrCameraModel model{camera.color_camera(), camera.depth_camera()};
-    model.color.intrinsics = source_.recorded_intrinsics()[k].color;
-    model.depth.intrinsics = source_.recorded_intrinsics()[k].depth;
+    model.color.intrinsics = source_->recorded_intrinsics()[k].color;
+    model.depth.intrinsics = source_->recorded_intrinsics()[k].depth;
     cameras_.push_back(model);
   }
   if (!std::filesystem::is_regular_file(dir_ / "tracker.jsonl"))
@@ -91,13 +95,12 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
 }
 
 sim::RgbdFrame SiteReplay::read(size_t i) {
-  // The source checks each image's header against the recorded size before decoding it.
-  source_.seek(i);
-  return *source_.next_frame();
+  source_->seek(i);
+  return *source_->next_frame();
 }
 
 std::optional<HostImage> SiteReplay::ground_truth(size_t i) const {
-  const std::filesystem::path file = sim::ground_truth_color_path(dir_, source_.frame_index(i));
+  const std::filesystem::path file = sim::ground_truth_color_path(dir_, source_->frame_index(i));
   if (!std::filesystem::is_regular_file(file)) return std::nullopt;
   return read_image(file);
 }

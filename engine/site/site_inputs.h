@@ -1,8 +1,8 @@
 #pragma once
 // The input side of one site (site_runner.h), whatever its devices are: the RGBD frames and the
 // tracked hands on the scene clock, from the simulator or from a recording (`site --replay`).
-// Live Azure Kinect and Leap devices have no driver here (none in Debian 12): a real site's
-// capture is recorded in the recording format (sim/recording.h) and replayed.
+// A recording is RemoteTouch's format (sim/recording.h) or a real site's k4a recordings
+// (camera/recorded_site.h).
 #include <deque>
 #include <filesystem>
 #include <memory>
@@ -14,7 +14,7 @@
 #include "image/host_image.h"
 #include "passes/common/ibr_scene.h"
 #include "sim/hand_tracker.h"
-#include "sim/recording.h"
+#include "sim/recorded_rgbd_source.h"
 #include "sim/site_description.h"
 #include "tracking/hand_skeleton.h"
 
@@ -41,7 +41,7 @@ class ReplayPacing {
 
 // A recording opened for replay at a site, checked before the site connects: its calibration is a
 // valid site description, every frame's images exist, the first frame's images are readable and
-// fit the calibration (at a uniform resolution scale). Errors name the file.
+// fit the calibration. Errors name the file.
 class SiteReplay {
  public:
   // `max_frames`: play at most this many (0 = all).
@@ -64,7 +64,7 @@ class SiteReplay {
 
  private:
   std::filesystem::path dir_;
-  sim::ReplayRgbdSource source_;
+  std::unique_ptr<sim::RecordedRgbdSource> source_;
   sim::SiteDescription site_;
   std::vector<passes::IbrCameraModel> cameras_;
   ReplayPacing pacing_;

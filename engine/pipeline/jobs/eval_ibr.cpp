@@ -10,6 +10,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include "camera/recorded_site.h"
 #include "pipeline/gpu_session.h"
 #include "pipeline/ibr_evaluation.h"
 #include "pipeline/ibr_renderer.h"
@@ -27,6 +28,33 @@ struct FusionRun {
   std::unique_ptr<IbrRenderer> renderer;
   IbrEvaluation evaluation;
 };
+
+// The recording must be of this site: its cameras by name and in order, at sizes the scene's
+// resolution scale gives.
+void check_recording_matches(const sim::RecordedRgbdSource& recorded, const sim::SiteDescription& site,
+                             const std::filesystem::path& dir) {
+  const std::string where = "--cameras-from '" + dir.string() + "'";
+  if (recorded.site().cameras.size() != site.cameras.size())
+    throw std::invalid_argument(where + " has " + std::to_string(recorded.site().cameras.size()) +
+                                " cameras, the scene's site " + std::to_string(site.cameras.size()));
+  for (size_t k = 0; k < site.cameras.size(); ++k) {
+    if (recorded.site().cameras[k].name != site.cameras[k].name)
+      throw std::invalid_argument(where + ": camera " + std::to_string(k) + " is '" + recorded.site().cameras[k].name +
+                                  "', the scene's site has '" + site.cameras[k].name + "' (another site?)");
+  }
+}
+
+// The recorded images of scene frame `index`, in the site's camera order.
+std::vector<sim::RgbdImage> recorded_cameras(sim::RecordedRgbdSource& recorded, uint64_t index,
+                                             const std::filesystem::path& dir) {
+  for (size_t i = 0; i < recorded.frame_count(); ++i)
+    if (recorded.frame_index(i) == index) {
+      recorded.seek(i);
+      return recorded.next_frame()->cameras;
+    }
+  throw std::invalid_argument("--cameras-from '" + dir.string() + "' has no frame " + std::to_string(index) +
+                              " (it holds " + std::to_string(recorded.frame_count()) + ")");
+}
 
 HostImage scaled(const HostImage& image, float scale) {
   HostImage out = image;
@@ -66,6 +94,19 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
       eval.cameras.empty() ? std::vector<size_t>{} : ibr::cameras_by_name(camera_names, eval.cameras);
   const uint32_t views = fixed_selection.empty() ? eval.ibr.views : uint32_t(fixed_selection.size());
 
+  // Recorded images stand in for the simulator's, camera by camera, at the intrinsics they were
+  // recorded with (a k4a recording's pass through its factory calibration).
+  std::unique_ptr<sim::RecordedRgbdSource> recorded;
+  std::vector<passes::IbrCameraModel> camera_models = simulator.renderer().camera_models();
+  if (!eval.cameras_from.empty()) {
+    recorded = camera::open_recorded_site(eval.cameras_from);
+    check_recording_matches(*recorded, simulator.site(), eval.cameras_from);
+    for (size_t k = 0; k < camera_models.size(); ++k) {
+      camera_models[k].color.intrinsics = recorded->recorded_intrinsics()[k].color;
+      camera_models[k].depth.intrinsics = recorded->recorded_intrinsics()[k].depth;
+    }
+  }
+
   IbrSettings settings = eval.ibr;
   settings.width = options.width;
   settings.height = options.height;
@@ -74,14 +115,14 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   for (const std::string& name : {std::string("min"), std::string("avg")}) {
     if (eval.fusion != name && eval.fusion != "both") continue;
     settings.fusion = name == "min" ? passes::DepthFusion::Min : passes::DepthFusion::Average;
-    runs.push_back({name, std::make_unique<IbrRenderer>(context, simulator.renderer().camera_models(), settings), {}});
+    runs.push_back({name, std::make_unique<IbrRenderer>(context, camera_models, settings), {}});
   }
 
   const std::filesystem::path images_dir = options.out / "images";
   std::filesystem::create_directories(images_dir);
   const uint32_t save_every = std::max(1u, frames / 4);
-  const CameraIntrinsics& color = simulator.renderer().camera(0).color.intrinsics;
-  const CameraIntrinsics& depth = simulator.renderer().camera(0).depth.intrinsics;
+  const CameraIntrinsics& color = camera_models[0].color.intrinsics;
+  const CameraIntrinsics& depth = camera_models[0].depth.intrinsics;
   std::printf("eval ibr: scene %s, site %s's user for the other site's eye, %ux%u (portrait supersampled %ux%u), "
               "%u of %zu cameras (color %ux%u, depth %ux%u), %u frames, simulated color supersampled %ux%u, on %s\n",
               eval.scene.c_str(), eval.site.c_str(), options.width, options.height, settings.supersample,
@@ -96,11 +137,15 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
     for (const std::string& name : eval.cameras) names += (names.empty() ? "" : ", ") + name;
     std::printf("cameras fixed: %s\n", names.c_str());
   }
+  if (recorded)
+    std::printf("cameras' images from %s '%s'\n", camera::recorded_site_kind(eval.cameras_from).c_str(),
+                eval.cameras_from.string().c_str());
   std::vector<uint32_t> scene_frames;  // which scene frame each rendered one is
   for (uint32_t index = 0; index < frames; ++index) {
     simulator.seek(eval.first_frame + uint64_t(index) * eval.frame_step);
-    const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
+    std::optional<sim::RgbdFrame> frame = simulator.next_frame();
     if (!frame) break;
+    if (recorded) frame->cameras = recorded_cameras(*recorded, frame->index, eval.cameras_from);
     const sim::PersonPose& pose = simulator.last_pose();
     const auto selection = fixed_selection.empty()
                                ? ibr::select_cameras(positions, ibr::touching_hand(pose.right_hand, pose.left_hand), views)
@@ -155,6 +200,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
                            {"frame_step", eval.frame_step},
                            {"scene_frames", scene_frames},
                            {"device", context.device_name()},
+                           {"cameras_from", recorded ? nlohmann::json(eval.cameras_from.string()) : nlohmann::json(nullptr)},
                            {"ground_truth", "the simulator's render of the same target view (no sensor effects), color box-filtered "
                                             "over color_supersampling^2 samples per pixel like the cameras' images"},
                            {"color_error", "RGB in [0, 1], portrait premultiplied by its alpha against the truth"}};

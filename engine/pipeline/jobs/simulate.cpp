@@ -23,6 +23,7 @@ int run_simulate(const RunOptions& options, const SimulateOptions& simulate) {
   sim::Scene scene = sim::load_scene(sim::resolve_scene(simulate.scene));
   if (simulate.frames_given) scene.frame_count = options.frames;
   if (simulate.resolution_scale > 0) scene.resolution_scale = simulate.resolution_scale;
+  if (simulate.supersample > 0) scene.color_supersampling = simulate.supersample;
   const Site site = simulate.site;
 
   // The calibration describes the images as recorded: the cameras' intrinsics at the resolution
