@@ -59,6 +59,16 @@ struct CaptureTimes {
   std::optional<uint64_t> color_device_us, depth_device_us;
 };
 
+// Where a reader's time went, summed over the captures it decoded (a benchmark's figures): CPU
+// time of the decoding thread, so that other work on the machine does not count.
+struct DecodeTimes {
+  size_t captures = 0;
+  double demux_ms = 0;         // reading the blocks of a capture from the file
+  double color_decode_ms = 0;  // MJPG to YUV (libavcodec); nothing for raw formats
+  double color_convert_ms = 0; // to RGBA (libswscale)
+  double to_host_ms = 0;       // into the engine's image: colour bytes to floats, depth byte order
+};
+
 class RecordingReader {
  public:
   // Opens the file and checks its tracks, tags and calibration; throws RecordingError.
@@ -75,6 +85,7 @@ class RecordingReader {
   // The next capture's times, its images left undecoded: how a replay indexes a file and skips
   // what it has no time to show. Throws RecordingError for a truncated file, as next_capture.
   std::optional<CaptureTimes> skip_capture();
+  const DecodeTimes& decode_times() const { return times_; }
 
  private:
   struct Demuxer;
@@ -86,6 +97,7 @@ class RecordingReader {
   std::filesystem::path path_;
   std::unique_ptr<Demuxer> demuxer_;
   RecordingInfo info_;
+  DecodeTimes times_;
 };
 
 }  // namespace rt::camera::k4a

@@ -1,7 +1,10 @@
 #include "camera/k4a_site_recordings.h"
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
 #include <limits>
+#include <thread>
 
 #include "camera/k4a_site_writer.h"
 
@@ -47,9 +50,11 @@ void SiteRecordings::open_reader(Camera& camera) {
   camera.next_in_file = 0;
 }
 
-SiteRecordings::SiteRecordings(const std::filesystem::path& dir, std::FILE* log) : dir_(dir), log_(log) {
+SiteRecordings::SiteRecordings(const std::filesystem::path& dir, std::FILE* log, size_t max_cameras)
+    : dir_(dir), log_(log), decode_threads_(std::max(1u, std::thread::hardware_concurrency())) {
   site_ = sim::load_site(dir_ / "site.json");
   if (site_.cameras.empty()) throw RecordingError("'" + (dir_ / "site.json").string() + "' lists no cameras");
+  if (max_cameras > 0 && site_.cameras.size() > max_cameras) site_.cameras.resize(max_cameras);
 
   std::vector<int64_t> first_device_us;
   for (sim::RgbdCamera& described : site_.cameras) {
@@ -150,39 +155,68 @@ void SiteRecordings::seek(size_t i) {
   next_ = i;
 }
 
+const DecodeTimes& SiteRecordings::decode_times(size_t k) const { return cameras_.at(k)->reader->decode_times(); }
+
+sim::RgbdImage SiteRecordings::read_camera(size_t k, const FrameSet& set, std::string& problem) {
+  Camera& camera = *cameras_[k];
+  sim::RgbdImage image;
+  image.camera = site_.cameras[k].name;
+  image.timestamp_us = set.time_us;
+  const std::optional<size_t> kept = set.captures[k];
+  if (!kept) return image;
+  const size_t in_file = camera.in_file[*kept];
+  try {
+    if (camera.next_in_file > in_file) open_reader(camera);  // backwards: from the start again
+    for (; camera.next_in_file < in_file; ++camera.next_in_file) camera.reader->skip_capture();
+    ++camera.next_in_file;
+    if (std::optional<Capture> capture = camera.reader->next_capture()) {
+      image.color = std::move(capture->color);
+      image.depth_mm = std::move(capture->depth_mm);
+      image.timestamp_us = camera.aligned_us[*kept];
+    }
+  } catch (const RecordingError& error) {
+    problem = std::string(error.what()) + ": its camera sits out frame set " + std::to_string(next_);
+  }
+  return image;
+}
+
 std::optional<sim::RgbdFrame> SiteRecordings::next_frame() {
   if (next_ >= sets_.size()) return std::nullopt;
   const FrameSet& set = sets_[next_];
   sim::RgbdFrame frame;
   frame.index = next_;
   frame.timestamp_us = set.time_us;
-  for (size_t k = 0; k < cameras_.size(); ++k) {
-    Camera& camera = *cameras_[k];
-    sim::RgbdImage image;
-    image.camera = site_.cameras[k].name;
-    image.timestamp_us = set.time_us;
-    if (const std::optional<size_t> kept = set.captures[k]) {
-      const size_t in_file = camera.in_file[*kept];
+  const size_t count = cameras_.size();
+  frame.cameras.resize(count);
+  std::vector<std::string> problems(count);
+  std::vector<std::exception_ptr> failures(count);
+  // Each camera has its own reader and decoder, so cameras decode side by side.
+  std::atomic<size_t> next_camera{0};
+  const auto work = [&] {
+    for (size_t k; (k = next_camera++) < count;) {
       try {
-        if (camera.next_in_file > in_file) open_reader(camera);  // backwards: from the start again
-        for (; camera.next_in_file < in_file; ++camera.next_in_file) camera.reader->skip_capture();
-        ++camera.next_in_file;
-        if (std::optional<Capture> capture = camera.reader->next_capture()) {
-          image.color = std::move(capture->color);
-          image.depth_mm = std::move(capture->depth_mm);
-          image.timestamp_us = camera.aligned_us[*kept];
-        }
-      } catch (const RecordingError& error) {
-        ++skipped_;
-        report(std::string(error.what()) + ": its camera sits out frame set " + std::to_string(next_));
+        frame.cameras[k] = read_camera(k, set, problems[k]);
+      } catch (...) {
+        failures[k] = std::current_exception();
       }
     }
+  };
+  std::vector<std::thread> helpers;
+  for (unsigned t = 1; t < std::min<size_t>(decode_threads_, count); ++t) helpers.emplace_back(work);
+  work();
+  for (std::thread& helper : helpers) helper.join();
+  for (size_t k = 0; k < count; ++k) {
+    if (failures[k]) std::rethrow_exception(failures[k]);
+    if (!problems[k].empty()) {
+      ++skipped_;
+      report(problems[k]);
+    }
     // A camera without this set's capture contributes no surface: the others render the user.
+    sim::RgbdImage& image = frame.cameras[k];
     if (image.color.texels.empty() || image.depth_mm.texels.empty()) {
       image.color = HostImage(recorded_[k].color.width, recorded_[k].color.height, PixelFormat::RGBA8);
       image.depth_mm = HostImage(recorded_[k].depth.width, recorded_[k].depth.height, PixelFormat::R16U);
     }
-    frame.cameras.push_back(std::move(image));
   }
   ++next_;
   return frame;

@@ -9,6 +9,7 @@
 // Real data is uneven: a capture that lacks its colour or depth, or whose images cannot be
 // decoded, leaves its camera out of that set (an image with no surface, which the image-based
 // model ignores); each is counted and the first few are reported naming the file and time.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -28,8 +29,9 @@ class SiteRecordings : public sim::RecordedRgbdSource {
  public:
   // Opens every camera's recording and indexes its captures (demuxed, not decoded). Throws
   // RecordingError or config::JsonError naming the file and what is missing or wrong. `log`
-  // (may be null) gets one line per problem found, up to a few.
-  explicit SiteRecordings(const std::filesystem::path& dir, std::FILE* log = stderr);
+  // (may be null) gets one line per problem found, up to a few. `max_cameras` > 0 plays only
+  // the first ones (a benchmark's choice).
+  explicit SiteRecordings(const std::filesystem::path& dir, std::FILE* log = stderr, size_t max_cameras = 0);
   ~SiteRecordings() override;
 
   const sim::SiteDescription& site() const override { return site_; }
@@ -38,7 +40,12 @@ class SiteRecordings : public sim::RecordedRgbdSource {
   uint64_t frame_index(size_t i) const override { return i; }
   uint64_t frame_timestamp_us(size_t i) const override { return sets_.at(i).time_us; }
   void seek(size_t i) override;
+  // The cameras' captures are decoded side by side, on up to decode_threads() threads.
   std::optional<sim::RgbdFrame> next_frame() override;
+  unsigned decode_threads() const { return decode_threads_; }
+  void set_decode_threads(unsigned threads) { decode_threads_ = std::max(1u, threads); }
+  // Camera k's reader's decoding time since it was last opened.
+  const DecodeTimes& decode_times(size_t k) const;
 
   const std::vector<RecordingInfo>& infos() const { return infos_; }
   // Captures left out of every set: incomplete (colour or depth missing), out of time order, or
@@ -51,6 +58,9 @@ class SiteRecordings : public sim::RecordedRgbdSource {
   struct Camera;
   void report(const std::string& problem);
   void open_reader(Camera& camera);
+  // Camera k's image of the current set; empty images when it has none. A capture that cannot
+  // be decoded gives its problem instead.
+  sim::RgbdImage read_camera(size_t k, const FrameSet& set, std::string& problem);
 
   std::filesystem::path dir_;
   std::FILE* log_;
@@ -62,6 +72,7 @@ class SiteRecordings : public sim::RecordedRgbdSource {
   size_t next_ = 0;
   size_t skipped_ = 0;
   size_t reported_ = 0;
+  unsigned decode_threads_ = 1;
   std::string clock_;
 };
 

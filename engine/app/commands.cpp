@@ -12,6 +12,7 @@ namespace rt::app {
   X("bench", bench_compositing)            \
   X("bench", bench_lumi)                   \
   X("bench", bench_touch)                  \
+  X("bench", bench_camera)                 \
   X("bench", bench_simulate)               \
   X("bench", bench_ibr)                    \
   X("bench", bench_hand)                   \
