@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "app/command.h"
 #include "camera/k4a_inspection.h"
@@ -57,9 +58,13 @@ class InspectCameraCommand : public Command {
     std::printf("inspect-camera: %zu captures of '%s' -> %s (demuxed and decoded in %.1f ms a capture", summary.captures,
                 file_.string().c_str(), (out_ / "camera.json").string().c_str(),
                 summary.decode_ms / double(summary.captures));
-    if (registration)
-      std::printf("; depth_in_color %.3f ms a capture on %s, %zu registered", registration->median_ms(),
-                  session->context().device_name().c_str(), registered);
+    if (registration) {
+      std::printf("; depth_in_color %.3f ms a capture (", registration->median_ms());
+      const char* separator = "";
+      for (const vk::PassTiming& timing : registration->timings())
+        std::printf("%s%s %.3f", std::exchange(separator, ", "), timing.name.c_str(), timing.median_ms);
+      std::printf(") on %s, %zu registered", session->context().device_name().c_str(), registered);
+    }
     std::printf(")\n");
     return 0;
   }

@@ -4,6 +4,8 @@
 // images and buffers, sized once for the camera pair.
 #include <Eigen/Geometry>
 
+#include <vector>
+
 #include "geometry/camera.h"
 #include "image/host_image.h"
 #include "passes/depth_in_color.h"
@@ -23,6 +25,8 @@ class DepthRegistration {
   // The pass's GPU time per run (its clear, splat and resolve together), median over the runs so
   // far, from the frame graph's timestamps; 0 before a run or without timestamps.
   double median_ms() const;
+  // Each of its graph passes' times (clear, splat, resolve), to see which one limits it.
+  std::vector<vk::PassTiming> timings() const { return graph_.timings(); }
 
  private:
   vk::Context& context_;
