@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "passes/depth_in_color.h"
+#include "pipeline/depth_registration.h"
 #include "support/gpu_test.h"
 #include "support/pass_harness.h"
 
@@ -226,4 +228,25 @@ TEST_CASE("depth_in_color refuses what it cannot register", "[depth_in_color][gp
   DepthInColorSettings negative;
   negative.max_jump_m = -1.0f;
   CHECK_THROWS_WITH(passes::DepthInColorPass(test::gpu(), negative), Catch::Contains("max_jump_m"));
+}
+
+// Not run by default (`test_depth_in_color "[.bench]"`): the pass's GPU time at the device's
+// sizes, through pipeline::DepthRegistration as the commands use it, on a scene the depth
+// camera measures everywhere (the worst case: a simulated person covers a few percent).
+TEST_CASE("depth_in_color time at k4a sizes", "[.bench][depth_in_color]") {
+  std::mt19937 rng(50);
+  const std::pair<uint32_t, uint32_t> depth_modes[] = {{640, 576}, {512, 512}};
+  const std::pair<uint32_t, uint32_t> color_modes[] = {{1280, 720}, {2560, 1440}};
+  for (const auto& [dw, dh] : depth_modes)
+    for (const auto& [cw, ch] : color_modes) {
+      const Rig rig = random_rig(rng, dw, dh, cw, ch);
+      const HostImage depth = scene(rng, dw, dh);
+      pipeline::DepthRegistration registration(test::gpu(), rig.depth, rig.color, rig.color_from_depth);
+      for (int frame = 0; frame < 10; ++frame) registration.run(depth);
+      std::string passes;
+      for (const vk::PassTiming& timing : registration.timings())
+        passes += " " + timing.name + " " + std::to_string(timing.median_ms);
+      WARN("depth " << dw << "x" << dh << " into colour " << cw << "x" << ch << ": " << registration.median_ms()
+                    << " ms a capture (" << passes << " ) on " << test::gpu().device_name());
+    }
 }
