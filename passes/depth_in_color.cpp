@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -47,7 +48,8 @@ float lens_field(const CameraIntrinsics& k) {
   double largest = 0;
   for (const cv::Point2d& n : normalised)
     if (std::isfinite(n.x) && std::isfinite(n.y)) largest = std::max(largest, n.x * n.x + n.y * n.y);
-  return float(largest * 1.21);
+  // No border point undistorted (a lens OpenCV cannot invert there): no limit rather than no image.
+  return largest > 0 ? float(largest * 1.21) : std::numeric_limits<float>::max();
 }
 
 }  // namespace
