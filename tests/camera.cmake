@@ -25,9 +25,15 @@ add_test(NAME cli_simulate_k4a
          COMMAND ${rt} simulate --scene clap --format k4a --frames 1 --resolution-scale 1 --gt-width 64 --gt-height 36
                  --out ${k4a_simulated})
 set_tests_properties(cli_simulate_k4a PROPERTIES FIXTURES_SETUP k4a_simulated TIMEOUT 300)
-add_cli_test(cli_inspect_camera 0 "inspect-camera: 1 captures of '.*top-left.mkv'"
+add_cli_test(cli_inspect_camera 0
+             "inspect-camera: 1 captures of '.*top-left.mkv'.*; depth_in_color [0-9.]+ ms a capture [(]depth_in_color_clear [0-9.]+, depth_in_color [0-9.]+, depth_in_color_resolve [0-9.]+[)] on .*, 1 registered[)]"
              ${rt} inspect-camera ${k4a_simulated}/top-left.mkv --frames 3 --out ${k4a_simulated}/inspect-top-left)
-set_tests_properties(cli_inspect_camera PROPERTIES FIXTURES_REQUIRED k4a_simulated)
+set_tests_properties(cli_inspect_camera PROPERTIES FIXTURES_REQUIRED k4a_simulated FIXTURES_SETUP k4a_inspected)
+# What it wrote: the depth registered into colour and the coloured points, checked by a reader of
+# its own (PNG and PLY in Python's standard library).
+add_test(NAME cli_inspect_camera_outputs
+         COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/cli/inspect_camera_outputs.py ${k4a_simulated}/inspect-top-left)
+set_tests_properties(cli_inspect_camera_outputs PROPERTIES FIXTURES_REQUIRED "k4a_simulated;k4a_inspected")
 add_cli_test(cli_inspect_camera_missing 1 "remotetouch: error: '.*nonexistent.mkv': no such file"
              ${rt} inspect-camera ${CMAKE_BINARY_DIR}/nonexistent.mkv --out ${CMAKE_BINARY_DIR}/test-out/inspect-missing)
 

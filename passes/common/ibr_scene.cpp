@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "passes/common/lens.h"
+
 namespace rt::passes {
 namespace {
 
@@ -17,6 +19,10 @@ std::array<float, 16> column_major(const Eigen::Matrix4d& m) {
   return out;
 }
 
+bool same_size(const CameraIntrinsics& a, const CameraIntrinsics& b) { return a.width == b.width && a.height == b.height; }
+
+}  // namespace
+
 shader_abi::IbrLens lens_of(const CameraIntrinsics& k) {
   const Distortion& d = k.distortion;
   return {.pinhole = {float(k.fx), float(k.fy), float(k.cx), float(k.cy)},
@@ -24,10 +30,6 @@ shader_abi::IbrLens lens_of(const CameraIntrinsics& k) {
           .rational = {float(d.k4), float(d.k5), float(d.k6), 0.0f},
           .tangential = {float(d.p1), float(d.p2), float(k.width), float(k.height)}};
 }
-
-bool same_size(const CameraIntrinsics& a, const CameraIntrinsics& b) { return a.width == b.width && a.height == b.height; }
-
-}  // namespace
 
 IbrSceneTable make_scene_table(const Camera& target, std::span<const IbrCameraModel> cameras) {
   if (cameras.empty() || cameras.size() > RT_IBR_MAX_VIEWS)
