@@ -42,3 +42,7 @@ add_cli_test(cli_inspect_camera_missing 1 "remotetouch: error: '.*nonexistent.mk
 add_test(NAME cli_k4a_site_played
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/k4a_site_played.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/k4a-site-played)
 set_tests_properties(cli_k4a_site_played PROPERTIES TIMEOUT 600 RUN_SERIAL TRUE)
+# bench camera on the simulated recordings: a row of figures for one thread.
+add_cli_test(cli_bench_camera 0 "\n1 +6 +1 +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]"
+             ${rt} bench camera ${k4a_simulated} --frames 3 --out ${CMAKE_BINARY_DIR}/test-out/bench-camera)
+set_tests_properties(cli_bench_camera PROPERTIES FIXTURES_REQUIRED k4a_simulated)
