@@ -18,10 +18,6 @@ constexpr size_t kMaxCapturesPerRecording = 3'000'000;
 // Problems are reported one line each up to here, and counted beyond.
 constexpr size_t kMaxReports = 5;
 
-bool is_identity(const Eigen::Isometry3d& transform) {
-  return (transform.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff() < 1e-6;
-}
-
 }  // namespace
 
 struct SiteRecordings::Camera {
@@ -70,13 +66,9 @@ SiteRecordings::SiteRecordings(const std::filesystem::path& dir, std::FILE* log,
       throw RecordingError(where + " records at " + std::to_string(info.fps) + " fps, '" +
                            cameras_.front()->file.string() + "' at " + std::to_string(infos_.front().fps) +
                            ": a site's cameras record at one rate");
-    // The image-based model samples colour and depth along the same rays.
-    if (!is_identity(info.color_from_depth()))
-      throw RecordingError(where + ": its colour camera is not at its depth camera (colour-from-depth is not the "
-                           "identity); a site replays only recordings whose depth is registered to colour");
     described.color = info.color;
     described.depth = info.depth;
-    recorded_.push_back({info.color, info.depth});
+    recorded_.push_back({info.color, info.depth, info.color_from_depth()});
     infos_.push_back(info);
     cameras_.push_back(std::move(camera));
   }

@@ -4,7 +4,9 @@
 // `<camera name>.mkv` per camera, as `simulate --format k4a` writes a site and as each device
 // records. The recordings play together aligned by device time (a subordinate's delay taken
 // off), grouped into frame sets (frame_sets.h). The intrinsics are each device's factory
-// calibration at its recorded modes.
+// calibration at its recorded modes; where a device's colour camera is apart from its depth
+// camera, the depth is registered into colour on the GPU before the image-based model sees it
+// (pipeline/recorded_depth_registration.h).
 //
 // Real data is uneven: a capture that lacks its colour or depth, or whose images cannot be
 // decoded, leaves its camera out of that set (an image with no surface, which the image-based

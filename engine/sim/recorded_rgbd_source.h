@@ -16,6 +16,8 @@ class RecordedRgbdSource : public RgbdSource {
  public:
   struct RecordedIntrinsics {
     CameraIntrinsics color, depth;
+    // Where the colour camera is from the depth camera; a real device's two lenses are apart.
+    Eigen::Isometry3d color_from_depth = Eigen::Isometry3d::Identity();
   };
   // Where the cameras stand, as calibrated.
   virtual const SiteDescription& site() const = 0;

@@ -39,7 +39,11 @@ Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(t
     common_.scene.sites[options.site == Site::A ? 0 : 1].site = replay_->site();
     common_.scene.frame_count = uint32_t(replay_->frame_count());
     common_.scene.fps = replay_->pacing().fps(common_.scene.fps);
-    cameras = replay_->cameras();
+    registration_ = std::make_unique<pipeline::RecordedDepthRegistration>(*common_.context, replay_->recorded());
+    cameras = registration_->models(replay_->cameras());
+    if (const size_t registered = registration_->registered_count())
+      std::cerr << "site " << common_.name << ": " << registered << " of " << cameras.size()
+                << " cameras have their depth registered into their colour image\n";
     std::cerr << "site " << common_.name << ": replaying " << replay_->frame_count() << " frames of "
               << options.replay.string() << " (" << common_.scene.duration_s() << " s of scene time)"
               << (options.resolution_scale > 0 ? "; --resolution-scale does not apply to a replay" : "") << "\n";
@@ -160,7 +164,11 @@ void Sender::capture_loop() {
     HostImage truth;
     std::optional<pipeline::LimbTruth> limb;
     if (replay_) {
-      captured.frame = replay_->read(index);  // files only: no GPU turn
+      captured.frame = replay_->read(index);  // files: no GPU turn
+      if (registration_->registered_count()) {
+        std::lock_guard turn(common_.gpu_turn);
+        registration_->apply(captured.frame.cameras);
+      }
       captured.scene_time_s = replay_->pacing().time_s(index);
       if (write_truth)
         if (std::optional<HostImage> recorded = ground_truth(index, told_no_truth)) truth = std::move(*recorded);

@@ -19,6 +19,7 @@
 
 #include "pipeline/ibr_renderer.h"
 #include "pipeline/limb_truth.h"
+#include "pipeline/recorded_depth_registration.h"
 #include "pipeline/site_simulator.h"
 #include "session/latency_stats.h"
 #include "session/mailbox.h"
@@ -65,6 +66,7 @@ class Sender {
   // The site's inputs (site_inputs.h): simulated from the scene, or replayed from a recording.
   std::unique_ptr<pipeline::SiteSimulator> simulator_;
   std::unique_ptr<SiteReplay> replay_;
+  std::unique_ptr<pipeline::RecordedDepthRegistration> registration_;  // a replay's depth into colour
   std::unique_ptr<devices::LeapServiceTracker> leap_;  // --tracker leap: the hands come from it
   // The simulated truth's hand and forearm region, beside the truth (displayed_truth.h).
   std::unique_ptr<pipeline::LimbTruthRenderer> limb_truth_;

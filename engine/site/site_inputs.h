@@ -51,6 +51,8 @@ class SiteReplay {
   const sim::SiteDescription& site() const { return site_; }
   // Color and depth cameras with the intrinsics of the recorded images.
   const std::vector<passes::IbrCameraModel>& cameras() const { return cameras_; }
+  // Each camera's recorded intrinsics and colour-from-depth (a real device's lenses are apart).
+  const std::vector<sim::RecordedRgbdSource::RecordedIntrinsics>& recorded() const { return source_->recorded_intrinsics(); }
   const ReplayPacing& pacing() const { return pacing_; }
   size_t frame_count() const { return pacing_.size(); }
   // The recorded timestamp of the first frame: the origin of the tracker's times too.

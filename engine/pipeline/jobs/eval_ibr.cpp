@@ -14,6 +14,7 @@
 #include "pipeline/gpu_session.h"
 #include "pipeline/ibr_evaluation.h"
 #include "pipeline/ibr_renderer.h"
+#include "pipeline/recorded_depth_registration.h"
 #include "pipeline/site_simulator.h"
 #include "ibr/camera_selection.h"
 #include "ibr/portrait_metrics.h"
@@ -97,6 +98,7 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
   // Recorded images stand in for the simulator's, camera by camera, at the intrinsics they were
   // recorded with (a k4a recording's pass through its factory calibration).
   std::unique_ptr<sim::RecordedRgbdSource> recorded;
+  std::unique_ptr<RecordedDepthRegistration> registration;
   std::vector<passes::IbrCameraModel> camera_models = simulator.renderer().camera_models();
   if (!eval.cameras_from.empty()) {
     recorded = camera::open_recorded_site(eval.cameras_from);
@@ -105,6 +107,8 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
       camera_models[k].color.intrinsics = recorded->recorded_intrinsics()[k].color;
       camera_models[k].depth.intrinsics = recorded->recorded_intrinsics()[k].depth;
     }
+    registration = std::make_unique<RecordedDepthRegistration>(context, recorded->recorded_intrinsics());
+    camera_models = registration->models(camera_models);
   }
 
   IbrSettings settings = eval.ibr;
@@ -138,14 +142,18 @@ int run_eval_ibr(const RunOptions& options, const EvalIbrOptions& eval) {
     std::printf("cameras fixed: %s\n", names.c_str());
   }
   if (recorded)
-    std::printf("cameras' images from %s '%s'\n", camera::recorded_site_kind(eval.cameras_from).c_str(),
-                eval.cameras_from.string().c_str());
+    std::printf("cameras' images from %s '%s' (%zu with depth registered into colour)\n",
+                camera::recorded_site_kind(eval.cameras_from).c_str(), eval.cameras_from.string().c_str(),
+                registration->registered_count());
   std::vector<uint32_t> scene_frames;  // which scene frame each rendered one is
   for (uint32_t index = 0; index < frames; ++index) {
     simulator.seek(eval.first_frame + uint64_t(index) * eval.frame_step);
     std::optional<sim::RgbdFrame> frame = simulator.next_frame();
     if (!frame) break;
-    if (recorded) frame->cameras = recorded_cameras(*recorded, frame->index, eval.cameras_from);
+    if (recorded) {
+      frame->cameras = recorded_cameras(*recorded, frame->index, eval.cameras_from);
+      registration->apply(frame->cameras);
+    }
     const sim::PersonPose& pose = simulator.last_pose();
     const auto selection = fixed_selection.empty()
                                ? ibr::select_cameras(positions, ibr::touching_hand(pose.right_hand, pose.left_hand), views)
