@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 
 #include "camera/frame_sets.h"
@@ -131,6 +133,7 @@ struct CameraPlan {
   uint64_t subordinate_delay_us = 0;
   uint64_t clock_offset_us = 0;  // the device's clock against the others'
   uint32_t fps = 30;
+  int64_t depth_delay_us = 0;
   bool color_from_depth_identity = true;
   std::vector<uint32_t> dropped, corrupt;  // capture indices
 };
@@ -147,6 +150,7 @@ std::filesystem::path write_site(const std::string& name, const std::vector<Came
     RecordingConfig config = recording_config_for(site.cameras[k], plan.fps, 90);
     config.wired_sync = plan.sync;
     config.subordinate_delay_ns = plan.subordinate_delay_us * 1000;
+    config.depth_delay_ns = plan.depth_delay_us * 1000;
     if (!plan.color_from_depth_identity)
       config.calibration.color.camera_from_reference.translation() = Eigen::Vector3d(-0.032, 0, 0);
     RecordingWriter writer(recording_path(dir, site.cameras[k].name), config);
@@ -231,6 +235,24 @@ TEST_CASE("k4a site: a device whose colour lens is apart from its depth lens say
   SiteRecordings site(write_site("offset", {CameraPlan{}, offset}), nullptr);
   CHECK(site.recorded_intrinsics()[0].color_from_depth.isApprox(Eigen::Isometry3d::Identity()));
   CHECK(site.recorded_intrinsics()[1].color_from_depth.translation().isApprox(Eigen::Vector3d(-0.032, 0, 0)));
+}
+
+TEST_CASE("k4a site: depth taken after colour is reported, once per camera") {
+  CameraPlan late;
+  late.depth_delay_us = 200;
+  char* text = nullptr;
+  size_t size = 0;
+  std::FILE* log = open_memstream(&text, &size);
+  REQUIRE(log);
+  {
+    SiteRecordings site(write_site("late", {CameraPlan{}, late}, 3), log);
+    CHECK(site.frame_count() == 3);
+  }
+  std::fclose(log);
+  const std::string logged(text, size);
+  std::free(text);
+  CHECK_THAT(logged, Contains("depth is taken 200 us after colour (K4A_DEPTH_DELAY_NS)"));
+  CHECK(logged.find("K4A_DEPTH_DELAY_NS") == logged.rfind("K4A_DEPTH_DELAY_NS"));  // the delayed camera only
 }
 
 TEST_CASE("k4a site: folders that cannot be played are refused naming what is wrong") {

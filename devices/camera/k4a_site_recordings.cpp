@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <exception>
 #include <limits>
 #include <thread>
@@ -66,6 +67,11 @@ SiteRecordings::SiteRecordings(const std::filesystem::path& dir, std::FILE* log,
       throw RecordingError(where + " records at " + std::to_string(info.fps) + " fps, '" +
                            cameras_.front()->file.string() + "' at " + std::to_string(infos_.front().fps) +
                            ": a site's cameras record at one rate");
+    // The depth camera may expose later than the colour camera: a moving hand is then in two
+    // places in the two images, which the registration cannot undo.
+    if (info.depth_delay_ns != 0 && log_)
+      std::fprintf(log_, "k4a replay: %s: depth is taken %lld us %s colour (K4A_DEPTH_DELAY_NS)\n", where.c_str(),
+                   static_cast<long long>(std::llabs(info.depth_delay_ns) / 1000), info.depth_delay_ns > 0 ? "after" : "before");
     described.color = info.color;
     described.depth = info.depth;
     recorded_.push_back({info.color, info.depth, info.color_from_depth()});
