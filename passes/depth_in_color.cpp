@@ -1,7 +1,5 @@
 #include "passes/depth_in_color.h"
 
-#include <opencv2/calib3d.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -33,21 +31,16 @@ std::vector<vk::Knob> knobs(const DepthInColorSettings& s, bool resolve) {
 // The largest x^2 + y^2 (on z = 1) that the colour lens maps into its image, with a tenth more
 // radius to spare: the image's border undistorted, every few pixels.
 float lens_field(const CameraIntrinsics& k) {
-  std::vector<cv::Point2d> border;
+  std::vector<std::array<double, 2>> border;
   const double w = k.width - 1.0, h = k.height - 1.0;
   for (int i = 0; i <= 64; ++i) {
     const double t = i / 64.0;
     border.insert(border.end(), {{t * w, 0}, {t * w, h}, {0, t * h}, {w, t * h}});
   }
-  std::vector<cv::Point2d> normalised;
-  const auto coefficients = k.distortion.as_opencv();
-  cv::undistortPoints(border, normalised, cv::Matx33d(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1),
-                      cv::Mat(int(coefficients.size()), 1, CV_64F, const_cast<double*>(coefficients.data())),
-                      cv::noArray(), cv::noArray(),
-                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-12));
+  const std::vector<std::array<double, 2>> normalised = undistorted_points(k, border);
   double largest = 0;
-  for (const cv::Point2d& n : normalised)
-    if (std::isfinite(n.x) && std::isfinite(n.y)) largest = std::max(largest, n.x * n.x + n.y * n.y);
+  for (const auto& [x, y] : normalised)
+    if (std::isfinite(x) && std::isfinite(y)) largest = std::max(largest, x * x + y * y);
   // No border point undistorted (a lens OpenCV cannot invert there): no limit rather than no image.
   return largest > 0 ? float(largest * 1.21) : std::numeric_limits<float>::max();
 }

@@ -13,5 +13,8 @@ namespace rt {
 // steps, which leave tenths of a pixel on a strong wide-angle lens (a k4a depth camera's). NaN
 // where the solve gives no finite answer.
 std::vector<std::array<float, 2>> undistorted_pixel_rays(const CameraIntrinsics& intrinsics);
+// The same solve for any pixel positions (x, y): each one's (x/z, y/z), NaN where it has none.
+std::vector<std::array<double, 2>> undistorted_points(const CameraIntrinsics& intrinsics,
+                                                      const std::vector<std::array<double, 2>>& pixels);
 
 }  // namespace rt
