@@ -255,6 +255,30 @@ TEST_CASE("k4a site: depth taken after colour is reported, once per camera") {
   CHECK(logged.find("K4A_DEPTH_DELAY_NS") == logged.rfind("K4A_DEPTH_DELAY_NS"));  // the delayed camera only
 }
 
+TEST_CASE("k4a site: a recording cut short plays up to its cut, the others to their end") {
+  const std::filesystem::path dir = write_site("truncated", {CameraPlan{}, CameraPlan{}}, 6);
+  const std::filesystem::path cut = recording_path(dir, test_site(2).cameras[1].name);
+  std::filesystem::resize_file(cut, std::filesystem::file_size(cut) * 2 / 3);
+  char* text = nullptr;
+  size_t size = 0;
+  std::FILE* log = open_memstream(&text, &size);
+  REQUIRE(log);
+  size_t with_second = 0, sets = 0;
+  {
+    SiteRecordings site(dir, log);
+    sets = site.frame_count();
+    while (const std::optional<sim::RgbdFrame> frame = site.next_frame())
+      with_second += !all_zero(frame->cameras[1].depth_mm);
+  }
+  std::fclose(log);
+  const std::string logged(text, size);
+  std::free(text);
+  CHECK(sets == 6);  // the whole camera sets the pace
+  CHECK(with_second >= 1);
+  CHECK(with_second < 6);
+  CHECK_THAT(logged, Contains(cut.string()) && (Contains("truncated") || Contains("damaged")));
+}
+
 TEST_CASE("k4a site: folders that cannot be played are refused naming what is wrong") {
   SECTION("a camera without its recording") {
     const std::filesystem::path dir = write_site("missing", {CameraPlan{}, CameraPlan{}});
@@ -267,6 +291,13 @@ TEST_CASE("k4a site: folders that cannot be played are refused naming what is wr
     slow.fps = 15;
     CHECK_THROWS_WITH(SiteRecordings(write_site("rates", {CameraPlan{}, slow}), nullptr),
                       Contains("15 fps") && Contains("one rate"));
+  }
+  SECTION("a camera with no capture") {
+    const std::filesystem::path dir = write_site("silent", {CameraPlan{}, CameraPlan{}});
+    const sim::SiteDescription site = test_site(2);
+    const CameraPlan plan;
+    RecordingWriter(recording_path(dir, site.cameras[1].name), recording_config_for(site.cameras[1], plan.fps, 90)).close();
+    CHECK_THROWS_WITH(SiteRecordings(dir, nullptr), Contains(site.cameras[1].name + ".mkv"));
   }
   SECTION("no recording format at all") {
     const std::filesystem::path dir = kOut / "empty";
