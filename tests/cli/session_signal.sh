@@ -70,7 +70,9 @@ PY
 # user's eyes): it stops there and still writes metrics.json.
 "$binary" site --site A --listen 127.0.0.1:0 "${common[@]}" --out "$out/starting" > "$out/starting.out" 2> "$out/starting.err" &
 starting=$!
-for _ in $(seq 1 600); do grep -q "time scale" "$out/starting.err" && break; sleep 0.05; done
+# The device line comes once the stop handlers are in place, before the eye search and the listen.
+for _ in $(seq 1 600); do grep -q "remotetouch: using '" "$out/starting.err" && break; sleep 0.05; done
+grep -q "remotetouch: using '" "$out/starting.err" || fail "the starting site never said which device it uses"
 kill -TERM "$starting"
 set +e
 wait "$starting"; starting_status=$?
