@@ -38,7 +38,7 @@ bool is_network_pass(const std::string& name) {
   return false;
 }
 
-double median_of(std::vector<double> values) {
+double lumi_median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   return values.empty() ? 0.0 : values[values.size() / 2];
 }
@@ -150,7 +150,7 @@ int run_bench_lumi(const RunOptions& options, const IbrSettings& base, const std
     max_difference = std::max(max_difference, d);
   }
 
-  const double cv_ms = median_of(opencv_ms);
+  const double cv_ms = lumi_median(opencv_ms);
   const double flops = network_flops(model, sw * sh);
   const double ratio = network_ms > 0 ? cv_ms / network_ms : 0.0;
   nlohmann::json report = {
