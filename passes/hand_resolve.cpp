@@ -6,13 +6,9 @@
 #include <string>
 
 #include "hand_resolve.comp.h"
+#include "passes/common/reference_math.h"
 
 namespace rt::passes {
-namespace {
-
-float unit_or_zero(float x) { return std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 0.0f; }
-
-}  // namespace
 
 uint32_t check_hand_supersampling(uint32_t factor) {
   if (factor < 1 || factor > 4)

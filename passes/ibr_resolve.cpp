@@ -12,7 +12,7 @@
 namespace rt::passes {
 namespace {
 
-uint32_t checked(uint32_t factor) {
+uint32_t checked_factor(uint32_t factor) {
   if (factor < 2 || factor > 4) throw std::invalid_argument("portrait resolve: factor must be 2..4");
   return factor;
 }
@@ -20,7 +20,7 @@ uint32_t checked(uint32_t factor) {
 }  // namespace
 
 IbrResolvePass::IbrResolvePass(vk::Context& context, uint32_t factor)
-    : factor_(checked(factor)), kernel_(context, "ibr_resolve", ibr_resolve_comp_spirv, {{"factor", int32_t(factor)}}) {}
+    : factor_(checked_factor(factor)), kernel_(context, "ibr_resolve", ibr_resolve_comp_spirv, {{"factor", int32_t(factor)}}) {}
 
 void IbrResolvePass::add_to(vk::FrameGraph& graph, vk::Image& fine_portrait, vk::Image& fine_depth, vk::Image& portrait,
                             vk::Image& portrait_depth) const {
@@ -41,7 +41,7 @@ void IbrResolvePass::add_to(vk::FrameGraph& graph, vk::Image& fine_portrait, vk:
 }
 
 Portrait ibr_resolve_reference(const HostImage& fine_portrait, const HostImage& fine_depth, uint32_t factor) {
-  checked(factor);
+  checked_factor(factor);
   if (fine_portrait.width % factor || fine_portrait.height % factor || fine_depth.width != fine_portrait.width ||
       fine_depth.height != fine_portrait.height)
     throw std::invalid_argument("ibr_resolve: the fine images are not factor times one size");

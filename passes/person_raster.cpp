@@ -19,14 +19,14 @@ namespace {
 constexpr float kLight[3] = {0.2672612f, 0.5345225f, 0.8017837f};  // as in person_raster.frag
 
 // A vertex in clip space with the attributes the fragment shader interpolates.
-struct ClipVertex {
+struct PersonClipVertex {
   Eigen::Vector4d clip;
   std::array<double, 13> attributes;  // site position 3, normal 3, albedo 3, stripe 4 (rgb, period)
   double camera_z = 0;
 };
 
-ClipVertex lerp(const ClipVertex& a, const ClipVertex& b, double t) {
-  ClipVertex out;
+PersonClipVertex lerp(const PersonClipVertex& a, const PersonClipVertex& b, double t) {
+  PersonClipVertex out;
   out.clip = a.clip + t * (b.clip - a.clip);
   for (size_t i = 0; i < a.attributes.size(); ++i) out.attributes[i] = a.attributes[i] + t * (b.attributes[i] - a.attributes[i]);
   out.camera_z = a.camera_z + t * (b.camera_z - a.camera_z);
@@ -88,11 +88,11 @@ RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const 
   std::vector<double> depth_buffer(size_t(width) * height, 1.0);
 
   for (size_t first = 0; first + 2 < mesh.size(); first += 3) {
-    std::vector<ClipVertex> polygon;
+    std::vector<PersonClipVertex> polygon;
     bool finite = true;
     for (size_t i = first; i < first + 3; ++i) {
       const MeshVertex& v = mesh[i];
-      ClipVertex c;
+      PersonClipVertex c;
       const Eigen::Vector4d site(v.position_part[0], v.position_part[1], v.position_part[2], 1.0);
       c.clip = clip_from_site * site;
       c.camera_z = view.depth_row[0] * site.x() + view.depth_row[1] * site.y() + view.depth_row[2] * site.z() + view.depth_row[3];
@@ -105,12 +105,12 @@ RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const 
     }
     if (!finite) continue;
     const float part = mesh[first].position_part[3];  // Vulkan's provoking vertex: the first
-    polygon = clip_polygon(polygon, [](const ClipVertex& v) { return v.clip.z(); });               // near: z >= 0
-    polygon = clip_polygon(polygon, [](const ClipVertex& v) { return v.clip.w() - v.clip.z(); });  // far: z <= w
+    polygon = clip_polygon(polygon, [](const PersonClipVertex& v) { return v.clip.z(); });               // near: z >= 0
+    polygon = clip_polygon(polygon, [](const PersonClipVertex& v) { return v.clip.w() - v.clip.z(); });  // far: z <= w
     if (polygon.size() < 3) continue;
 
     std::vector<Eigen::Vector3d> screen;  // x, y in pixels, z in [0, 1]
-    for (const ClipVertex& v : polygon) {
+    for (const PersonClipVertex& v : polygon) {
       const Eigen::Vector3d ndc = v.clip.head<3>() / v.clip.w();
       screen.emplace_back((ndc.x() + 1) * 0.5 * width, (ndc.y() + 1) * 0.5 * height, ndc.z());
     }
@@ -133,7 +133,7 @@ RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const 
                    (*weights)[2] * get(polygon[ids[2]]);
           };
           std::array<double, 13> at{};
-          for (int i = 0; i < 13; ++i) at[i] = interpolate([i](const ClipVertex& v) { return v.attributes[i]; });
+          for (int i = 0; i < 13; ++i) at[i] = interpolate([i](const PersonClipVertex& v) { return v.attributes[i]; });
           Eigen::Vector3d normal(at[3], at[4], at[5]);
           const Eigen::Vector3d light(kLight[0], kLight[1], kLight[2]);
           const Eigen::Vector3d unit = normal.squaredNorm() > 1e-12 ? normal.normalized() : light;
@@ -150,7 +150,7 @@ RasterReference person_raster_reference(std::span<const MeshVertex> mesh, const 
                 float(std::round(std::clamp(albedo * shade, 0.0, 1.0) * 255.0) / 255.0);
           }
           out.color.at(uint32_t(x), uint32_t(y), 3) = 1.0f;
-          out.depth_m.at(uint32_t(x), uint32_t(y)) = float(interpolate([](const ClipVertex& v) { return v.camera_z; }));
+          out.depth_m.at(uint32_t(x), uint32_t(y)) = float(interpolate([](const PersonClipVertex& v) { return v.camera_z; }));
           out.part.at(uint32_t(x), uint32_t(y)) = part;
         });
     }

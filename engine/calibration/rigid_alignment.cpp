@@ -16,7 +16,7 @@ Eigen::Matrix3Xd as_matrix(const std::vector<Eigen::Vector3d>& points) {
   return matrix;
 }
 
-std::string millimetres(double metres) { return std::to_string(int(std::lround(metres * 1000.0))) + " mm"; }
+std::string in_millimetres(double metres) { return std::to_string(int(std::lround(metres * 1000.0))) + " mm"; }
 
 }  // namespace
 
@@ -50,8 +50,8 @@ RigidFit fit_rigid(const std::vector<Eigen::Vector3d>& source, const std::vector
       throw CalibrationError(what + ": point " + std::to_string(i) + " is not finite");
   for (const auto* points : {&source, &target})
     if (const double spread = off_line_spread(*points); !(spread >= min_off_line_spread))
-      throw CalibrationError(what + ": the points lie on a line (they stray " + millimetres(spread) +
-                             " RMS from it, at least " + millimetres(min_off_line_spread) +
+      throw CalibrationError(what + ": the points lie on a line (they stray " + in_millimetres(spread) +
+                             " RMS from it, at least " + in_millimetres(min_off_line_spread) +
                              " is needed), so the rotation about that line is unknown");
 
   const Eigen::Matrix4d transform = Eigen::umeyama(as_matrix(source), as_matrix(target), false);

@@ -11,7 +11,7 @@
 namespace rt::pipeline {
 namespace {
 
-constexpr double kNearM = 0.05, kFarM = 20.0;
+constexpr double kHandNearM = 0.05, kHandFarM = 20.0;
 
 // hand_color_reduce's least region: a share of the image, and at least 16 pixels.
 double min_region_pixels(const HandRendererOptions& options, uint32_t width, uint32_t height) {
@@ -117,10 +117,10 @@ void HandRenderer::set_pose(const HandSkeleton& skeleton, const Camera& target_v
     throw std::invalid_argument("hand renderer: the target view is " + std::to_string(target_view.intrinsics.width) + "x" +
                                 std::to_string(target_view.intrinsics.height) + ", the renderer " + std::to_string(width_) +
                                 "x" + std::to_string(height_));
-  view_ = passes::raster_view(target_view, kNearM, kFarM);
+  view_ = passes::raster_view(target_view, kHandNearM, kHandFarM);
   Camera display_view = target_view;
   if (resolve_) display_view.intrinsics = scaled_intrinsics(target_view.intrinsics, resolve_->factor());
-  display_view_ = passes::raster_view(display_view, kNearM, kFarM);
+  display_view_ = passes::raster_view(display_view, kHandNearM, kHandFarM);
   if (skeleton.is_left != is_left_) {
     use_template(skeleton.is_left);
     has_pose_ = false;

@@ -9,7 +9,7 @@ namespace rt {
 
 namespace {
 
-MultiViewPoint failed(ViewerFailure failure, std::string message) {
+MultiViewPoint failed_point(ViewerFailure failure, std::string message) {
   MultiViewPoint result;
   result.failure = failure;
   result.message = std::move(message);
@@ -39,7 +39,7 @@ MultiViewPoint solve_subset(std::span<const Camera> cameras, std::span<const Pix
     std::string message = estimate.message;
     if (estimate.offending_ray >= 0)
       message = quoted_name(cameras[observations[subset[size_t(estimate.offending_ray)]].camera_index]) + ": " + message;
-    return failed(estimate.failure, message);
+    return failed_point(estimate.failure, message);
   }
 
   MultiViewPoint result;
@@ -50,7 +50,7 @@ MultiViewPoint solve_subset(std::span<const Camera> cameras, std::span<const Pix
     const Camera& camera = cameras[observation.camera_index];
     const std::optional<Eigen::Vector2d> reprojected = camera.project(estimate.point);
     if (!reprojected)
-      return failed(ViewerFailure::BehindCamera, quoted_name(camera) + ": the triangulated point lies behind the camera");
+      return failed_point(ViewerFailure::BehindCamera, quoted_name(camera) + ": the triangulated point lies behind the camera");
     const double error = (*reprojected - observation.pixel).norm();
     squared_errors += error * error;
     result.max_reprojection_px = std::max(result.max_reprojection_px, error);
@@ -60,7 +60,7 @@ MultiViewPoint solve_subset(std::span<const Camera> cameras, std::span<const Pix
   }
   result.rms_reprojection_px = std::sqrt(squared_errors / double(subset.size()));
   if (!(result.point.z() > limits.min_distance_to_screen_m))
-    return failed(ViewerFailure::NotInFrontOfScreen,
+    return failed_point(ViewerFailure::NotInFrontOfScreen,
                   "the triangulated point lies at z = " + number(result.point.z()) +
                       " m: an eye must be in front of the screen (site z > " + number(limits.min_distance_to_screen_m) +
                       " m; z <= 0 is on or behind the screen plane)");
@@ -103,11 +103,11 @@ std::string check_input(std::span<const Camera> cameras, std::span<const PixelOb
 MultiViewPoint triangulate_observations(std::span<const Camera> cameras, std::span<const PixelObservation> observations,
                                         const MultiViewLimits& limits) {
   if (std::string problem = check_input(cameras, observations); !problem.empty())
-    return failed(ViewerFailure::InvalidInput, problem);
+    return failed_point(ViewerFailure::InvalidInput, problem);
   if (observations.size() < 2) {
     std::string message = "a point needs at least 2 views, got " + std::to_string(observations.size());
     if (observations.size() == 1) message += " (" + quoted_name(cameras[observations[0].camera_index]) + ")";
-    return failed(ViewerFailure::TooFewViews, message);
+    return failed_point(ViewerFailure::TooFewViews, message);
   }
 
   std::vector<size_t> subset(observations.size());
@@ -118,7 +118,7 @@ MultiViewPoint triangulate_observations(std::span<const Camera> cameras, std::sp
   // point, so the view whose removal best restores agreement goes first. Two views are the
   // minimum that still check each other, so removal stops there.
   while (!acceptable(best, limits) && subset.size() >= 3) {
-    MultiViewPoint candidate_best = failed(ViewerFailure::TooFewViews, "no subset");
+    MultiViewPoint candidate_best = failed_point(ViewerFailure::TooFewViews, "no subset");
     size_t removed = 0;
     for (size_t drop = 0; drop < subset.size(); ++drop) {
       std::vector<size_t> smaller = subset;
@@ -137,7 +137,7 @@ MultiViewPoint triangulate_observations(std::span<const Camera> cameras, std::sp
   if (best.ok() && best.max_reprojection_mrad > limits.max_reprojection_error_mrad) {
     std::string names;
     for (size_t camera_index : best.cameras_used) names += (names.empty() ? "" : ", ") + quoted_name(cameras[camera_index]);
-    return failed(ViewerFailure::ReprojectionTooLarge,
+    return failed_point(ViewerFailure::ReprojectionTooLarge,
                   "the views disagree (" + names + "): the point reprojects up to " + number(best.max_reprojection_px) +
                       " px (" + number(best.max_reprojection_mrad) + " mrad) from the detections, above the " +
                       number(limits.max_reprojection_error_mrad) + " mrad limit");

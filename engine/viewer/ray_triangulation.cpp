@@ -10,7 +10,7 @@ namespace rt {
 
 namespace {
 
-PointEstimate failed(ViewerFailure failure, std::string message, int offending_ray = -1) {
+PointEstimate failed_estimate(ViewerFailure failure, std::string message, int offending_ray = -1) {
   PointEstimate estimate;
   estimate.failure = failure;
   estimate.message = std::move(message);
@@ -33,20 +33,20 @@ double largest_pairwise_angle_rad(const std::vector<Eigen::Vector3d>& directions
 
 PointEstimate nearest_point_to_rays(std::span<const Ray> rays, const RayTriangulationLimits& limits) {
   if (rays.size() < 2)
-    return failed(ViewerFailure::TooFewViews, "triangulation needs rays from at least 2 views, got " +
+    return failed_estimate(ViewerFailure::TooFewViews, "triangulation needs rays from at least 2 views, got " +
                                                   std::to_string(rays.size()));
   std::vector<Eigen::Vector3d> directions;
   for (size_t i = 0; i < rays.size(); ++i) {
     const Ray& ray = rays[i];
     if (!ray.origin.allFinite() || !ray.direction.allFinite())
-      return failed(ViewerFailure::InvalidInput, "ray " + std::to_string(i) + " holds a NaN or infinite value", int(i));
+      return failed_estimate(ViewerFailure::InvalidInput, "ray " + std::to_string(i) + " holds a NaN or infinite value", int(i));
     if (!(ray.direction.norm() > 1e-12))
-      return failed(ViewerFailure::InvalidInput, "ray " + std::to_string(i) + " has a zero direction", int(i));
+      return failed_estimate(ViewerFailure::InvalidInput, "ray " + std::to_string(i) + " has a zero direction", int(i));
     directions.push_back(ray.direction.normalized());
   }
   const double min_angle_rad = limits.min_ray_angle_deg * std::numbers::pi / 180.0;
   if (const double angle = largest_pairwise_angle_rad(directions); !(angle >= min_angle_rad))
-    return failed(ViewerFailure::RaysNearlyParallel,
+    return failed_estimate(ViewerFailure::RaysNearlyParallel,
                   "the rays are nearly parallel: the widest pair meets at " + std::to_string(angle * 180.0 / std::numbers::pi) +
                       " degrees, below the " + std::to_string(limits.min_ray_angle_deg) + " degrees needed for a depth");
 
@@ -64,18 +64,18 @@ PointEstimate nearest_point_to_rays(std::span<const Ray> rays, const RayTriangul
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(normal);
   const Eigen::Vector3d eigenvalues = solver.eigenvalues();
   if (solver.info() != Eigen::Success || !(eigenvalues.minCoeff() > 1e-12))
-    return failed(ViewerFailure::RaysNearlyParallel, "the rays do not fix a point (degenerate normal equations)");
+    return failed_estimate(ViewerFailure::RaysNearlyParallel, "the rays do not fix a point (degenerate normal equations)");
   const Eigen::Matrix3d& basis = solver.eigenvectors();
   PointEstimate estimate;
   estimate.point = basis * (basis.transpose() * right_side).cwiseQuotient(eigenvalues);
   if (!estimate.point.allFinite())
-    return failed(ViewerFailure::InvalidInput, "the triangulated point is not finite");
+    return failed_estimate(ViewerFailure::InvalidInput, "the triangulated point is not finite");
 
   double squared_distances = 0.0;
   for (size_t i = 0; i < rays.size(); ++i) {
     const Eigen::Vector3d offset = estimate.point - rays[i].origin;
     if (!(offset.dot(directions[i]) > 0.0))
-      return failed(ViewerFailure::BehindCamera, "the rays meet behind the origin of ray " + std::to_string(i) +
+      return failed_estimate(ViewerFailure::BehindCamera, "the rays meet behind the origin of ray " + std::to_string(i) +
                                                      " (behind that camera): the detections cannot belong to one point",
                     int(i));
     squared_distances += (offset - offset.dot(directions[i]) * directions[i]).squaredNorm();

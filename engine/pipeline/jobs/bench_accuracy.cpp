@@ -122,7 +122,7 @@ std::string duration_text(double seconds) {
   return text;
 }
 
-std::string joined(const std::vector<std::string>& words, const char* separator) {
+std::string joined_by(const std::vector<std::string>& words, const char* separator) {
   std::string text;
   for (const std::string& word : words) text += (text.empty() ? "" : separator) + word;
   return text;
@@ -177,7 +177,7 @@ int run_bench_accuracy(const RunOptions& options, const BenchAccuracyOptions& be
     work_left += work_estimate(config);
     ++to_measure;
   }
-  const std::string scenes = joined(bench.scenes, "+");
+  const std::string scenes = joined_by(bench.scenes, "+");
   std::printf("bench accuracy on %s: grid %s, %zu configurations (%zu already in %s), scenes %s, every %u%s frame%s, "
               "portraits %ux%u, simulated color and truth %ux%u samples a pixel\n",
               context.device_name().c_str(), bench.grid.c_str(), configs.size(), configs.size() - to_measure,
@@ -257,7 +257,7 @@ int run_bench_accuracy(const RunOptions& options, const BenchAccuracyOptions& be
   write_accuracy_csv(csv, rows);
 
   AccuracyRunInfo info;
-  info.command = "remotetouch bench accuracy --scenes " + joined(bench.scenes, ",") + " --grid " + bench.grid +
+  info.command = "remotetouch bench accuracy --scenes " + joined_by(bench.scenes, ",") + " --grid " + bench.grid +
                  " --frame-step " + std::to_string(bench.frame_step) +
                  (bench.frames_given ? " --frames " + std::to_string(options.frames) : "") + " --width " +
                  std::to_string(options.width) + " --height " + std::to_string(options.height) +

@@ -18,7 +18,7 @@ namespace rt::pipeline {
 
 namespace {
 
-constexpr uint32_t kWarmUpFrames = 2;
+constexpr uint32_t kHandWarmUpFrames = 2;
 
 nlohmann::json print_timings(const std::string& title, const std::vector<vk::PassTiming>& timings, const Roofline& roofline) {
   std::printf("%s\n%s", title.c_str(), format_profile(timings, roofline).c_str());
@@ -46,7 +46,7 @@ nlohmann::json bench_hand_at(GpuSession& session, const Roofline& roofline, uint
   vk::Image portrait_color(context, {"bench portrait color", width, height, PixelFormat::RGBA32F});
   vk::Image portrait_depth(context, {"bench portrait depth", width, height, PixelFormat::R32F});
 
-  for (uint32_t frame = 0; frame < kWarmUpFrames; ++frame) graph.run();
+  for (uint32_t frame = 0; frame < kHandWarmUpFrames; ++frame) graph.run();
   graph.reset_timings();
   for (uint32_t frame = 0; frame < frames; ++frame) {
     session.run_frame(graph, frame);

@@ -25,7 +25,7 @@ namespace rt::pipeline {
 
 namespace {
 
-constexpr uint32_t kWarmUpFrames = 2;
+constexpr uint32_t kIbrWarmUpFrames = 2;
 
 double median_of(std::vector<double> values) {
   std::sort(values.begin(), values.end());
@@ -77,11 +77,11 @@ nlohmann::json work_json(const passes::WarpWork& work) {
 // Runs `renderer`'s prepared frame `frames` times after a warm-up; the frames' wall ms, sorted.
 std::vector<double> run_timed(GpuSession& session, IbrRenderer& renderer, uint32_t frames) {
   std::vector<double> wall_ms;
-  for (uint32_t i = 0; i < kWarmUpFrames + frames; ++i) {
-    if (i == kWarmUpFrames) renderer.graph().reset_timings();
+  for (uint32_t i = 0; i < kIbrWarmUpFrames + frames; ++i) {
+    if (i == kIbrWarmUpFrames) renderer.graph().reset_timings();
     const auto start = std::chrono::steady_clock::now();
     session.run_frame(renderer.graph(), i);
-    if (i >= kWarmUpFrames)
+    if (i >= kIbrWarmUpFrames)
       wall_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
   std::sort(wall_ms.begin(), wall_ms.end());

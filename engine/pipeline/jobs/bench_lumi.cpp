@@ -28,7 +28,7 @@
 namespace rt::pipeline {
 namespace {
 
-constexpr uint32_t kWarmUpFrames = 2;
+constexpr uint32_t kLumiWarmUpFrames = 2;
 constexpr uint32_t kOnnxViews = 4;  // the export splits its inputs into this many views
 
 // The layers the ONNX export holds: from the input tensors to the head's logits.
@@ -38,7 +38,7 @@ bool is_network_pass(const std::string& name) {
   return false;
 }
 
-double median(std::vector<double> values) {
+double lumi_median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   return values.empty() ? 0.0 : values[values.size() / 2];
 }
@@ -90,8 +90,8 @@ int run_bench_lumi(const RunOptions& options, const IbrSettings& base, const std
     settings.split_warp = true;  // lumigraph blending as its own pass, to set beside the network's
     auto renderer = std::make_unique<IbrRenderer>(context, cameras, settings);
     renderer->prepare(frame.cameras, selection, target);
-    for (uint32_t i = 0; i < kWarmUpFrames + options.frames; ++i) {
-      if (i == kWarmUpFrames) renderer->graph().reset_timings();
+    for (uint32_t i = 0; i < kLumiWarmUpFrames + options.frames; ++i) {
+      if (i == kLumiWarmUpFrames) renderer->graph().reset_timings();
       session.run_frame(renderer->graph(), i);
     }
     return renderer;
@@ -150,7 +150,7 @@ int run_bench_lumi(const RunOptions& options, const IbrSettings& base, const std
     max_difference = std::max(max_difference, d);
   }
 
-  const double cv_ms = median(opencv_ms);
+  const double cv_ms = lumi_median(opencv_ms);
   const double flops = network_flops(model, sw * sh);
   const double ratio = network_ms > 0 ? cv_ms / network_ms : 0.0;
   nlohmann::json report = {
