@@ -68,7 +68,10 @@ TEST_CASE("recorded depth registration: an offset camera gets depth in colour, a
   }
   CHECK(covered > reference.texels.size() / 2);
   CHECK(differing <= reference.texels.size() / 1000 + 2);
-  CHECK(registration.median_ms() >= 0.0);
+  CHECK(std::isfinite(registration.median_ms()));
+  pipeline::RecordedDepthRegistration none(test::gpu(), {aligned});
+  CHECK(none.registered_count() == 0);
+  CHECK(none.median_ms() == 0.0);  // nothing registered: no time, not an average over no camera
 
   std::vector<sim::RgbdImage> wrong(3);
   CHECK_THROWS_WITH(registration.apply(wrong), Catch::Matchers::Contains("3 cameras for 2"));

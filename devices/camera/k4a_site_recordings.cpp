@@ -137,11 +137,11 @@ SiteRecordings::SiteRecordings(const std::filesystem::path& dir, std::FILE* log,
     for (size_t k = 0; k < cameras_.size(); ++k)
       for (uint64_t& time : device_us[k]) time = time - std::min(time, infos_[k].start_offset_us) + earliest_start;
   }
+  sets_ = assemble_frame_sets(device_us, period_us);
   for (size_t k = 0; k < cameras_.size(); ++k) {
-    cameras_[k]->aligned_us = device_us[k];
+    cameras_[k]->aligned_us = std::move(device_us[k]);
     open_reader(*cameras_[k]);  // the index read each file to its end
   }
-  sets_ = assemble_frame_sets(device_us, period_us);
 }
 
 SiteRecordings::~SiteRecordings() = default;

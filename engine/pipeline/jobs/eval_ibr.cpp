@@ -30,8 +30,8 @@ struct FusionRun {
   IbrEvaluation evaluation;
 };
 
-// The recording must be of this site: its cameras by name and in order, at sizes the scene's
-// resolution scale gives.
+// The recording must be of this site: its cameras by name and in order. Their sizes may differ
+// from the scene's: the image-based model takes the recorded ones.
 void check_recording_matches(const sim::RecordedRgbdSource& recorded, const sim::SiteDescription& site,
                              const std::filesystem::path& dir) {
   const std::string where = "--cameras-from '" + dir.string() + "'";
