@@ -113,3 +113,12 @@ set_tests_properties(readme_commands PROPERTIES TIMEOUT 300 RUN_SERIAL TRUE)
 # A config that is not there: the file and the reason.
 add_cli_test(session_site_missing_config 1 "remotetouch: error: cannot open '[^']*no-such-config\\.json': No such file or directory"
              ${rt} site --config no-such-config.json --out ${CMAKE_BINARY_DIR}/test-out/site-missing-config)
+# The touch knobs refuse what makes no sense, on the command line and in a config.
+add_cli_test(session_site_bad_motor_latency 105 "--motor-latency-ms: Value -5 not in range"
+             ${rt} site --motor-latency-ms -5)
+add_cli_test(session_site_bad_contact_prediction 105 "--contact-prediction: maybe not in \\{on,off\\}"
+             ${rt} demo --contact-prediction maybe)
+add_cli_test(session_site_bad_touch_config 1
+             "site_config_bad_touch\\.json: 'touch': field 'motor_latency_ms' must be a number in \\[0, 1000\\], is -5"
+             ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad_touch.json
+             --out ${CMAKE_BINARY_DIR}/test-out/site-bad-touch-config)

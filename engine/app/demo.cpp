@@ -1,5 +1,5 @@
 // `remotetouch demo`: the main job, both sites of a scene as two processes over loopback
-// (two_site_demo.cpp runs it). The image-based-model and hand options go to both sites.
+// (two_site_demo.cpp runs it). The image-based-model, hand and touch options go to both sites.
 #include "app/command.h"
 #include "app/option_groups.h"
 #include "app/two_site_demo.h"
@@ -50,6 +50,7 @@ class DemoCommand : public Command {
     ibr_ = add_ibr_options(*command_);
     quality_.add_to(*command_);
     hand_ = add_hand_options(*command_);
+    touch_ = add_touch_options(*command_);
     return command_;
   }
 
@@ -62,6 +63,7 @@ class DemoCommand : public Command {
     options_.quality_arguments = quality_.arguments();
     ibr_.apply(options_.ibr);
     hand_.apply(options_.hand);
+    touch_.apply(options_.touch);
   }
   int run() override { return run_two_site_demo(options_); }
 
@@ -73,6 +75,7 @@ class DemoCommand : public Command {
   IbrOptions ibr_;
   QualityOptions quality_;
   HandOptions hand_;
+  TouchOptions touch_;
 };
 
 }  // namespace

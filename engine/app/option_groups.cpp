@@ -102,4 +102,6 @@ HandOptions add_hand_options(CLI::App& command) {
                      pipeline::kHandOptionPrefix);
 }
 
+TouchOptions add_touch_options(CLI::App& command) { return TouchOptions(command, touch_knobs(), TouchSettings{}, "Touch"); }
+
 }  // namespace rt::app

@@ -6,6 +6,7 @@
 //   size:   --width and --height
 //   image-based model: the knobs of pipeline/ibr_settings.h (--views, --fusion, --carve, ...)
 //   hand:   the knobs of pipeline/hand_settings.h (--hand-min-confidence, ...)
+//   touch:  the knobs of touch/touch_settings.h (--contact-prediction, --motor-latency-ms)
 //   quality: --quality PRESET or --budget-ms M (pipeline/quality.h), under the image-based model's
 //           options given
 #include <CLI/CLI.hpp>
@@ -21,6 +22,7 @@
 #include "config/knobs.h"
 #include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
+#include "touch/touch_settings.h"
 
 namespace rt::app {
 
@@ -126,6 +128,7 @@ class KnobOptions {
 
 using IbrOptions = KnobOptions<pipeline::IbrSettings>;
 using HandOptions = KnobOptions<pipeline::HandRendererOptions>;
+using TouchOptions = KnobOptions<TouchSettings>;
 
 // --quality PRESET, or --budget-ms M with --budget-results FILE: the image-based model's knobs
 // and the cameras' resolution scale from a point of `bench accuracy`'s front. Keep the object
@@ -154,5 +157,7 @@ class QualityOptions {
 IbrOptions add_ibr_options(CLI::App& command, const std::vector<std::string>& skip = {});
 // The geometry hand's options, --hand-NAME.
 HandOptions add_hand_options(CLI::App& command);
+// The site's touch options (--contact-prediction, --motor-latency-ms).
+TouchOptions add_touch_options(CLI::App& command);
 
 }  // namespace rt::app

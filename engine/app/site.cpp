@@ -15,7 +15,7 @@ class SiteCommand : public Command {
   CLI::App* add_to(CLI::App& parent) override {
     command_ = parent.add_subcommand("site", "Run one site of a two-site session (sender and receiver) against a peer");
     command_->add_option("--config", config_,
-                         "Site config JSON (scene, site, listen, peer, key_file, ..., \"ibr\" and \"hand\" objects); "
+                         "Site config JSON (scene, site, listen, peer, key_file, ..., \"ibr\", \"hand\" and \"touch\" objects); "
                          "flags override it");
     command_->add_option("--peer", options_.peer, "Connect to the other site at HOST:PORT (else listen)");
     command_->add_option("--listen", options_.listen, "Listen on HOST:PORT (port 0: any, printed)")->capture_default_str();
@@ -73,6 +73,7 @@ class SiteCommand : public Command {
     ibr_ = add_ibr_options(*command_);
     quality_.add_to(*command_);
     hand_ = add_hand_options(*command_);
+    touch_ = add_touch_options(*command_);
     return command_;
   }
 
@@ -109,6 +110,7 @@ class SiteCommand : public Command {
     options_.quality = quality_.apply(options_.ibr, options_.resolution_scale, given("--resolution-scale"));
     ibr_.apply(options_.ibr);
     hand_.apply(options_.hand);
+    touch_.apply(options_.touch);
     return site::run_site(options_);
   }
 
@@ -120,6 +122,7 @@ class SiteCommand : public Command {
   IbrOptions ibr_;
   QualityOptions quality_;
   HandOptions hand_;
+  TouchOptions touch_;
 };
 
 }  // namespace

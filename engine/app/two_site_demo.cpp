@@ -213,13 +213,14 @@ int run_two_site_demo(const DemoOptions& options) {
     args.insert(args.end(), {"--display", window ? "both" : "headless", "--present-mode", options.present_mode});
     const std::filesystem::path& replay = site == "A" ? options.replay_a : options.replay_b;
     if (!replay.empty()) args.insert(args.end(), {"--replay", replay.string()});
-    // The image-based model's and the hand's options, as the demo was given them.
+    // The image-based model's, the hand's and the touch options, as the demo was given them.
     args.insert(args.end(), options.quality_arguments.begin(), options.quality_arguments.end());
     for (const std::string& arg : config::knob_arguments(pipeline::ibr_knobs(), options.ibr, pipeline::IbrSettings{}))
       args.push_back(arg);
     for (const std::string& arg : config::knob_arguments(pipeline::hand_knobs(), options.hand,
                                                          pipeline::HandRendererOptions{}, pipeline::kHandOptionPrefix))
       args.push_back(arg);
+    for (const std::string& arg : config::knob_arguments(touch_knobs(), options.touch, TouchSettings{})) args.push_back(arg);
     return args;
   };
 

@@ -7,6 +7,7 @@
 #include "app/options.h"
 #include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
+#include "touch/touch_settings.h"
 
 namespace rt::app {
 
@@ -30,6 +31,7 @@ struct DemoOptions {
   nlohmann::json quality;                    // what --quality or --budget-ms chose; null: neither
   std::vector<std::string> quality_arguments;  // the same choice for each site, for its metrics
   pipeline::HandRendererOptions hand;        // both sites' geometry hand
+  TouchSettings touch;                       // both sites' contact prediction and motor latency
 };
 
 int run_two_site_demo(const DemoOptions& options);

@@ -46,6 +46,8 @@ std::vector<std::pair<std::string, std::string>> closing_rows(const nlohmann::js
   rows.emplace_back("frames with mesh hand / none (skeleton gap)",
                     count("/frames/with_mesh_hand") + " / " + count("/frames/no_hand_skeleton_gap"));
   rows.emplace_back("touch starts / motor pulses", count("/touch/starts") + " / " + count("/touch/motor_pulses"));
+  rows.emplace_back("contact to vibration median ms (truth)",
+                    table_cell(at("/touch/contact_to_vibration_ms/median_ms")));
   // A peer that ended its session said so first: that close is not counted as lost.
   rows.emplace_back("connections lost / reconnects / touches resent",
                     count("/net/connections_lost") + " / " + count("/net/reconnects") + " / " + count("/net/touches_resent"));

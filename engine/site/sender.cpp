@@ -1,5 +1,6 @@
 #include "site/sender.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <thread>
@@ -26,7 +27,7 @@ constexpr uint64_t kLeapFrameMaxAgeUs = 5 * sim::kTrackerPeriodUs;
 
 }  // namespace
 
-Sender::Sender(SiteCommon& common, TouchLoop& touch) : common_(common), touch_(touch) {
+Sender::Sender(SiteCommon& common, SiteTouchLoop& touch) : common_(common), touch_(touch) {
   const SiteRunOptions& options = common_.options;
   pipeline::IbrSettings settings = options.ibr;
   settings.width = common_.width;
@@ -302,8 +303,11 @@ void Sender::tracker_loop() {
     } else if (const auto tracked = tracker.at(common_.scene_time_s(now))) {
       tracked_hands_.add(tracked->time_s, tracked->hands);
       hands = tracked->hands;
-      // Ages count on this machine's clock from when the site has the frame.
-      for (auto& hand : hands) hand.timestamp_us = now;
+      // Stamped when the tracker saw them on the scene clock, not when this tick picked them up:
+      // a frame stands for several ticks where the scene plays slowly, and the contact's
+      // prediction fits the hand's motion against these times.
+      const uint64_t captured_us = std::min(now, common_.wall_us_at_scene_time(tracked->time_s));
+      for (auto& hand : hands) hand.timestamp_us = captured_us;
     }
     touch_.set_local_hands(hands);
     common_.net->send(net::SkeletonMessage{now, hands});

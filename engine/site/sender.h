@@ -27,7 +27,7 @@
 #include "site/site_common.h"
 #include "site/site_eye.h"
 #include "site/site_inputs.h"
-#include "touch/touch_loop.h"
+#include "touch/site_touch_loop.h"
 #include "tracker/leap_service.h"
 
 namespace rt::site {
@@ -36,7 +36,7 @@ class Sender {
  public:
   // Opens this site's inputs (a replay updates common.scene) and the image-based model; with
   // --tracker leap, connects to the Leap service first (an error at once when none answers).
-  Sender(SiteCommon& common, TouchLoop& touch);
+  Sender(SiteCommon& common, SiteTouchLoop& touch);
 
   void capture_loop();
   void ibr_loop();
@@ -62,7 +62,7 @@ class Sender {
   void look_for_eyes_before_the_call();
 
   SiteCommon& common_;
-  TouchLoop& touch_;
+  SiteTouchLoop& touch_;
   // The site's inputs (site_inputs.h): simulated from the scene, or replayed from a recording.
   std::unique_ptr<pipeline::SiteSimulator> simulator_;
   std::unique_ptr<SiteReplay> replay_;

@@ -58,7 +58,7 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
     if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
         key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" &&
         key != "motor" &&  key != "tracker" && key != "display" && key != "monitor" &&
-        key != "present_mode" && key != "ibr" && key != "hand")
+        key != "present_mode" && key != "ibr" && key != "hand" && key != "touch")
       throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
   std::string site = site_name(options.site), key_file;
   string_field("scene", options.scene);
@@ -100,6 +100,8 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   if (json.contains("ibr")) config::read_knobs_json(pipeline::ibr_knobs(), json["ibr"], options.ibr, config.string() + ": 'ibr'");
   if (json.contains("hand"))
     config::read_knobs_json(pipeline::hand_knobs(), json["hand"], options.hand, config.string() + ": 'hand'");
+  if (json.contains("touch"))
+    config::read_knobs_json(touch_knobs(), json["touch"], options.touch, config.string() + ": 'touch'");
   if (json.contains("frames")) {
     number_field("frames", options.run.frames, 1, 1e6);
     options.frames_given = true;

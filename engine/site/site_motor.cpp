@@ -45,7 +45,8 @@ MotorDecision decide_motor(MotorMode mode, const std::variant<std::vector<motor:
   return decision;
 }
 
-SiteMotor open_site_motor(MotorMode mode, const std::function<void(const std::string&)>& log) {
+SiteMotor open_site_motor(MotorMode mode, const std::function<void(const std::string&)>& log,
+                          std::chrono::microseconds simulated_latency) {
   const motor::UsbMotorOptions defaults;
   const MotorDecision decision =
       mode == MotorMode::Simulated
@@ -70,7 +71,7 @@ SiteMotor open_site_motor(MotorMode mode, const std::function<void(const std::st
   } else {
     site.description = decision.description;
   }
-  site.motor = std::make_unique<motor::SimulatedMotor>(monotonic_now_us);
+  site.motor = std::make_unique<motor::SimulatedMotor>(monotonic_now_us, simulated_latency);
   return site;
 }
 

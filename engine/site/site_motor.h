@@ -1,6 +1,7 @@
 #pragma once
 // Which motor a site drives (`remotetouch site --motor simulated|usb|auto`): the Arduino on USB
 // when it is there, else the simulated one, saying which and why in the log and metrics.json.
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -36,7 +37,9 @@ struct SiteMotor {
 // Probes USB (unless `mode` is Simulated) and opens the chosen motor. A USB board is opened at
 // once: opening resets it (about 1.5 s), which must not land on the first touch. In auto mode a
 // board that cannot be opened falls back to the simulated motor with the reason; with --motor
-// usb it throws, as does usb without a board. `log` gets the USB driver's status lines.
-SiteMotor open_site_motor(MotorMode mode, const std::function<void(const std::string&)>& log);
+// usb it throws, as does usb without a board. `log` gets the USB driver's status lines. A simulated
+// motor is felt `simulated_latency` after each command, as the real one's spin-up.
+SiteMotor open_site_motor(MotorMode mode, const std::function<void(const std::string&)>& log,
+                          std::chrono::microseconds simulated_latency = {});
 
 }  // namespace rt::site

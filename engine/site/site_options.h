@@ -8,6 +8,7 @@
 #include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
 #include "pipeline/run_options.h"
+#include "touch/touch_settings.h"
 
 namespace rt::site {
 
@@ -41,12 +42,13 @@ struct SiteRunOptions {
   pipeline::IbrSettings ibr;            // the sender's image-based model (its width and height are the display's)
   nlohmann::json quality;               // what --quality or --budget-ms chose, for metrics; null: neither
   pipeline::HandRendererOptions hand;   // the receiver's geometry hand
+  TouchSettings touch;                  // contact prediction and the motor's latency
 };
 
 // Fills the fields a --config JSON names (scene, site, listen, peer, key_file, time_scale,
-// resolution_scale, width, height, frames, replay, motor, tracker, and the objects "ibr" and "hand" of
-// the knobs in pipeline/ibr_settings.h and hand_settings.h, e.g. "ibr": {"refine": 9,
-// "best_views": 4}); a file path (key_file, replay) is relative to the config's folder.
+// resolution_scale, width, height, frames, replay, motor, tracker, and the objects "ibr", "hand" and
+// "touch" of the knobs in pipeline/ibr_settings.h, hand_settings.h and touch/touch_settings.h,
+// e.g. "ibr": {"refine": 9, "best_views": 4}); a file path (key_file, replay) is relative to the config's folder.
 // Throws naming the file and field.
 // The Leap service's URL that a --tracker value names, or none for "scene". Throws
 // std::invalid_argument saying what is wrong with any other value.

@@ -1,5 +1,6 @@
 #include "site/site_run.h"
 
+#include <algorithm>
 #include <csignal>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <thread>
 
 #include "display/glfw_window.h"
@@ -20,7 +22,9 @@
 #include "site/site_motor.h"
 #include "session/output_folder_lock.h"
 #include "time/monotonic_clock.h"
-#include "touch/touch_loop.h"
+#include "motor/simulated_motor.h"
+#include "touch/scene_contact.h"
+#include "touch/site_touch_loop.h"
 
 namespace rt::site {
 namespace {
@@ -97,6 +101,15 @@ class SiteRun {
  private:
   void on_message(const net::Message& message);
   void on_touch(const TouchEvent& event);
+  // The touch loop's cue to pulse the motor (ahead of a predicted contact, or at a detected touch)
+  // or to cancel a predicted pulse whose touch did not come (touch/touch_loop.h).
+  void on_motor(MotorCue cue);
+  // The touch-to-motor latencies, once a touch has both its start and its pulse.
+  void note_touch_to_motor();
+  // Each true contact of the scene against the vibrations felt, where the truth is known: this
+  // site's inputs simulated from the scene (the other site is taken to play the same scene) and
+  // the motor simulated.
+  nlohmann::json contact_to_vibration() const;
   // Connection changes into the event log and progress lines for the demo's parent, until the
   // display ends.
   void monitor(const std::atomic<bool>& display_finished);
@@ -112,14 +125,18 @@ class SiteRun {
   session::EventLog events_;
   SiteCommon common_;
   SiteMotor motor_;  // used by the touch loop's thread only (usb_motor.h)
-  std::unique_ptr<TouchLoop> touch_;
+  std::unique_ptr<SiteTouchLoop> touch_;
   std::unique_ptr<Sender> sender_;
   std::unique_ptr<Receiver> receiver_;
   // Declared after the sender and the receiver, so destroyed before them: its thread calls them.
   std::unique_ptr<net::Session> net_;
   std::mutex skeleton_mutex_;
-  std::deque<std::pair<uint64_t, uint64_t>> remote_capture_of_arrival_;  // (arrival, sender's capture) µs
+  std::deque<std::pair<uint64_t, uint64_t>> remote_capture_of_stamp_;  // (stamp here, sender's capture) µs
   session::LatencyStats touch_to_motor_, detect_to_motor_;
+  // The touch loop's thread alone: the newest touch start's (met, detected) times and the newest
+  // pulse's command time, until the two are paired.
+  std::optional<std::pair<uint64_t, uint64_t>> unpaired_start_us_;
+  std::optional<uint64_t> unpaired_pulse_us_;
   uint64_t started_us_ = 0;
   std::string stopped_by_;  // SIGINT, SIGTERM, window or peer; empty: the scene ended
 };
@@ -165,20 +182,19 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
   std::filesystem::create_directories(common_.out / "frames");
   if (options.write_truth) std::filesystem::create_directories(common_.out / "truth");
 
-  motor_ = open_site_motor(parse_motor_mode(options.motor), [this](const std::string& line) {
-    std::cerr << "site " << common_.name << ": motor: " << line << "\n";
-    events_.write("motor_log", monotonic_now_us(), {{"line", line}});
-  });
+  motor_ = open_site_motor(
+      parse_motor_mode(options.motor),
+      [this](const std::string& line) {
+        std::cerr << "site " << common_.name << ": motor: " << line << "\n";
+        events_.write("motor_log", monotonic_now_us(), {{"line", line}});
+      },
+      std::chrono::microseconds(std::llround(options.touch.motor_latency_ms * 1000.0)));
   std::cerr << "site " << common_.name << ": motor: " << motor_.description << "\n";
   events_.write("motor", monotonic_now_us(), {{"motor", motor_.description}});
 
-  // A skeleton counts as lost after 200 ms rather than 100, and a touch holds for a second without
-  // news: the tracker thread shares two CPU cores with a CPU Vulkan driver here, and a late tick
-  // is not a hand the tracker lost.
-  TouchParameters touch_parameters;
-  touch_parameters.max_skeleton_age_us = 200'000;
-  touch_parameters.touch_hold_age_us = 1'000'000;
-  touch_ = std::make_unique<TouchLoop>(touch_parameters, [this](const TouchEvent& event) { on_touch(event); });
+  touch_ = std::make_unique<SiteTouchLoop>(
+      options.touch, common_.options.time_scale, [this](const TouchEvent& event) { on_touch(event); },
+      [this](MotorCue cue, uint64_t) { on_motor(cue); });
 
   net::SessionOptions net_options = session_options(options);
   net_options.log = [this](const std::string& line) {
@@ -201,21 +217,19 @@ void SiteRun::on_message(const net::Message& message) {
   if (const auto* eye = std::get_if<net::EyeMessage>(&message)) {
     if (eye->valid) sender_->set_remote_eye(map_point(common_.remote, here, eye->eye));
   } else if (const auto* skeleton = std::get_if<net::SkeletonMessage>(&message)) {
-    // The detector's "lost tracking" age is measured from arrival: the link's delay is not the
-    // tracker losing the hand (and two machines' clocks are unrelated anyway). The capture time
-    // is kept aside for the touch-to-motor latency.
+    // The hands' capture times on the other machine's clock come onto this one by the link's
+    // least delay (touch/remote_clock.h): its delay is not the tracker losing the hand, and the
+    // contact's prediction needs their spacing. The sender's own time is kept aside for the
+    // touch-to-motor latency (the demo's two sites share one clock).
     std::vector<HandSkeleton> hands;
-    for (const auto& hand : skeleton->hands) {
-      HandSkeleton local = map_skeleton(common_.remote, here, hand);
-      local.timestamp_us = now;
-      hands.push_back(local);
-    }
+    for (const auto& hand : skeleton->hands) hands.push_back(map_skeleton(common_.remote, here, hand));
+    const uint64_t captured_there_us = skeleton->hands.empty() ? skeleton->timestamp_us : skeleton->hands.front().timestamp_us;
+    const uint64_t captured_here_us = touch_->set_remote_hands(std::move(hands), captured_there_us, now);
     {
       std::lock_guard lock(skeleton_mutex_);
-      remote_capture_of_arrival_.emplace_back(now, skeleton->timestamp_us);
-      while (remote_capture_of_arrival_.size() > 200) remote_capture_of_arrival_.pop_front();
+      remote_capture_of_stamp_.emplace_back(captured_here_us, captured_there_us);
+      while (remote_capture_of_stamp_.size() > 200) remote_capture_of_stamp_.pop_front();
     }
-    touch_->set_remote_hands(std::move(hands));
     receiver_->on_skeleton(*skeleton);
   } else if (const auto* portrait = std::get_if<net::PortraitMessage>(&message)) {
     receiver_->on_portrait(*portrait, now);
@@ -236,27 +250,70 @@ void SiteRun::on_touch(const TouchEvent& event) {
   message.kind = start ? net::TouchEventMessage::Kind::Start : net::TouchEventMessage::Kind::End;
   message.site = common_.options.site == Site::A ? 0 : 1;
   net_->send(message);
-  if (!start) return;
-  const uint64_t command_us = monotonic_now_us();
-  const motor::MotorStatus status = motor_.motor->pulse(kMotorPulse, kMotorStrength);
-  if (!status) {
-    events_.write("motor_error", command_us, {{"error", status.error()}});
+  if (!start) {
+    unpaired_start_us_.reset();
+    unpaired_pulse_us_.reset();
     return;
   }
   // The hands met when the later of the two skeletons that showed it was captured.
   uint64_t remote_capture_us = 0;
   {
     std::lock_guard lock(skeleton_mutex_);
-    for (const auto& [arrival, capture] : remote_capture_of_arrival_)
-      if (arrival == event.remote_capture_us) remote_capture_us = capture;
+    for (const auto& [stamp, capture] : remote_capture_of_stamp_)
+      if (stamp == event.remote_capture_us) remote_capture_us = capture;
   }
   const uint64_t met_us = remote_capture_us ? std::max(event.local_capture_us, remote_capture_us) : 0;
+  unpaired_start_us_ = {met_us, event.timestamp_us};
+  note_touch_to_motor();
+}
+
+void SiteRun::on_motor(MotorCue cue) {
+  const uint64_t command_us = monotonic_now_us();
+  if (cue == MotorCue::Cancel) {
+    const motor::MotorStatus status = motor_.motor->stop();
+    events_.write(status ? "motor_cancel" : "motor_error", command_us,
+                  status ? nlohmann::json::object() : nlohmann::json{{"error", status.error()}});
+    unpaired_pulse_us_.reset();
+    return;
+  }
+  const motor::MotorStatus status = motor_.motor->pulse(kMotorPulse, kMotorStrength);
+  if (!status) {
+    events_.write("motor_error", command_us, {{"error", status.error()}});
+    return;
+  }
+  // Ahead of the touch's detection: a predicted contact's pulse.
+  const bool predicted = !unpaired_start_us_;
+  events_.write("motor_pulse", command_us,
+                {{"duration_ms", kMotorPulse.count()}, {"strength", kMotorStrength}, {"predicted", predicted}});
+  unpaired_pulse_us_ = command_us;
+  note_touch_to_motor();
+}
+
+void SiteRun::note_touch_to_motor() {
+  if (!unpaired_start_us_ || !unpaired_pulse_us_) return;
+  const auto [met_us, detected_us] = *unpaired_start_us_;
+  const uint64_t command_us = *unpaired_pulse_us_;
   const double met_to_motor_ms = met_us ? double(int64_t(command_us) - int64_t(met_us)) / 1000.0 : NAN;
   touch_to_motor_.add(met_to_motor_ms);
-  detect_to_motor_.add(double(int64_t(command_us) - int64_t(event.timestamp_us)) / 1000.0);
-  events_.write("motor_pulse", command_us,
-                {{"duration_ms", kMotorPulse.count()}, {"strength", kMotorStrength},
-                 {"touch_to_motor_ms", std::isfinite(met_to_motor_ms) ? nlohmann::json(met_to_motor_ms) : nlohmann::json()}});
+  detect_to_motor_.add(double(int64_t(command_us) - int64_t(detected_us)) / 1000.0);
+  events_.write("touch_to_motor", command_us,
+                {{"touch_to_motor_ms", std::isfinite(met_to_motor_ms) ? nlohmann::json(met_to_motor_ms) : nlohmann::json()}});
+  unpaired_start_us_.reset();
+  unpaired_pulse_us_.reset();
+}
+
+nlohmann::json SiteRun::contact_to_vibration() const {
+  const auto* simulated = dynamic_cast<const motor::SimulatedMotor*>(motor_.motor.get());
+  const SiteRunOptions& options = common_.options;
+  if (!simulated || !options.replay.empty() || options.tracker != "scene") return nullptr;
+  std::vector<uint64_t> contacts_us;
+  for (const double t : true_contact_times_s(common_.scene))
+    if (t <= common_.scene.duration_s()) contacts_us.push_back(common_.wall_us_at_scene_time(t));
+  nlohmann::json out = contact_to_vibration_json(contacts_us, simulated->felt_pulse_starts(),
+                                                 uint64_t(500'000 / std::min(options.time_scale, 1.0)));
+  out["note"] = "felt = the simulated motor's command + its latency; contact = the scene's true palms meeting (each "
+                "within 1 mm of resting on the glass, overlapping), on this site's clock; error = felt - contact";
+  return out;
 }
 
 bool SiteRun::window_quit() {
@@ -381,7 +438,7 @@ int SiteRun::run() {
   events_.write("connected", common_.epoch_us, {{"peer", net_->status().peer}});
   std::cout << "connected" << std::endl;
 
-  touch_->start();
+  touch_->loop().start();
   // A stage that throws ends the run cleanly: the others see `stopping` and the error is reported.
   std::atomic<bool> failed{false};
   auto guarded = [&](const char* stage, auto loop) {
@@ -415,7 +472,7 @@ int SiteRun::run() {
   capture.join();
   ibr.join();
   tracker.join();
-  touch_->stop();
+  touch_->loop().stop();
   const double elapsed_s = double(monotonic_now_us() - common_.epoch_us) * 1e-6;
   // Give the peer a moment to take our last messages before the connection closes.
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
@@ -425,7 +482,14 @@ int SiteRun::run() {
   m["motor"] = motor_.description;
   m["latency_ms"]["touch_to_motor_command"] = touch_to_motor_.to_json();
   m["latency_ms"]["touch_detected_to_motor_command"] = detect_to_motor_.to_json();
-  m["fps"]["touch_loop"] = double(touch_->ticks()) / std::max(elapsed_s, 1e-6);
+  m["fps"]["touch_loop"] = double(touch_->loop().ticks()) / std::max(elapsed_s, 1e-6);
+  const MotorTimingCounts pulses = touch_->loop().motor_counts();
+  m["touch"]["settings"] = touch_settings_json(options.touch);
+  m["touch"]["pulses"] = {{"predicted", pulses.predicted},
+                          {"confirmed", pulses.confirmed},
+                          {"cancelled", pulses.cancelled},
+                          {"unpredicted", pulses.unpredicted}};
+  m["touch"]["contact_to_vibration_ms"] = contact_to_vibration();
   if (options.run.capture_frame >= 0) m["capture"] = capture_->to_json();
   m["stopped_by"] = stopped_by_.empty() ? nlohmann::json() : nlohmann::json(stopped_by_);
   m["display"] = display_mode_ == DisplayMode::Window ? "window" : display_mode_ == DisplayMode::Both ? "both" : "headless";

@@ -1,6 +1,7 @@
 #include "touch/contact_predictor.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -9,9 +10,6 @@ namespace rt {
 namespace {
 
 constexpr size_t kMaxSamples = 32;  // a tracker at 120 Hz gives 24 in the history; room to spare
-// The newest samples weigh most (e^(age / this)): the reach's speed and deceleration change as it
-// goes, and the contact follows from how it moves now.
-constexpr double kWeightTimeConstantS = 0.03;
 
 // The smallest tau > 0 with a + b tau + c tau^2 = 0; none where the curve turns before zero.
 std::optional<double> first_root_after_now(double a, double b, double c) {
@@ -48,8 +46,28 @@ void check_contact_prediction_parameters(const ContactPredictionParameters& p) {
   };
   require(p.history_us >= 20'000, "history must be at least 20 ms (three tracker frames)");
   require(p.max_horizon_us > 0, "the horizon must be positive");
+  require(p.max_sample_age_us > 0, "the samples' age limit must be positive");
   require(std::isfinite(p.min_approach_speed_m_s) && p.min_approach_speed_m_s > 0, "the approach speed must be positive");
   require(std::isfinite(p.max_deceleration_m_s2) && p.max_deceleration_m_s2 >= 0, "the deceleration bound must be >= 0");
+  require(p.weight_time_constant_us > 0, "the weights' time constant must be positive");
+  require(std::isfinite(p.contact_height_m) && p.contact_height_m >= 0 && p.contact_height_m < 0.05,
+          "the contact height must be in [0, 5 cm)");
+}
+
+ContactPredictionParameters scaled_to_time(const ContactPredictionParameters& p, double time_scale) {
+  if (!std::isfinite(time_scale) || time_scale <= 0)
+    throw std::invalid_argument("contact prediction: the time scale must be positive");
+  auto slower = [&](uint64_t us) { return uint64_t(std::llround(double(us) / time_scale)); };
+  ContactPredictionParameters scaled = p;
+  // Never shorter than the check allows: a scene played faster than real time still needs three
+  // tracker frames to fit.
+  scaled.history_us = std::max<uint64_t>(20'000, slower(p.history_us));
+  scaled.max_horizon_us = slower(p.max_horizon_us);
+  scaled.max_sample_age_us = slower(p.max_sample_age_us);
+  scaled.weight_time_constant_us = std::max<uint64_t>(1, slower(p.weight_time_constant_us));
+  scaled.min_approach_speed_m_s = p.min_approach_speed_m_s * time_scale;
+  scaled.max_deceleration_m_s2 = p.max_deceleration_m_s2 * time_scale * time_scale;
+  return scaled;
 }
 
 ContactPredictor::ContactPredictor(const ContactPredictionParameters& parameters, const TouchParameters& touch)
@@ -62,7 +80,12 @@ void ContactPredictor::add_local(const std::vector<HandSkeleton>& hands) { add(l
 void ContactPredictor::add_remote(const std::vector<HandSkeleton>& hands) { add(remote_, hands); }
 
 void ContactPredictor::add(Track& track, const std::vector<HandSkeleton>& hands) {
-  const HandSkeleton* hand = hand_nearest_screen(hands);
+  // Nearest the glass on either side of it: the other site's hands, mapped into this site's
+  // frame, are behind it (z < 0).
+  const HandSkeleton* hand = nullptr;
+  for (const HandSkeleton& candidate : hands)
+    if (std::isfinite(candidate.palm.z()) && (!hand || std::abs(candidate.palm.z()) < std::abs(hand->palm.z())))
+      hand = &candidate;
   if (!hand) {
     track.samples.clear();
     return;
@@ -77,20 +100,22 @@ void ContactPredictor::add(Track& track, const std::vector<HandSkeleton>& hands)
 std::optional<ContactPredictor::Reach> ContactPredictor::reach(const Track& track, uint64_t now_us) const {
   if (track.samples.size() < 3) return std::nullopt;
   const HandSkeleton& newest = track.samples.back();
-  // Least squares in time since the newest sample (seconds): z = a + b t + c t^2; x and y linear.
+  if (now_us > newest.timestamp_us + parameters_.max_sample_age_us) return std::nullopt;
+  // Least squares in time since the newest sample (seconds): the distance to the glass
+  // |z| = a + b t + c t^2; x and y linear.
   const int n = int(track.samples.size());
   Eigen::MatrixXd quadratic(n, 3), linear(n, 2);
   Eigen::VectorXd x(n), y(n), z(n);
   for (int i = 0; i < n; ++i) {
     const HandSkeleton& s = track.samples[size_t(i)];
     const double t = (double(s.timestamp_us) - double(newest.timestamp_us)) * 1e-6;
-    const double w = std::exp(t / kWeightTimeConstantS);
+    const double w = std::exp(t / (double(parameters_.weight_time_constant_us) * 1e-6));
     quadratic.row(i) << w, w * t, w * t * t;
     linear.row(i) << w, w * t;
     const Eigen::Vector3d centre = hand_centre(s);
     x(i) = w * centre.x();
     y(i) = w * centre.y();
-    z(i) = w * centre.z();
+    z(i) = w * (std::abs(centre.z()) - parameters_.contact_height_m);
   }
   if (!x.allFinite() || !y.allFinite() || !z.allFinite()) return std::nullopt;
   // Samples too close in time to tell a velocity (or all at one instant) fit nothing.
@@ -121,7 +146,8 @@ std::optional<ContactPredictor::Reach> ContactPredictor::reach(const Track& trac
   reach.contact_us = uint64_t(std::max(0.0, contact_us));
   // The newest skeleton slid to the fitted position and pressed flat against the glass.
   const Eigen::Vector3d centre = hand_centre(newest);
-  const Eigen::Vector3d shift(xfit(0) + xfit(1) * tau - centre.x(), yfit(0) + yfit(1) * tau - centre.y(), -centre.z());
+  const Eigen::Vector3d shift(xfit(0) + xfit(1) * tau - centre.x(), yfit(0) + yfit(1) * tau - centre.y(),
+                              std::copysign(parameters_.contact_height_m, centre.z()) - centre.z());
   HandSkeleton moved = newest;
   moved.palm += shift;
   moved.wrist += shift;

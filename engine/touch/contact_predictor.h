@@ -18,7 +18,21 @@ struct ContactPredictionParameters {
   uint64_t max_horizon_us = 250'000;  // no contact predicted further ahead: a reach changes course
   double min_approach_speed_m_s = 0.1;  // a hand slower than this hovers; it is not reaching
   double max_deceleration_m_s2 = 40.0;  // beyond this the fit follows tracker noise, not a hand
+  // A side not heard from this long (a stalled link) says nothing about where its hand is now:
+  // extrapolating its old reach predicted contacts far too early.
+  uint64_t max_sample_age_us = 150'000;
+  // The newest samples weigh most (e^(age / this)): the reach's speed and deceleration change as
+  // it goes, and the contact follows from how it moves now.
+  uint64_t weight_time_constant_us = 30'000;
+  // The height of the hand's joints over the glass at which the palms count as met: a tracker's
+  // skeleton runs through the middle of the hand, so a palm flat on the glass has its joints
+  // about half a centimetre out (sim/motion.h); 0 treats the joints as the skin.
+  double contact_height_m = 0.0;
 };
+
+// The same parameters for hands that move `time_scale` times as fast as real ones on the clock
+// their samples carry (a site playing its scene at a quarter of real time: 0.25).
+ContactPredictionParameters scaled_to_time(const ContactPredictionParameters& parameters, double time_scale);
 
 // Throws with the reason unless the parameters make sense.
 void check_contact_prediction_parameters(const ContactPredictionParameters& parameters);
@@ -28,7 +42,7 @@ class ContactPredictor {
   explicit ContactPredictor(const ContactPredictionParameters& parameters = {}, const TouchParameters& touch = {});
 
   // Each side's newest hands as the touch loop has them (the remote side in the local frame and
-  // clock). The hand nearest the glass is followed; a sample not newer than the last is ignored,
+  // clock). The hand nearest the glass (on either side) is followed; a sample not newer than the last is ignored,
   // and a side without a hand forgets its history.
   void add_local(const std::vector<HandSkeleton>& hands);
   void add_remote(const std::vector<HandSkeleton>& hands);

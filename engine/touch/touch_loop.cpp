@@ -1,5 +1,7 @@
 #include "touch/touch_loop.h"
 
+#include <algorithm>
+
 #include "time/monotonic_clock.h"
 
 namespace rt {
@@ -57,10 +59,26 @@ void TouchLoop::time_motor(uint64_t now_us, const std::optional<TouchEvent>& eve
     if (unconfirmed_contact_us_) {
       ++counts_.confirmed;  // the pulse is already on its way
       unconfirmed_contact_us_.reset();
-    } else {
-      ++counts_.unpredicted;
-      cue(MotorCue::Pulse, now_us);
+      return;
     }
+    // The detector's band reaches out from the glass, so a hand that slows onto it is seen
+    // touching before its palm meets the glass: a pulse predicted for later waits for its time.
+    if (timing_.predict)
+      if (const std::optional<uint64_t> contact = predictor_.predicted_contact_us(now_us);
+          contact && *contact > now_us + timing_.motor_spin_up_us) {
+        scheduled_contact_us_ = contact;
+        scheduled_pulse_us_ = *contact - timing_.motor_spin_up_us;
+        scheduled_seen_ = true;
+        return;
+      }
+    ++counts_.unpredicted;
+    cue(MotorCue::Pulse, now_us);
+    return;
+  }
+  if (scheduled_seen_ && scheduled_pulse_us_) {
+    // A touch that ends before its pulse's time is felt now rather than never.
+    if (event && event->kind == TouchEvent::Kind::End) scheduled_pulse_us_ = now_us;
+    fire_scheduled(now_us);
     return;
   }
   if (!timing_.predict || detector_.touching()) return;
@@ -94,8 +112,13 @@ void TouchLoop::time_motor(uint64_t now_us, const std::optional<TouchEvent>& eve
 void TouchLoop::fire_scheduled(uint64_t now_us) {
   if (!scheduled_pulse_us_ || now_us < *scheduled_pulse_us_) return;
   scheduled_pulse_us_.reset();
-  unconfirmed_contact_us_ = scheduled_contact_us_;
   ++counts_.predicted;
+  if (scheduled_seen_) {
+    ++counts_.confirmed;  // the detector saw the touch before the pulse's time
+    scheduled_seen_ = false;
+  } else {
+    unconfirmed_contact_us_ = scheduled_contact_us_;
+  }
   cue(MotorCue::Pulse, now_us);
 }
 
@@ -134,7 +157,9 @@ void TouchLoop::run() {
     if (next < now) next = now;  // fell behind (debugger, overload): skip, do not burst
     // A predicted pulse falls between ticks: wake for it, so that it is on time to the
     // microsecond rather than to the tick.
-    if (const std::optional<uint64_t> due = pulse_due_us()) {
+    const uint64_t next_us = monotonic_now_us() + uint64_t(std::max<int64_t>(
+                                 0, std::chrono::duration_cast<std::chrono::microseconds>(next - now).count()));
+    if (const std::optional<uint64_t> due = pulse_due_us(); due && *due < next_us) {
       std::this_thread::sleep_for(std::chrono::microseconds(int64_t(*due) - int64_t(monotonic_now_us())));
       fire_due(monotonic_now_us());
     }

@@ -19,7 +19,8 @@ namespace rt {
 // which is after the contact by the tracker's (and the network's) latency, and the vibration
 // follows by the motor's spin-up. With it: at the predicted contact less the spin-up, so that
 // the vibration starts as the palms meet; a prediction the detector does not confirm is
-// cancelled, and a touch nobody predicted still pulses when it is seen.
+// cancelled, a touch seen before its predicted contact still pulses at the prediction's time,
+// and a touch nobody predicted pulses when it is seen.
 struct MotorTiming {
   bool predict = false;
   uint64_t motor_spin_up_us = 60'000;
@@ -59,8 +60,8 @@ class TouchLoop {
   // One detection step at `now_us`, as the thread runs it; for tests and for callers that
   // drive their own clock.
   std::optional<TouchEvent> tick(uint64_t now_us);
-  // A pulse predicted at a tick to fall before the next one, when its time comes; the thread
-  // wakes for it. Returns when it is due (none: nothing scheduled).
+  // A predicted pulse waiting for its time: when it is due (none: nothing scheduled). The thread
+  // wakes for one due before its next tick; a later one waits for the ticks.
   std::optional<uint64_t> pulse_due_us() const;
   void fire_due(uint64_t now_us);
   MotorTimingCounts motor_counts() const;
@@ -86,6 +87,7 @@ class TouchLoop {
   ContactPredictor predictor_;
   std::optional<uint64_t> scheduled_pulse_us_, scheduled_contact_us_;
   std::optional<uint64_t> unconfirmed_contact_us_;
+  bool scheduled_seen_ = false;  // the scheduled pulse's touch was already detected
   bool cancelled_reach_ = false;
   MotorTimingCounts counts_;
   std::mutex hands_mutex_;

@@ -40,6 +40,25 @@ for site in "AB":
         assert stages[wait]["count"] >= on_screen["count"] > 0, (site, wait, stages[wait], on_screen)
         assert 0 <= stages[wait]["median_ms"] <= on_screen["median_ms"], (site, wait, stages[wait], on_screen)
 PY
+# Contact prediction (on by default) times each clap's pulse against the scene's true contact, and
+# nothing is predicted, cancelled or felt where the palms never meet.
+/usr/bin/python3 - "$out/metrics.json" "$touches" "$@" <<'PY' || fail "contact prediction not used or mistimed"
+import json, sys
+m, touches, extra = json.load(open(sys.argv[1])), int(sys.argv[2]), sys.argv[3:]
+for site in "AB":
+    touch = m["sites"][site]["touch"]
+    pulses, timing = touch["pulses"], touch["contact_to_vibration_ms"]
+    print(f"site {site}: pulses {pulses}, contact to vibration median {timing['median_ms']} ms")
+    assert touch["settings"]["contact_prediction"] == "on", touch["settings"]
+    assert timing["contacts"] == touches and timing["vibrations_without_contact"] == 0, timing
+    assert pulses["cancelled"] == 0, pulses
+    if touches == 0:
+        assert pulses == {"predicted": 0, "confirmed": 0, "cancelled": 0, "unpredicted": 0}, pulses
+    elif not any(a.startswith("--disconnect") or a.startswith("--loss") for a in extra):
+        # A link cut may hide the reach from the predictor; a clean run predicts its clap.
+        assert pulses["predicted"] == touches and timing["contacts_not_felt"] == 0, (pulses, timing)
+        assert abs(timing["median_ms"]) <= 60, timing
+PY
 # Each displayed frame says what appearance the drawn hand was shaded with, and only where one was drawn.
 /usr/bin/python3 - "$out" "$touches" <<'PY' || fail "frames.jsonl: drawn_hand_appearance missing or wrong"
 import json, sys
