@@ -18,6 +18,9 @@ add_cli_test(cli_bench_ibr_split_warp 0 "ibr_warp .*ibr_blend .*GPU's ibr_warp \
 # The dual hand at the glass: the receiver's whole chain per touch phase and variant, small.
 add_test(NAME cli_eval_dual_outputs
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/eval_dual_outputs.sh $<TARGET_FILE:remotetouch> ${CMAKE_BINARY_DIR}/test-out/eval-dual)
+add_test(NAME cli_eval_dual_prediction
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/eval_dual_prediction.sh $<TARGET_FILE:remotetouch> ${CMAKE_BINARY_DIR}/test-out/eval-dual-prediction)
+add_cli_test(cli_eval_dual_bad_latency 105 "--tracker-latency: Value -1 not in range" ${rt} eval dual --tracker-latency -1)
 add_cli_test(cli_eval_dual_bad_variant 105 "--variants: blend not in" ${rt} eval dual --variants dual,blend)
 add_cli_test(cli_eval_dual_bad_user 105 "--users: C not in" ${rt} eval dual --users C)
 add_cli_test(cli_eval_dual_past_end 1 "eval dual: --first-frame 100000 is past the scene's 180 frames"

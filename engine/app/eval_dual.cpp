@@ -22,9 +22,11 @@ class EvalDualCommand : public Command {
         ->capture_default_str();
     command
         ->add_option("--variants", eval_.variants,
-                     "image, geometry, dual, dual_no_appearance, dual_no_shape, hard_switch (comma-separated; default all)")
+                     "image, geometry, dual, dual_no_appearance, dual_no_shape, hard_switch, dual_predicted (comma-separated; "
+                     "default all, dual_predicted only with --tracker-latency)")
         ->delimiter(',')
-        ->check(CLI::IsMember({"image", "geometry", "dual", "dual_no_appearance", "dual_no_shape", "hard_switch"}));
+        ->check(CLI::IsMember(
+            {"image", "geometry", "dual", "dual_no_appearance", "dual_no_shape", "hard_switch", "dual_predicted"}));
     command->add_option("--first-frame", eval_.first_frame, "Scene frame to start at")
         ->check(CLI::Range(0u, 1000000u))
         ->capture_default_str();
@@ -34,6 +36,12 @@ class EvalDualCommand : public Command {
     command->add_option("--resolution-scale", eval_.resolution_scale, "Camera resolution scale (1 is the site's own)")
         ->check(CLI::Range(0.01, 1.0))
         ->default_str("the scene's");
+    command
+        ->add_option("--tracker-latency", eval_.tracker_latency_ms,
+                     "The remote skeletons arrive this many ms after their capture: the hand is posed from the newest "
+                     "one then, and the variant dual_predicted carries it forward to the display time")
+        ->check(CLI::Range(0.0, 1000.0))
+        ->capture_default_str();
     command->add_flag("--no-plots", no_plots_, "Skip hand_psnr.png and the contact sheets (they need python3-matplotlib)");
     ibr_ = add_ibr_options(*command);
     quality_.add_to(*command);

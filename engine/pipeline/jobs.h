@@ -58,6 +58,9 @@ struct EvalDualOptions {
   uint32_t frame_step = 1;
   double resolution_scale = 0;     // of the cameras; 0 = the scene's own
   bool plots = true;               // hand_psnr.png and the contact sheets (python3-matplotlib)
+  // The remote skeletons reach the receiver this long after their capture; > 0 adds the variant
+  // dual_predicted, the hand carried forward to the display time (tracking/skeleton_prediction.h).
+  double tracker_latency_ms = 0;
 };
 
 struct BenchAccuracyOptions {

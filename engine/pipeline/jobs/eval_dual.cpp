@@ -5,12 +5,15 @@
 // the region of the user's hand and forearm, per touch phase and per variant of the fusion.
 #include "pipeline/jobs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <span>
+#include <vector>
 
 #include "evaluation/region_scores.h"
 #include "evaluation/touch_phase.h"
@@ -27,6 +30,7 @@
 #include "sim/tracker_sim.h"
 #include "sim/tracker_space.h"
 #include "tracking/skeleton_interpolation.h"
+#include "tracking/skeleton_prediction.h"
 
 namespace rt::pipeline {
 namespace {
@@ -34,18 +38,20 @@ namespace {
 using evaluation::TouchPhase;
 
 // The receiver's geometry hand in one configuration.
-enum class HandPath { Full, NoAppearance, NoShape };
+// Predicted: Full, posed from the skeleton carried forward to the display time.
+enum class HandPath { Full, NoAppearance, NoShape, Predicted };
 
 struct VariantSpec {
   const char* name;
   std::optional<HandPath> hand;  // none: the image-based model alone
 };
-const std::array<VariantSpec, 6> kVariants = {{{"image", std::nullopt},
+const std::array<VariantSpec, 7> kVariants = {{{"image", std::nullopt},
                                                {"geometry", HandPath::Full},
                                                {"dual", HandPath::Full},
                                                {"dual_no_appearance", HandPath::NoAppearance},
                                                {"dual_no_shape", HandPath::NoShape},
-                                               {"hard_switch", HandPath::Full}}};
+                                               {"hard_switch", HandPath::Full},
+                                               {"dual_predicted", HandPath::Predicted}}};
 // hard_switch: the mesh alone below this distance, the image-based model alone above it.
 constexpr double kHardSwitchM = 0.3;
 
@@ -64,8 +70,22 @@ struct HandRun {
   bool adapts_appearance = true;
   bool drawn = false;
   bool adapted_before_display = false;  // this frame's fit ran before the draw (awaits_first_fit)
+  double distance_m = NAN;              // of its posed hand to the screen: what Eq. 4 is given
   HostImage color, mask;
 };
+
+// The drawn hand's samples up to the newest the receiver has, oldest first: the same hand (id
+// and side) in each, for the prediction's fit.
+std::vector<HandSkeleton> hand_history(std::span<const SkeletonSample> known, const HandSkeleton& hand,
+                                       uint64_t history_us) {
+  std::vector<HandSkeleton> history;
+  for (const SkeletonSample& sample : known) {
+    if (sample.timestamp_us + history_us < known.back().timestamp_us) continue;
+    for (const HandSkeleton& candidate : sample.hands)
+      if (candidate.id == hand.id && candidate.is_left == hand.is_left) history.push_back(candidate);
+  }
+  return history;
+}
 
 // Mean over the digits of the image distance between the mesh's tip joints and the true ones.
 std::optional<double> tip_error_px(const HandRenderer& renderer, const HandSkeleton& truth, const Camera& view) {
@@ -89,7 +109,11 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
   if (eval.resolution_scale > 0) scene.resolution_scale = eval.resolution_scale;
   std::vector<std::string> variants = eval.variants;
   if (variants.empty())
-    for (const auto& spec : kVariants) variants.push_back(spec.name);
+    for (const auto& spec : kVariants)
+      if (spec.hand != HandPath::Predicted || eval.tracker_latency_ms > 0) variants.push_back(spec.name);
+  if (!std::isfinite(eval.tracker_latency_ms) || eval.tracker_latency_ms < 0)
+    throw std::invalid_argument("eval dual: --tracker-latency must be a number of milliseconds >= 0");
+  const uint64_t latency_us = uint64_t(std::llround(eval.tracker_latency_ms * 1000.0));
   std::map<std::string, std::optional<HandPath>> variant_hand;
   for (const auto& spec : kVariants) variant_hand[spec.name] = spec.hand;
   for (const auto& name : variants)
@@ -111,7 +135,8 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
                            {"variants", variants},
                            {"device", context.device_name()},
                            {"ibr", ibr_settings_json(eval.ibr)},
-                           {"hand", hand_settings_json(eval.hand)}};
+                           {"hand", hand_settings_json(eval.hand)},
+                           {"tracker_latency_ms", eval.tracker_latency_ms}};
   std::printf("eval dual: scene %s, %u frames (every %u from %u), %ux%u, variants", eval.scene.c_str(), frames,
               eval.frame_step, eval.first_frame, width, height);
   for (const auto& name : variants) std::printf(" %s", name.c_str());
@@ -161,6 +186,8 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
     LimbTruthRenderer limb_truth(context, target);
 
     std::map<std::pair<TouchPhase, std::string>, evaluation::ScoreTotals> totals;
+    uint64_t predicted_frames = 0, predicted_joints_behind_glass = 0;
+    double predicted_lead_ms_sum = 0;
     for (uint32_t index = 0; index < frames; ++index) {
       simulator.seek(eval.first_frame + uint64_t(index) * eval.frame_step);
       const std::optional<sim::RgbdFrame> frame = simulator.next_frame();
@@ -178,17 +205,42 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
       session.run_frame(ibr.graph(), index);
       const HostImage portrait = vk::download(context, ibr.portrait());
 
-      // The receiver's hand, posed from the skeleton at the portrait's capture time.
-      const HandsAtTime at_capture = hands_at(skeletons, frame->timestamp_us);
+      // The receiver's hand, posed from the skeleton at the portrait's capture time; under a
+      // tracker latency, from the newest skeleton it has by then, held or carried forward.
+      const uint64_t shown_us = frame->timestamp_us;
+      std::span<const SkeletonSample> known(skeletons);
+      if (latency_us > 0) {
+        const uint64_t known_us = shown_us > latency_us ? shown_us - latency_us : 0;
+        size_t count = 0;
+        while (count < skeletons.size() && skeletons[count].timestamp_us <= known_us) ++count;
+        known = known.first(count);
+      }
+      const HandsAtTime at_capture =
+          latency_us > 0 ? hands_at(known, known.empty() ? 0 : known.back().timestamp_us) : hands_at(skeletons, shown_us);
       const HandSkeleton* drawn = hand_nearest_screen(at_capture.hands);
       std::optional<uint64_t> skeleton_gap_us;
       if (drawn) skeleton_gap_us = at_capture.gap_us[size_t(drawn - at_capture.hands.data())];
+      std::optional<HandSkeleton> predicted;
+      if (drawn && hands.count(HandPath::Predicted) && !known.empty()) {
+        const SkeletonPredictionParameters prediction;
+        const std::vector<HandSkeleton> history = hand_history(known, *drawn, prediction.history_us);
+        predicted = predict_hand(history, shown_us, prediction);
+        if (predicted) {
+          ++predicted_frames;
+          predicted_lead_ms_sum += double(shown_us - std::min(shown_us, history.back().timestamp_us)) / 1000.0;
+          for (const Eigen::Vector3d& joint : predicted->hand_joints())
+            if (joint.z() < 0) ++predicted_joints_behind_glass;
+          if (predicted->has_elbow() && predicted->elbow.z() < 0) ++predicted_joints_behind_glass;
+        }
+      }
       double tracked_distance_m = NAN;
       for (auto& [path, run] : hands) {
         run.drawn = false;
         run.adapted_before_display = false;
-        if (!drawn) continue;
-        run.renderer->set_pose(*drawn, target);
+        run.distance_m = NAN;
+        const HandSkeleton* pose = path == HandPath::Predicted ? (predicted ? &*predicted : nullptr) : drawn;
+        if (!pose) continue;
+        run.renderer->set_pose(*pose, target);
         if (!run.renderer->has_pose()) continue;
         run.adapted_before_display = run.adapts_appearance && run.renderer->awaits_first_fit();
         if (run.adapted_before_display) run.renderer->adapt_appearance_from(ibr.portrait(), ibr.portrait_depth());
@@ -196,7 +248,8 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
         run.color = vk::download(context, run.renderer->color());
         run.mask = vk::download(context, run.renderer->mask());
         run.drawn = true;
-        tracked_distance_m = run.renderer->hand_distance_m();
+        run.distance_m = run.renderer->hand_distance_m();
+        if (path != HandPath::Predicted) tracked_distance_m = run.distance_m;
       }
 
       FrameRecord record{user_name, uint32_t(frame->index), double(frame->timestamp_us) * 1e-6, truth.distance_m,
@@ -212,7 +265,7 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
           vk::upload(context, compositor.hand_mask, run->mask);
           uploaded = path;
         }
-        fusion_distance_m = with_hand ? fusion_distance(name, tracked_distance_m) : NAN;
+        fusion_distance_m = with_hand ? fusion_distance(name, run->distance_m) : NAN;
         receiver_graph.run();
         const HostImage fused = vk::download(context, *compositor.fused);
         const evaluation::FrameScore score = evaluation::score_frame(fused, truth_color, region);
@@ -235,6 +288,11 @@ int run_eval_dual(const RunOptions& options, const EvalDualOptions& eval) {
     nlohmann::json& user_report = report["users"][user_name];
     user_report["skin_rgb"] = {user.skin_rgb.x(), user.skin_rgb.y(), user.skin_rgb.z()};
     user_report["hand_scale"] = user.hand_scale;
+    if (hands.count(HandPath::Predicted))
+      user_report["prediction"] = {
+          {"frames", predicted_frames},
+          {"mean_skeleton_to_display_ms", predicted_frames ? nlohmann::json(predicted_lead_ms_sum / double(predicted_frames)) : nlohmann::json()},
+          {"joints_behind_glass", predicted_joints_behind_glass}};
     for (const auto& [key, scores] : totals)
       user_report["phases"][evaluation::phase_name(key.first)][key.second] = scores.to_json();
     if (hands.count(HandPath::Full)) {
