@@ -281,10 +281,11 @@ void SiteRun::on_motor(MotorCue cue) {
     events_.write("motor_error", command_us, {{"error", status.error()}});
     return;
   }
-  // Ahead of the touch's detection: a predicted contact's pulse.
-  const bool predicted = !unpaired_start_us_;
+  // A predicted contact's pulse usually leaves before the detector sees the touch.
   events_.write("motor_pulse", command_us,
-                {{"duration_ms", kMotorPulse.count()}, {"strength", kMotorStrength}, {"predicted", predicted}});
+                {{"duration_ms", kMotorPulse.count()},
+                 {"strength", kMotorStrength},
+                 {"ahead_of_detection", !unpaired_start_us_.has_value()}});
   unpaired_pulse_us_ = command_us;
   note_touch_to_motor();
 }

@@ -26,12 +26,12 @@ struct ContactPredictionParameters {
   uint64_t weight_time_constant_us = 30'000;
   // The height of the hand's joints over the glass at which the palms count as met: a tracker's
   // skeleton runs through the middle of the hand, so a palm flat on the glass has its joints
-  // about half a centimetre out (sim/motion.h); 0 treats the joints as the skin.
+  // a little way out from it (sim/motion.h); zero treats the joints as the skin.
   double contact_height_m = 0.0;
 };
 
 // The same parameters for hands that move `time_scale` times as fast as real ones on the clock
-// their samples carry (a site playing its scene at a quarter of real time: 0.25).
+// their samples carry (below one: a site playing its scene slower than real time).
 ContactPredictionParameters scaled_to_time(const ContactPredictionParameters& parameters, double time_scale);
 
 // Throws with the reason unless the parameters make sense.

@@ -4,7 +4,7 @@
 
 namespace rt {
 namespace {
-// A few seconds of a 50 Hz stream: long enough to hold a message that crossed the link at its
+// A few seconds of the tracker's stream: long enough to hold a message that crossed the link at its
 // quickest, short enough to follow a clock that drifts.
 constexpr size_t kRemoteClockWindow = 256;
 }  // namespace

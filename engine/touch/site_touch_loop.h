@@ -12,10 +12,9 @@
 
 namespace rt {
 
-// What the site's detector allows: a skeleton counts as lost after 200 ms rather than 100 (the
-// tracker thread shares the CPU with a CPU Vulkan driver, and a late tick is not a lost hand),
-// more where the scene plays slowly and a tracker frame stands longer; a touch holds for a second
-// without news.
+// What the site's detector allows: a skeleton counts as lost later than by default (the tracker
+// thread shares the CPU with a CPU Vulkan driver, and a late tick is not a lost hand), later still
+// where the scene plays slowly and a tracker frame stands longer; a touch holds longer without news.
 TouchParameters site_touch_parameters(double time_scale);
 
 // The motor's timing from the settings: prediction on or off, the motor's latency, and the

@@ -15,7 +15,7 @@
 namespace rt {
 
 struct SkeletonPredictionParameters {
-  uint64_t history_us = 100'000;           // the samples fitted: five tracker frames at 50 Hz
+  uint64_t history_us = 100'000;           // the samples fitted: a few tracker frames
   uint64_t acceleration_fade_us = 60'000;  // the fitted acceleration decays ahead with this time constant
   double max_speed_m_s = 3.0;              // a fast clap's hand; faster is tracker noise
   double max_acceleration_m_s2 = 30.0;
