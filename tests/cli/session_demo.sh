@@ -51,12 +51,12 @@ for site in "AB":
     print(f"site {site}: pulses {pulses}, contact to vibration median {timing['median_ms']} ms")
     assert touch["settings"]["contact_prediction"] == "on", touch["settings"]
     assert timing["contacts"] == touches and timing["vibrations_without_contact"] == 0, timing
-    assert pulses["cancelled"] == 0, pulses
     if touches == 0:
         assert pulses == {"predicted": 0, "confirmed": 0, "cancelled": 0, "unpredicted": 0}, pulses
     elif not any(a.startswith("--disconnect") or a.startswith("--loss") for a in extra):
         # A link cut may hide the reach from the predictor; a clean run predicts its clap.
-        assert pulses["predicted"] == touches and timing["contacts_not_felt"] == 0, (pulses, timing)
+        assert pulses["predicted"] == touches and pulses["cancelled"] == 0, pulses
+        assert timing["contacts_not_felt"] == 0, timing
         assert abs(timing["median_ms"]) <= 60, timing
 PY
 # Each displayed frame says what appearance the drawn hand was shaded with, and only where one was drawn.
