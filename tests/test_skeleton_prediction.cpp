@@ -143,3 +143,19 @@ TEST_CASE("a turning hand keeps its bones' lengths") {
       CHECK((predicted->digits[d][j] - predicted->digits[d][j - 1]).norm() ==
             Approx((newest.digits[d][j] - newest.digits[d][j - 1]).norm()).margin(1e-9));
 }
+
+TEST_CASE("a hand at rest under the tracker's noise is held, not sent drifting") {
+  // Every joint off by up to 1.5 mm in each sample, in a fixed pattern: no motion at all.
+  std::vector<HandSkeleton> history;
+  for (int i = 0; i <= 8; ++i) {
+    HandSkeleton hand = flat_hand(0.02, 0.0, 0.005, uint64_t(i) * 20'000);
+    const double wobble = 0.0015 * ((i * 7) % 5 - 2) / 2.0;
+    hand.palm.x() += wobble;
+    for (auto& digit : hand.digits)
+      for (auto& joint : digit) joint.y() -= wobble;
+    history.push_back(hand);
+  }
+  const auto predicted = predict_hand(history, history.back().timestamp_us + 100'000);
+  REQUIRE(predicted);
+  CHECK(largest_difference(*predicted, history.back()) < 1e-12);
+}

@@ -65,6 +65,7 @@ void check_skeleton_prediction_parameters(const SkeletonPredictionParameters& p)
   require(p.history_us > 0, "the history must be positive");
   require(p.acceleration_fade_us > 0, "the acceleration's fade must be positive");
   require(std::isfinite(p.max_speed_m_s) && p.max_speed_m_s >= 0, "the speed limit must be >= 0");
+  require(std::isfinite(p.min_speed_m_s) && p.min_speed_m_s >= 0, "the least speed must be >= 0");
   require(std::isfinite(p.max_acceleration_m_s2) && p.max_acceleration_m_s2 >= 0, "the acceleration limit must be >= 0");
 }
 
@@ -116,6 +117,7 @@ std::optional<HandSkeleton> predict_hand(std::span<const HandSkeleton> history, 
     return predicted;
   }
   Motion motion = fit_motion(centres);
+  if (motion.velocity.norm() < parameters.min_speed_m_s) motion = Motion{centres.back().second};
   motion.velocity = clamp_norm(motion.velocity, parameters.max_speed_m_s);
   motion.acceleration = clamp_norm(motion.acceleration, parameters.max_acceleration_m_s2);
   Eigen::Vector3d step = motion.at_newest - centres.back().second;

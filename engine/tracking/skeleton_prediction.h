@@ -19,6 +19,9 @@ struct SkeletonPredictionParameters {
   uint64_t history_us = 160'000;           // the samples fitted: a few tracker frames
   uint64_t acceleration_fade_us = 60'000;  // the fitted acceleration decays ahead with this time constant
   double max_speed_m_s = 3.0;              // a fast clap's hand; faster is tracker noise
+  // Slower than this the hand is taken as still and held: about what the tracker's noise alone
+  // gives the fitted centre of a hand at rest.
+  double min_speed_m_s = 0.03;
   double max_acceleration_m_s2 = 30.0;
   uint64_t max_lead_us = 300'000;          // never further ahead than this: a hand changes course
 };
