@@ -4,14 +4,9 @@ find_program(REMOTETOUCH_MKVINFO mkvinfo)
 if(NOT REMOTETOUCH_MKVINFO AND REMOTETOUCH_REQUIRE_ALL_TESTS)
   message(FATAL_ERROR "mkvinfo not found: install mkvtoolnix (scripts/packages.txt)")
 endif()
-file(GLOB remotetouch_k4a_tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test_k4a_*.cpp)
-foreach(source ${remotetouch_k4a_tests})
-  get_filename_component(name ${source} NAME_WE)
-  target_compile_definitions(${name} PRIVATE REMOTETOUCH_TEST_OUTPUT_DIR="${CMAKE_BINARY_DIR}/test-out/${name}"
-                                             REMOTETOUCH_MKVINFO="${REMOTETOUCH_MKVINFO}")
-endforeach()
-# The writer's test also asks libavformat how it sees what we wrote.
-target_link_libraries(test_k4a_recording_writer PRIVATE PkgConfig::FFMPEG)
+target_compile_definitions(remotetouch_cpu_tests PRIVATE REMOTETOUCH_MKVINFO="${REMOTETOUCH_MKVINFO}")
+# The writer's test (test_k4a_recording_writer) also asks libavformat how it sees what we wrote.
+target_link_libraries(remotetouch_cpu_tests PRIVATE PkgConfig::FFMPEG)
 
 # simulate --format k4a refuses cameras whose images are not a k4a mode's size, before rendering.
 add_cli_test(cli_simulate_k4a_not_a_mode 1
