@@ -1,0 +1,159 @@
+#include "camera/k4a_live_site.h"
+
+#include <algorithm>
+
+#include "camera/frame_sets.h"
+
+namespace rt::camera::k4a {
+
+namespace {
+
+constexpr size_t kMaxLiveReports = 5;
+// Standalone devices' times start here, so that no aligned time is ever zero.
+constexpr uint64_t kStandaloneOriginUs = 1'000'000;
+constexpr size_t kBadCapturesInARow = 4;
+
+}  // namespace
+
+struct LiveSite::Camera {
+  std::unique_ptr<LiveCamera> device;
+  std::optional<Capture> pending;  // a capture not yet in a set
+  uint64_t pending_us = 0;         // its time on the site's clock
+  std::optional<uint64_t> first_us, last_us;
+  bool stopped = false;
+};
+
+void LiveSite::report(const std::string& problem) {
+  if (!log_) return;
+  if (reported_ < kMaxLiveReports) std::fprintf(log_, "k4a live: %s\n", problem.c_str());
+  if (reported_ == kMaxLiveReports) std::fprintf(log_, "k4a live: further problems are only counted\n");
+  ++reported_;
+}
+
+LiveSite::LiveSite(const sim::SiteDescription& site, const std::vector<LiveCameraSettings>& settings, std::FILE* log,
+                   std::shared_ptr<const Library> library)
+    : site_(site), log_(log) {
+  if (settings.size() != site_.cameras.size() || settings.empty())
+    throw LiveError("a live site needs one device per camera: " + std::to_string(site_.cameras.size()) + " cameras, " +
+                    std::to_string(settings.size()) + " devices");
+  size_t masters = 0;
+  for (size_t k = 0; k < settings.size(); ++k) {
+    if (settings[k].fps != settings.front().fps)
+      throw LiveError("camera '" + site_.cameras[k].name + "' runs at " + std::to_string(settings[k].fps) + " fps, '" +
+                      site_.cameras.front().name + "' at " + std::to_string(settings.front().fps) +
+                      ": a site's cameras run at one rate");
+    if (settings[k].wired_sync == WiredSyncMode::master) ++masters;
+    for (size_t j = 0; j < k; ++j)
+      if (settings[j].serial == settings[k].serial)
+        throw LiveError("cameras '" + site_.cameras[j].name + "' and '" + site_.cameras[k].name + "' name one device, '" +
+                        settings[k].serial + "'");
+  }
+  const bool subordinates = std::any_of(settings.begin(), settings.end(), [](const LiveCameraSettings& s) {
+    return s.wired_sync == WiredSyncMode::subordinate;
+  });
+  if (masters > 1) throw LiveError("the site file names " + std::to_string(masters) + " wired-sync masters; a site has one");
+  if (subordinates && masters == 0)
+    throw LiveError("the site file has wired-sync subordinates but no master: name one device \"MASTER\"");
+  standalone_ = masters == 0;
+  period_us_ = frame_period_ns(settings.front().fps) / 1000;
+
+  if (!library) library = load_k4a_library();
+  for (size_t k = 0; k < settings.size(); ++k) {
+    auto camera = std::make_unique<Camera>();
+    camera->device = std::make_unique<LiveCamera>(library, settings[k]);
+    const RecordingInfo& info = camera->device->info();
+    site_.cameras[k].color = info.color;
+    site_.cameras[k].depth = info.depth;
+    intrinsics_.push_back({info.color, info.depth, info.color_from_depth()});
+    infos_.push_back(info);
+    cameras_.push_back(std::move(camera));
+  }
+  // The master starts last: its first pulse must find every subordinate listening.
+  for (size_t k = 0; k < settings.size(); ++k)
+    if (settings[k].wired_sync != WiredSyncMode::master) cameras_[k]->device->start();
+  for (size_t k = 0; k < settings.size(); ++k)
+    if (settings[k].wired_sync == WiredSyncMode::master) cameras_[k]->device->start();
+}
+
+LiveSite::~LiveSite() = default;
+
+// Camera k's next good capture into its pending slot, unless it has one or has stopped. Bad
+// captures are skipped, a few in a row at most, so that a camera giving only bad ones sits out
+// sets instead of holding the others back.
+void LiveSite::fill(size_t k) {
+  Camera& camera = *cameras_[k];
+  for (size_t attempt = 0; attempt < kBadCapturesInARow && !camera.pending && !camera.stopped; ++attempt) {
+    LiveCamera::Result result;
+    try {
+      result = camera.device->next_capture(timeout_ms_);
+    } catch (const LiveError& error) {
+      camera.stopped = true;
+      report(std::string(error.what()) + ": camera '" + site_.cameras[k].name + "' sits out from here");
+      return;
+    }
+    if (result.timed_out) return;
+    if (!result.problem.empty() || !result.capture) {
+      ++skipped_;
+      report((result.problem.empty() ? "an empty capture" : result.problem) + ": camera '" + site_.cameras[k].name +
+             "' left it out");
+      continue;
+    }
+    const RecordingInfo& info = infos_[k];
+    uint64_t time = *result.capture->color_device_us;
+    if (info.wired_sync == WiredSyncMode::subordinate) time -= std::min(time, info.subordinate_delay_ns / 1000);
+    if (standalone_) {
+      if (!camera.first_us) camera.first_us = time;
+      time = time - std::min(time, *camera.first_us) + kStandaloneOriginUs;
+    }
+    if (camera.last_us && time <= *camera.last_us) {
+      ++skipped_;
+      report("camera '" + site_.cameras[k].name + "': the capture at device time " +
+             std::to_string(*result.capture->color_device_us) + " us is not after the one before it: left out");
+      continue;
+    }
+    camera.last_us = time;
+    camera.pending = std::move(result.capture);
+    camera.pending_us = time;
+  }
+}
+
+std::optional<sim::RgbdFrame> LiveSite::next_frame() {
+  const size_t count = cameras_.size();
+  for (size_t k = 0; k < count; ++k) fill(k);
+  std::vector<std::vector<uint64_t>> times(count);
+  bool any = false;
+  for (size_t k = 0; k < count; ++k)
+    if (cameras_[k]->pending) times[k].push_back(cameras_[k]->pending_us), any = true;
+  if (!any) {
+    if (std::all_of(cameras_.begin(), cameras_.end(), [](const auto& camera) { return camera->stopped; }))
+      return std::nullopt;
+    throw LiveError("no camera gave a capture in " + std::to_string(timeout_ms_) +
+                    " ms: check that each is powered and on USB 3, and that wired-sync cables run from the master's "
+                    "\"sync out\" to each subordinate's \"sync in\"");
+  }
+  // The earliest set of what each camera has given; a later capture waits for the next call.
+  const FrameSet set = assemble_frame_sets(times, period_us_).front();
+  sim::RgbdFrame frame;
+  frame.index = next_index_++;
+  frame.timestamp_us = set.time_us;
+  frame.cameras.resize(count);
+  for (size_t k = 0; k < count; ++k) {
+    sim::RgbdImage& image = frame.cameras[k];
+    image.camera = site_.cameras[k].name;
+    image.timestamp_us = set.time_us;
+    Camera& camera = *cameras_[k];
+    if (set.captures[k]) {
+      image.color = std::move(camera.pending->color);
+      image.depth_mm = std::move(camera.pending->depth_mm);
+      image.timestamp_us = camera.pending_us;
+      camera.pending.reset();
+    } else {
+      // No surface from this camera in this set: the others render the user.
+      image.color = HostImage(intrinsics_[k].color.width, intrinsics_[k].color.height, PixelFormat::RGBA8);
+      image.depth_mm = HostImage(intrinsics_[k].depth.width, intrinsics_[k].depth.height, PixelFormat::R16U);
+    }
+  }
+  return frame;
+}
+
+}  // namespace rt::camera::k4a

@@ -1,0 +1,63 @@
+#pragma once
+// A site's cameras live: one k4a device per camera (k4a_live_camera.h), their captures put
+// together into frame sets by the same rule as a site's recordings (frame_sets.h): a set holds
+// the captures within half a frame period of its earliest, at most one per camera, and a camera
+// that dropped a frame or gave a bad capture sits out that set while the others go on.
+//
+// Wired sync: subordinates are started first and the master last, as the SDK requires (a
+// subordinate waits for the master's pulses); a subordinate's delay is taken off its times, so
+// that all are on the master's clock. Standalone devices each count from their own start: their
+// captures are put together by the time since each one's first capture.
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "camera/k4a_live_camera.h"
+#include "sim/recorded_rgbd_source.h"
+#include "sim/rgbd_source.h"
+#include "sim/site_description.h"
+
+namespace rt::camera::k4a {
+
+class LiveSite : public sim::RgbdSource {
+ public:
+  // Opens every camera of `site` with its settings (same order, same count), checks they share
+  // one frame rate and at most one master, and starts them. Throws LiveError. `log` (may be
+  // null) gets one line per problem, up to a few.
+  LiveSite(const sim::SiteDescription& site, const std::vector<LiveCameraSettings>& settings, std::FILE* log = stderr,
+           std::shared_ptr<const Library> library = nullptr);
+  ~LiveSite() override;
+
+  // The site with each camera's intrinsics at its modes, from its factory calibration.
+  const sim::SiteDescription& site() const { return site_; }
+  const std::vector<sim::RecordedRgbdSource::RecordedIntrinsics>& intrinsics() const { return intrinsics_; }
+  const std::vector<RecordingInfo>& infos() const { return infos_; }
+  // The next frame set, decoded. Empty once every device has stopped giving captures (a device
+  // that fails leaves the others going, reported). Throws LiveError when no camera gave a capture
+  // within `timeout_ms` of asking.
+  std::optional<sim::RgbdFrame> next_frame() override;
+  void set_timeout_ms(int32_t timeout_ms) { timeout_ms_ = timeout_ms; }
+  // Captures left out: bad images, or times that did not increase.
+  size_t skipped_captures() const { return skipped_; }
+
+ private:
+  struct Camera;
+  void report(const std::string& problem);
+  void fill(size_t k);
+
+  sim::SiteDescription site_;
+  std::FILE* log_;
+  std::vector<std::unique_ptr<Camera>> cameras_;
+  std::vector<sim::RecordedRgbdSource::RecordedIntrinsics> intrinsics_;
+  std::vector<RecordingInfo> infos_;
+  uint64_t period_us_ = 0;
+  bool standalone_ = true;
+  int32_t timeout_ms_ = 2000;
+  uint64_t next_index_ = 0;
+  size_t skipped_ = 0;
+  size_t reported_ = 0;
+};
+
+}  // namespace rt::camera::k4a
