@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "camera/k4a_library.h"
+#include "camera/k4a_live_recorder.h"
 #include "camera/k4a_live_site.h"
 #include "camera/k4a_recording_writer.h"
 #include "camera/k4a_site_recordings.h"
@@ -282,4 +283,47 @@ TEST_CASE("site file: each camera names its source; recordings by path; a mix is
   CHECK_THROWS_WITH(camera_sources(sim::site_from_json(json, "s.json"), ".", "s.json"), Contains("15 fps at most"));
   json["cameras"][0]["k4a"] = {{"serial", "x"}, {"colour", "MJPG_720P"}};
   CHECK_THROWS_WITH(camera_sources(sim::site_from_json(json, "s.json"), ".", "s.json"), Contains("colour"));
+}
+
+TEST_CASE("record: live cameras written as k4a recordings play as the recordings they came from") {
+  const std::filesystem::path dir = write_devices("record");
+  const std::filesystem::path out = kOut / "record-out";
+  std::filesystem::remove_all(out);
+  use_fake(recordings_in(dir), "3:huge-size");
+  const sim::SiteDescription site = sim::load_site(dir / "live.json");
+  const RecordSummary summary = record_live_site(site, "live.json", out, 30.0, nullptr);
+  // Every device stops at its recording's end, long before 30 s; capture 3 of each was bad.
+  CHECK(summary.captures == std::vector<size_t>{4, 3});
+  CHECK(summary.skipped == 2);
+  SiteRecordings original(dir, nullptr), recorded(out, nullptr);
+  CHECK(recorded.infos()[1].serial == "fake-001");
+  CHECK(recorded.infos()[1].wired_sync == WiredSyncMode::subordinate);
+  CHECK(recorded.infos()[1].subordinate_delay_ns == kSubordinateDelayUs * 1000);
+  CHECK(recorded.recorded_intrinsics()[0].color_from_depth.isApprox(original.recorded_intrinsics()[0].color_from_depth));
+  // Capture 3 of each device was left out: the master's set 3 and the subordinate's set 4 (it had
+  // dropped set 2 already).
+  REQUIRE(recorded.frame_count() == 5);
+  for (size_t i = 0; i < 5; ++i) {
+    const std::optional<sim::RgbdFrame> expected = original.next_frame();
+    const std::optional<sim::RgbdFrame> frame = recorded.next_frame();
+    REQUIRE(frame);
+    CHECK(frame->timestamp_us == expected->timestamp_us);
+    for (size_t k = 0; k < 2; ++k) {
+      INFO("frame set " << i << ", camera " << k);
+      const bool left_out = (k == 0 && i == 3) || (k == 1 && (i == 2 || i == 4));
+      const HostImage& depth = frame->cameras[k].depth_mm;
+      CHECK(std::all_of(depth.texels.begin(), depth.texels.end(), [](float v) { return v == 0.0f; }) == left_out);
+      if (left_out) continue;
+      CHECK(frame->cameras[k].color.texels == expected->cameras[k].color.texels);
+      CHECK(frame->cameras[k].depth_mm.texels == expected->cameras[k].depth_mm.texels);
+    }
+  }
+  // A folder that holds a site is not written over; a site whose cameras are not all live is refused.
+  CHECK_THROWS_WITH(record_live_site(site, "live.json", out, 1.0, nullptr), Contains("holds a site already"));
+  sim::SiteDescription mixed = site;
+  mixed.cameras[1].source = "simulated";
+  mixed.cameras[1].k4a = nlohmann::json::object();
+  CHECK_THROWS_WITH(record_live_site(mixed, "mixed.json", kOut / "record-mixed", 1.0, nullptr),
+                    Contains("mixed.json: live cameras need every camera's source") &&
+                        Contains("'" + site.cameras[1].name + "' (simulated) is not live"));
 }

@@ -48,6 +48,28 @@ double thread_cpu_ms() {
   return double(now.tv_sec) * 1e3 + double(now.tv_nsec) * 1e-6;
 }
 
+std::string color_size_problem(ColorFormat format, ColorResolution resolution, size_t size, const std::string& frame_name) {
+  const SensorCut& cut = sensor_cut(resolution);
+  const size_t w = cut.output_width, h = cut.output_height;
+  const std::string mode = std::string(color_format_name(format)) + " " + std::to_string(w) + "x" + std::to_string(h);
+  if (size == 0) return frame_name + " has no bytes";
+  size_t expected = 0;
+  switch (format) {
+    case ColorFormat::mjpg:
+      // No JPEG of a mode is larger than its raw BGRA image; a larger one is not a frame.
+      if (size > w * h * 4)
+        return frame_name + " has " + std::to_string(size) + " bytes, more than a " + mode + " frame can have";
+      return "";
+    case ColorFormat::nv12: expected = w * h * 3 / 2; break;
+    case ColorFormat::yuy2: expected = w * h * 2; break;
+    case ColorFormat::bgra: expected = w * h * 4; break;
+  }
+  if (size != expected)
+    return frame_name + " has " + std::to_string(size) + " bytes, " + mode + " needs " + std::to_string(expected) +
+           " (truncated or damaged)";
+  return "";
+}
+
 struct ColorDecoder::Codec {
   AVCodecContext* jpeg = nullptr;
   AVFrame* frame = av_frame_alloc();
@@ -85,17 +107,14 @@ HostImage ColorDecoder::decode(const uint8_t* data, size_t size, const std::stri
   double start = thread_cpu_ms();
   const SensorCut& cut = sensor_cut(resolution_);
   const int w = int(cut.output_width), h = int(cut.output_height);
-  if (!data || size == 0) throw ImageError(frame_name + " has no bytes");
+  if (!data) throw ImageError(frame_name + " has no bytes");
+  if (std::string problem = color_size_problem(format_, resolution_, size, frame_name); !problem.empty())
+    throw ImageError(problem);
   AVPixelFormat source_format = AV_PIX_FMT_NONE;
   const uint8_t* planes[4] = {};
   int strides[4] = {};
-  size_t expected = 0;
   switch (format_) {
     case ColorFormat::mjpg: {
-      // No JPEG of a mode is larger than its raw BGRA image; a larger one is not a frame.
-      if (size > size_t(w) * h * 4)
-        throw ImageError(frame_name + " has " + std::to_string(size) + " bytes, more than a " + std::to_string(w) + "x" +
-                         std::to_string(h) + " JPEG can have");
       c.padded.assign(data, data + size);
       c.padded.resize(size + AV_INPUT_BUFFER_PADDING_SIZE, 0);
       c.packet->data = c.padded.data();
@@ -116,25 +135,18 @@ HostImage ColorDecoder::decode(const uint8_t* data, size_t size, const std::stri
     }
     case ColorFormat::nv12:
       source_format = AV_PIX_FMT_NV12;
-      expected = size_t(w) * h * 3 / 2;
       planes[0] = data, strides[0] = w;
       planes[1] = data + size_t(w) * h, strides[1] = w;
       break;
     case ColorFormat::yuy2:
       source_format = AV_PIX_FMT_YUYV422;
-      expected = size_t(w) * h * 2;
       planes[0] = data, strides[0] = w * 2;
       break;
     case ColorFormat::bgra:
       source_format = AV_PIX_FMT_BGRA;
-      expected = size_t(w) * h * 4;
       planes[0] = data, strides[0] = w * 4;
       break;
   }
-  if (format_ != ColorFormat::mjpg && size != expected)
-    throw ImageError(frame_name + " has " + std::to_string(size) + " bytes, " + std::string(color_format_name(format_)) +
-                     " " + std::to_string(w) + "x" + std::to_string(h) + " needs " + std::to_string(expected) +
-                     " (truncated or damaged)");
   // Chroma interpolated at full resolution: without it the colour is biased by more than a level.
   // The exactly rounded path would cost about three times as long for a fraction of a level.
   c.scaler = sws_getCachedContext(c.scaler, w, h, source_format, w, h, AV_PIX_FMT_RGBA,

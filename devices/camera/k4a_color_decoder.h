@@ -35,6 +35,10 @@ struct DecodeTimes {
 // The calling thread's CPU time in milliseconds.
 double thread_cpu_ms();
 
+// Empty when `size` bytes can be one colour frame of the mode (exactly its size for a raw format,
+// no more than its raw BGRA size for a JPEG); else why not, after `frame_name`.
+std::string color_size_problem(ColorFormat format, ColorResolution resolution, size_t size, const std::string& frame_name);
+
 class ColorDecoder {
  public:
   // Throws ImageError when this FFmpeg cannot decode MJPG.

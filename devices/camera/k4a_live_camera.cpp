@@ -202,7 +202,7 @@ void LiveCamera::start() {
   started_ = true;
 }
 
-LiveCamera::Result LiveCamera::next_capture(int32_t timeout_ms) {
+LiveCamera::Result LiveCamera::next_capture(int32_t timeout_ms, bool keep_bytes) {
   const Library& lib = *library_;
   const std::string where = "k4a device '" + settings_.serial + "'";
   Result result;
@@ -266,11 +266,17 @@ LiveCamera::Result LiveCamera::next_capture(int32_t timeout_ms) {
   Capture capture;
   capture.color_device_us = color_us;
   capture.depth_device_us = depth_us;
-  try {
-    capture.color = decoder_->decode(color_bytes, color_size, color_name, times_);
-  } catch (const ImageError& error) {
-    result.problem = error.what();
-    return result;
+  if (keep_bytes) {
+    result.problem = color_size_problem(settings_.color_format, settings_.color_resolution, color_size, color_name);
+    if (!result.problem.empty()) return result;
+    result.color_bytes.assign(color_bytes, color_bytes + color_size);
+  } else {
+    try {
+      capture.color = decoder_->decode(color_bytes, color_size, color_name, times_);
+    } catch (const ImageError& error) {
+      result.problem = error.what();
+      return result;
+    }
   }
   // DEPTH16 is millimetres in the machine's (little-endian) order; a recording stores them swapped.
   capture.depth_mm = HostImage(depth_cut.output_width, depth_cut.output_height, PixelFormat::R16U);

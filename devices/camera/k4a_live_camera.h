@@ -48,13 +48,15 @@ class LiveCamera {
   // Throws LiveError when the device refuses the modes.
   void start();
   struct Result {
-    std::optional<Capture> capture;  // with both images
+    std::optional<Capture> capture;  // with both images (colour left empty when its bytes were kept)
+    std::vector<uint8_t> color_bytes;  // as the device gave them, when kept instead of decoded
     std::string problem;             // why a capture that came was left out
     bool timed_out = false;
   };
-  // The next capture, waiting up to `timeout_ms`. Throws LiveError when the device fails (it was
-  // unplugged, or stopped).
-  Result next_capture(int32_t timeout_ms);
+  // The next capture, waiting up to `timeout_ms`. `keep_bytes`: the colour image's bytes are
+  // kept as they came (what a recording stores) instead of decoded. Throws LiveError when the
+  // device fails (it was unplugged, or stopped).
+  Result next_capture(int32_t timeout_ms, bool keep_bytes = false);
 
  private:
   std::shared_ptr<const Library> library_;

@@ -16,7 +16,6 @@ constexpr size_t kBadCapturesInARow = 4;
 }  // namespace
 
 struct LiveSite::Camera {
-  std::unique_ptr<LiveCamera> device;
   std::optional<Capture> pending;  // a capture not yet in a set
   uint64_t pending_us = 0;         // its time on the site's clock
   std::optional<uint64_t> first_us, last_us;
@@ -30,22 +29,22 @@ void LiveSite::report(const std::string& problem) {
   ++reported_;
 }
 
-LiveSite::LiveSite(const sim::SiteDescription& site, const std::vector<LiveCameraSettings>& settings, std::FILE* log,
-                   std::shared_ptr<const Library> library)
-    : site_(site), log_(log) {
-  if (settings.size() != site_.cameras.size() || settings.empty())
-    throw LiveError("a live site needs one device per camera: " + std::to_string(site_.cameras.size()) + " cameras, " +
+std::vector<std::unique_ptr<LiveCamera>> open_live_cameras(const sim::SiteDescription& site,
+                                                           const std::vector<LiveCameraSettings>& settings,
+                                                           std::shared_ptr<const Library> library) {
+  if (settings.size() != site.cameras.size() || settings.empty())
+    throw LiveError("a live site needs one device per camera: " + std::to_string(site.cameras.size()) + " cameras, " +
                     std::to_string(settings.size()) + " devices");
   size_t masters = 0;
   for (size_t k = 0; k < settings.size(); ++k) {
     if (settings[k].fps != settings.front().fps)
-      throw LiveError("camera '" + site_.cameras[k].name + "' runs at " + std::to_string(settings[k].fps) + " fps, '" +
-                      site_.cameras.front().name + "' at " + std::to_string(settings.front().fps) +
+      throw LiveError("camera '" + site.cameras[k].name + "' runs at " + std::to_string(settings[k].fps) + " fps, '" +
+                      site.cameras.front().name + "' at " + std::to_string(settings.front().fps) +
                       ": a site's cameras run at one rate");
     if (settings[k].wired_sync == WiredSyncMode::master) ++masters;
     for (size_t j = 0; j < k; ++j)
       if (settings[j].serial == settings[k].serial)
-        throw LiveError("cameras '" + site_.cameras[j].name + "' and '" + site_.cameras[k].name + "' name one device, '" +
+        throw LiveError("cameras '" + site.cameras[j].name + "' and '" + site.cameras[k].name + "' name one device, '" +
                         settings[k].serial + "'");
   }
   const bool subordinates = std::any_of(settings.begin(), settings.end(), [](const LiveCameraSettings& s) {
@@ -54,25 +53,36 @@ LiveSite::LiveSite(const sim::SiteDescription& site, const std::vector<LiveCamer
   if (masters > 1) throw LiveError("the site file names " + std::to_string(masters) + " wired-sync masters; a site has one");
   if (subordinates && masters == 0)
     throw LiveError("the site file has wired-sync subordinates but no master: name one device \"MASTER\"");
-  standalone_ = masters == 0;
-  period_us_ = frame_period_ns(settings.front().fps) / 1000;
-
   if (!library) library = load_k4a_library();
-  for (size_t k = 0; k < settings.size(); ++k) {
-    auto camera = std::make_unique<Camera>();
-    camera->device = std::make_unique<LiveCamera>(library, settings[k]);
-    const RecordingInfo& info = camera->device->info();
+  std::vector<std::unique_ptr<LiveCamera>> cameras;
+  for (const LiveCameraSettings& one : settings) cameras.push_back(std::make_unique<LiveCamera>(library, one));
+  return cameras;
+}
+
+void start_live_cameras(const std::vector<std::unique_ptr<LiveCamera>>& cameras) {
+  for (const auto& camera : cameras)
+    if (camera->info().wired_sync != WiredSyncMode::master) camera->start();
+  for (const auto& camera : cameras)
+    if (camera->info().wired_sync == WiredSyncMode::master) camera->start();
+}
+
+LiveSite::LiveSite(const sim::SiteDescription& site, const std::vector<LiveCameraSettings>& settings, std::FILE* log,
+                   std::shared_ptr<const Library> library)
+    : site_(site), log_(log) {
+  devices_ = open_live_cameras(site_, settings, std::move(library));
+  standalone_ = std::none_of(settings.begin(), settings.end(), [](const LiveCameraSettings& s) {
+    return s.wired_sync == WiredSyncMode::master;
+  });
+  period_us_ = frame_period_ns(settings.front().fps) / 1000;
+  for (size_t k = 0; k < devices_.size(); ++k) {
+    const RecordingInfo& info = devices_[k]->info();
     site_.cameras[k].color = info.color;
     site_.cameras[k].depth = info.depth;
     intrinsics_.push_back({info.color, info.depth, info.color_from_depth()});
     infos_.push_back(info);
-    cameras_.push_back(std::move(camera));
+    cameras_.push_back(std::make_unique<Camera>());
   }
-  // The master starts last: its first pulse must find every subordinate listening.
-  for (size_t k = 0; k < settings.size(); ++k)
-    if (settings[k].wired_sync != WiredSyncMode::master) cameras_[k]->device->start();
-  for (size_t k = 0; k < settings.size(); ++k)
-    if (settings[k].wired_sync == WiredSyncMode::master) cameras_[k]->device->start();
+  start_live_cameras(devices_);
 }
 
 LiveSite::~LiveSite() = default;
@@ -85,7 +95,7 @@ void LiveSite::fill(size_t k) {
   for (size_t attempt = 0; attempt < kBadCapturesInARow && !camera.pending && !camera.stopped; ++attempt) {
     LiveCamera::Result result;
     try {
-      result = camera.device->next_capture(timeout_ms_);
+      result = devices_[k]->next_capture(timeout_ms_);
     } catch (const LiveError& error) {
       camera.stopped = true;
       report(std::string(error.what()) + ": camera '" + site_.cameras[k].name + "' sits out from here");

@@ -21,6 +21,14 @@
 
 namespace rt::camera::k4a {
 
+// Opens one device per camera of `site` (same order, same count) after checking that they share
+// one frame rate, name distinct devices and have at most one master. Throws LiveError.
+std::vector<std::unique_ptr<LiveCamera>> open_live_cameras(const sim::SiteDescription& site,
+                                                           const std::vector<LiveCameraSettings>& settings,
+                                                           std::shared_ptr<const Library> library = nullptr);
+// Starts them, the master last: its first pulse must find every subordinate listening.
+void start_live_cameras(const std::vector<std::unique_ptr<LiveCamera>>& cameras);
+
 class LiveSite : public sim::RgbdSource {
  public:
   // Opens every camera of `site` with its settings (same order, same count), checks they share
@@ -49,7 +57,8 @@ class LiveSite : public sim::RgbdSource {
 
   sim::SiteDescription site_;
   std::FILE* log_;
-  std::vector<std::unique_ptr<Camera>> cameras_;
+  std::vector<std::unique_ptr<LiveCamera>> devices_;
+  std::vector<std::unique_ptr<Camera>> cameras_;  // what each device gave and the site has not yet shown
   std::vector<sim::RecordedRgbdSource::RecordedIntrinsics> intrinsics_;
   std::vector<RecordingInfo> infos_;
   uint64_t period_us_ = 0;

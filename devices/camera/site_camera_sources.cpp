@@ -99,4 +99,19 @@ CameraSourceKind site_source_kind(const sim::SiteDescription& site, const std::s
   return kind;
 }
 
+std::vector<k4a::LiveCameraSettings> live_site_settings(const sim::SiteDescription& site, const std::string& where) {
+  if (site.cameras.empty()) throw JsonError(where + " lists no cameras");
+  std::vector<k4a::LiveCameraSettings> settings;
+  std::string not_live;
+  const std::vector<CameraSource> sources = camera_sources(site, ".", where);
+  for (size_t k = 0; k < sources.size(); ++k) {
+    if (sources[k].kind == CameraSourceKind::k4a_live) settings.push_back(sources[k].live);
+    else not_live += (not_live.empty() ? "'" : ", '") + site.cameras[k].name + "' (" + site.cameras[k].source + ")";
+  }
+  if (!not_live.empty())
+    throw JsonError(where + ": live cameras need every camera's source to be \"k4a\" with its \"k4a\" settings; " +
+                    not_live + (not_live.find(',') == std::string::npos ? " is" : " are") + " not live");
+  return settings;
+}
+
 }  // namespace rt::camera

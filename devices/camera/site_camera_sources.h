@@ -29,6 +29,10 @@ std::vector<CameraSource> camera_sources(const sim::SiteDescription& site, const
 // The kind all the cameras share; throws config::JsonError listing them when they differ.
 CameraSourceKind site_source_kind(const sim::SiteDescription& site, const std::string& where);
 
+// Every camera's device settings, when all are live; throws config::JsonError naming `where`
+// and the cameras that are not.
+std::vector<k4a::LiveCameraSettings> live_site_settings(const sim::SiteDescription& site, const std::string& where);
+
 // A live camera's "k4a" object: "serial" (required), "color_mode" ("MJPG_720P"), "depth_mode"
 // ("NFOV_UNBINNED"), "fps" (30), "wired_sync" ("STANDALONE", "MASTER", "SUBORDINATE"),
 // "subordinate_delay_us" (0), "depth_delay_us" (0); defaults in brackets.
