@@ -57,3 +57,13 @@ target_link_libraries(remotetouch_fake_k4a PRIVATE PkgConfig::FFMPEG)
 add_dependencies(test_k4a_live remotetouch_fake_k4a)
 target_compile_definitions(test_k4a_live PRIVATE REMOTETOUCH_FAKE_K4A="$<TARGET_FILE:remotetouch_fake_k4a>")
 target_link_libraries(test_k4a_live PRIVATE ${CMAKE_DL_LIBS})
+
+# list-cameras as a user meets it: without the k4a library it says what to install; through the
+# fake library it lists the simulated recording's device by serial ("<site>-<camera>").
+add_cli_test(cli_list_cameras_no_library 1
+             "remotetouch: error: live k4a cameras need the k4a library, and '/nonexistent/libk4a.so.1.4' could not be loaded .*Azure Kinect SDK.*Orbbec.*LD_LIBRARY_PATH"
+             ${CMAKE_COMMAND} -E env REMOTETOUCH_K4A_LIBRARY=/nonexistent/libk4a.so.1.4 ${rt} list-cameras)
+add_cli_test(cli_list_cameras 0 "list-cameras: 1 k4a device[(]s[)] through '.*libk4a.so.1.4'\n  serial [a-z]+-top-left\n"
+             ${CMAKE_COMMAND} -E env REMOTETOUCH_K4A_LIBRARY=$<TARGET_FILE:remotetouch_fake_k4a>
+             REMOTETOUCH_FAKE_K4A_RECORDINGS=${k4a_simulated}/top-left.mkv ${rt} list-cameras)
+set_tests_properties(cli_list_cameras PROPERTIES FIXTURES_REQUIRED k4a_simulated)
