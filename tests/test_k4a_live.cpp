@@ -67,8 +67,9 @@ HostImage depth_of(uint32_t camera, uint32_t index) {
 std::string serial_of(size_t camera) { return "fake-00" + std::to_string(camera); }
 
 // A master and a subordinate (its delay 160 us), 5 captures each, the subordinate dropping its
-// capture 2; site.json names them as live devices. Returns the folder.
-std::filesystem::path write_devices(const std::string& name) {
+// capture 2; live.json names them as live devices. `standalone`: two standalone devices instead,
+// the second's clock `clock_offset_us` ahead. Returns the folder.
+std::filesystem::path write_devices(const std::string& name, bool standalone = false, uint64_t clock_offset_us = 0) {
   const std::filesystem::path dir = kOut / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
@@ -76,13 +77,14 @@ std::filesystem::path write_devices(const std::string& name) {
   for (size_t k = 0; k < site.cameras.size(); ++k) {
     RecordingConfig config = recording_config_for(site.cameras[k], 30, 90);
     config.serial = serial_of(k);
-    config.wired_sync = k == 0 ? WiredSyncMode::master : WiredSyncMode::subordinate;
-    config.subordinate_delay_ns = k == 0 ? 0 : kSubordinateDelayUs * 1000;
+    config.wired_sync = standalone ? WiredSyncMode::standalone : k == 0 ? WiredSyncMode::master : WiredSyncMode::subordinate;
+    config.subordinate_delay_ns = k == 0 || standalone ? 0 : kSubordinateDelayUs * 1000;
     config.calibration.color.camera_from_reference.translation() = Eigen::Vector3d(-0.032, 0.001, 0.004);
     RecordingWriter writer(recording_path(dir, site.cameras[k].name), config);
     for (uint32_t i = 0; i < 5; ++i) {
       if (k == 1 && i == 2) continue;
-      writer.write_capture(kStartUs + (k ? kSubordinateDelayUs : 0) + i * 33'333, encode_mjpg(gradient(uint32_t(k), i), 90),
+      const uint64_t offset_us = k == 0 ? 0 : standalone ? clock_offset_us : kSubordinateDelayUs;
+      writer.write_capture(kStartUs + offset_us + i * 33'333, encode_mjpg(gradient(uint32_t(k), i), 90),
                            depth_of(uint32_t(k), i));
     }
     writer.close();
@@ -91,8 +93,8 @@ std::filesystem::path write_devices(const std::string& name) {
   for (size_t k = 0; k < site.cameras.size(); ++k) {
     site.cameras[k].source = "k4a";
     site.cameras[k].k4a = {{"serial", serial_of(k)}, {"color_mode", "MJPG_720P"}, {"depth_mode", "NFOV_2X2BINNED"},
-                           {"fps", 30}, {"wired_sync", k == 0 ? "MASTER" : "SUBORDINATE"},
-                           {"subordinate_delay_us", k == 0 ? 0 : kSubordinateDelayUs}};
+                           {"fps", 30}, {"wired_sync", standalone ? "STANDALONE" : k == 0 ? "MASTER" : "SUBORDINATE"},
+                           {"subordinate_delay_us", k == 0 || standalone ? 0 : kSubordinateDelayUs}};
   }
   sim::write_site(dir / "live.json", site);
   return dir;
@@ -185,6 +187,25 @@ TEST_CASE("k4a live: through the fake library, the frame sets and images of the 
         "start fake-001 color=0 resolution=1 depth=1 fps=2 sync=2 delay=160 synchronized=1\n"
         "start fake-000 color=0 resolution=1 depth=1 fps=2 sync=1 delay=0 synchronized=1\n"
         "stop fake-000\nstop fake-001\n");
+}
+
+TEST_CASE("k4a live: standalone devices whose clocks are seconds apart are put together by their first captures") {
+  const std::filesystem::path dir = write_devices("standalone", true, 7'000'000);
+  use_fake(recordings_in(dir));
+  std::unique_ptr<LiveSite> live = open_live(dir / "live.json");
+  std::vector<uint64_t> times;
+  std::vector<size_t> cameras_in_set;
+  while (std::optional<sim::RgbdFrame> frame = live->next_frame()) {
+    times.push_back(frame->timestamp_us);
+    size_t present = 0;
+    for (const sim::RgbdImage& image : frame->cameras)
+      present += std::any_of(image.depth_mm.texels.begin(), image.depth_mm.texels.end(), [](float v) { return v != 0; });
+    cameras_in_set.push_back(present);
+  }
+  // Without the rule, 9 sets of one camera each: the second device's times are 7 s later.
+  CHECK(cameras_in_set == std::vector<size_t>{2, 2, 1, 2, 2});
+  REQUIRE(times.size() == 5);
+  CHECK(times[4] - times[0] == 4 * 33'333);
 }
 
 TEST_CASE("k4a live: no library, or not the k4a one, says what to install") {

@@ -1,5 +1,6 @@
 #include "camera/k4a_live_camera.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace rt::camera::k4a {
@@ -10,6 +11,8 @@ namespace {
 // it needs more is not believed.
 constexpr size_t kMaxSerialBytes = 256;
 constexpr size_t kMaxLiveCalibrationBytes = 1 << 20;
+// A USB host has a few devices; a count far beyond is not believed either (each is opened to ask).
+constexpr uint32_t kMaxDevices = 64;
 
 k4a_image_format_t api_color_format(ColorFormat format) {
   switch (format) {
@@ -90,7 +93,7 @@ struct LentCapture {
 std::vector<std::string> connected_serials(const Library& library, size_t* unopened) {
   std::vector<std::string> serials;
   if (unopened) *unopened = 0;
-  const uint32_t count = library.device_get_installed_count();
+  const uint32_t count = std::min(library.device_get_installed_count(), kMaxDevices);
   for (uint32_t i = 0; i < count; ++i) {
     k4a_device_t device = nullptr;
     if (library.device_open(i, &device) != K4A_RESULT_SUCCEEDED || !device) {
@@ -109,7 +112,7 @@ LiveCamera::LiveCamera(std::shared_ptr<const Library> library, const LiveCameraS
   const std::string where = "k4a device '" + settings.serial + "'";
   std::vector<std::string> found;
   size_t unopened = 0;
-  const uint32_t count = lib.device_get_installed_count();
+  const uint32_t count = std::min(lib.device_get_installed_count(), kMaxDevices);
   for (uint32_t i = 0; i < count && !device_; ++i) {
     k4a_device_t device = nullptr;
     if (lib.device_open(i, &device) != K4A_RESULT_SUCCEEDED || !device) {
