@@ -8,6 +8,7 @@
 
 #include <dlfcn.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -206,6 +207,27 @@ TEST_CASE("k4a live: standalone devices whose clocks are seconds apart are put t
   CHECK(cameras_in_set == std::vector<size_t>{2, 2, 1, 2, 2});
   REQUIRE(times.size() == 5);
   CHECK(times[4] - times[0] == 4 * 33'333);
+}
+
+TEST_CASE("k4a live: a device that falls silent sits out the sets without holding the others back") {
+  const std::filesystem::path dir = write_devices("silent");
+  use_fake(recordings_in(dir));
+  ::setenv("REMOTETOUCH_FAKE_K4A_SILENT", "fake-001", 1);
+  std::unique_ptr<LiveSite> live = open_live(dir / "live.json");
+  live->set_timeout_ms(600);
+  const auto start = std::chrono::steady_clock::now();
+  size_t frames = 0;
+  for (; frames < 5; ++frames) {
+    const std::optional<sim::RgbdFrame> frame = live->next_frame();
+    REQUIRE(frame);
+    const HostImage& depth = frame->cameras[1].depth_mm;
+    CHECK(std::any_of(depth.texels.begin(), depth.texels.end(), [](float v) { return v != 0; }) == (frames == 0));
+  }
+  // Waiting the whole 600 ms for it at every set would take 1.8 s at least (2.4 s without polling).
+  CHECK(std::chrono::steady_clock::now() - start < std::chrono::milliseconds(1500));
+  // The master has ended; the silent one alone is a site without cameras.
+  CHECK_THROWS_WITH(live->next_frame(), Contains("no camera gave a capture in 600 ms") && Contains("sync"));
+  ::unsetenv("REMOTETOUCH_FAKE_K4A_SILENT");
 }
 
 TEST_CASE("k4a live: no library, or not the k4a one, says what to install") {

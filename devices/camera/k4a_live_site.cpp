@@ -1,6 +1,7 @@
 #include "camera/k4a_live_site.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "camera/frame_sets.h"
 
@@ -12,6 +13,7 @@ constexpr size_t kMaxLiveReports = 5;
 // Standalone devices' times start here, so that no aligned time is ever zero.
 constexpr uint64_t kStandaloneOriginUs = 1'000'000;
 constexpr size_t kBadCapturesInARow = 4;
+constexpr size_t kSilentCallsBeforePolling = 3;
 
 }  // namespace
 
@@ -19,6 +21,7 @@ struct LiveSite::Camera {
   std::optional<Capture> pending;  // a capture not yet in a set
   uint64_t pending_us = 0;         // its time on the site's clock
   std::optional<uint64_t> first_us, last_us;
+  size_t silent_calls = 0;  // in a row: after a few, the camera is only polled, not waited for
   bool stopped = false;
 };
 
@@ -90,18 +93,22 @@ LiveSite::~LiveSite() = default;
 // Camera k's next good capture into its pending slot, unless it has one or has stopped. Bad
 // captures are skipped, a few in a row at most, so that a camera giving only bad ones sits out
 // sets instead of holding the others back.
-void LiveSite::fill(size_t k) {
+void LiveSite::fill(size_t k, int32_t wait_ms) {
   Camera& camera = *cameras_[k];
   for (size_t attempt = 0; attempt < kBadCapturesInARow && !camera.pending && !camera.stopped; ++attempt) {
     LiveCamera::Result result;
     try {
-      result = devices_[k]->next_capture(timeout_ms_);
+      result = devices_[k]->next_capture(camera.silent_calls >= kSilentCallsBeforePolling ? 0 : wait_ms);
     } catch (const LiveError& error) {
       camera.stopped = true;
       report(std::string(error.what()) + ": camera '" + site_.cameras[k].name + "' sits out from here");
       return;
     }
-    if (result.timed_out) return;
+    if (result.timed_out) {
+      ++camera.silent_calls;
+      return;
+    }
+    camera.silent_calls = 0;
     if (!result.problem.empty() || !result.capture) {
       ++skipped_;
       report((result.problem.empty() ? "an empty capture" : result.problem) + ": camera '" + site_.cameras[k].name +
@@ -129,17 +136,22 @@ void LiveSite::fill(size_t k) {
 
 std::optional<sim::RgbdFrame> LiveSite::next_frame() {
   const size_t count = cameras_.size();
-  for (size_t k = 0; k < count; ++k) fill(k);
+  // Before the first set the devices may still be starting; after it, each has its frame period.
+  const int32_t wait_ms = next_index_ == 0 ? timeout_ms_ : int32_t(2 * period_us_ / 1000 + 1);
+  const auto asked = std::chrono::steady_clock::now();
   std::vector<std::vector<uint64_t>> times(count);
-  bool any = false;
-  for (size_t k = 0; k < count; ++k)
-    if (cameras_[k]->pending) times[k].push_back(cameras_[k]->pending_us), any = true;
-  if (!any) {
+  for (;;) {
+    for (size_t k = 0; k < count; ++k) fill(k, wait_ms);
+    bool any = false;
+    for (size_t k = 0; k < count; ++k)
+      if (cameras_[k]->pending) times[k] = {cameras_[k]->pending_us}, any = true;
+    if (any) break;
     if (std::all_of(cameras_.begin(), cameras_.end(), [](const auto& camera) { return camera->stopped; }))
       return std::nullopt;
-    throw LiveError("no camera gave a capture in " + std::to_string(timeout_ms_) +
-                    " ms: check that each is powered and on USB 3, and that wired-sync cables run from the master's "
-                    "\"sync out\" to each subordinate's \"sync in\"");
+    if (std::chrono::steady_clock::now() - asked >= std::chrono::milliseconds(timeout_ms_))
+      throw LiveError("no camera gave a capture in " + std::to_string(timeout_ms_) +
+                      " ms: check that each is powered and on USB 3, and that wired-sync cables run from the master's "
+                      "\"sync out\" to each subordinate's \"sync in\"");
   }
   // The earliest set of what each camera has given; a later capture waits for the next call.
   const FrameSet set = assemble_frame_sets(times, period_us_).front();

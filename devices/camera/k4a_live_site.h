@@ -44,7 +44,8 @@ class LiveSite : public sim::RgbdSource {
   const std::vector<RecordingInfo>& infos() const { return infos_; }
   // The next frame set, decoded. Empty once every device has stopped giving captures (a device
   // that fails leaves the others going, reported). Throws LiveError when no camera gave a capture
-  // within `timeout_ms` of asking.
+  // within `timeout_ms` of asking. Once the site has shown a set, a camera that gives nothing
+  // within two frame periods sits out the set: one silent device does not hold the others back.
   std::optional<sim::RgbdFrame> next_frame() override;
   void set_timeout_ms(int32_t timeout_ms) { timeout_ms_ = timeout_ms; }
   // Captures left out: bad images, or times that did not increase.
@@ -53,7 +54,7 @@ class LiveSite : public sim::RgbdSource {
  private:
   struct Camera;
   void report(const std::string& problem);
-  void fill(size_t k);
+  void fill(size_t k, int32_t wait_ms);
 
   sim::SiteDescription site_;
   std::FILE* log_;
@@ -64,7 +65,7 @@ class LiveSite : public sim::RgbdSource {
   uint64_t period_us_ = 0;
   bool standalone_ = true;
   int32_t timeout_ms_ = 2000;
-  uint64_t next_index_ = 0;
+  uint64_t next_index_ = 0;  // of the next set; 0 until one has been shown
   size_t skipped_ = 0;
   size_t reported_ = 0;
 };

@@ -10,12 +10,17 @@
 // wrong-size, wrong-stride, ir-format, huge-size, no-depth. REMOTETOUCH_FAKE_K4A_LOG names a
 // file that gets a line per start and stop ("start SERIAL color=0 resolution=1 depth=2 fps=2
 // sync=1 delay=0"), so that a test sees the order and the modes the backend asked for.
+// REMOTETOUCH_FAKE_K4A_SILENT = SERIAL: that device gives its first capture, then none (each
+// call waits its timeout, up to 3 s, and times out), as a subordinate whose sync cable came loose.
 // fake_k4a_open_handles() counts the captures and images not yet released.
 extern "C" {
 #include <libavformat/avformat.h>
 }
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <thread>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -273,9 +278,14 @@ __attribute__((visibility("default"))) k4a_result_t k4a_device_start_cameras(k4a
 }
 
 __attribute__((visibility("default"))) k4a_wait_result_t k4a_device_get_capture(k4a_device_t handle,
-                                                                                k4a_capture_t* capture, int32_t) {
+                                                                                k4a_capture_t* capture, int32_t timeout_ms) {
   FakeDevice& device = *device_of(handle);
   if (!device.started || device.next >= device.captures.size()) return K4A_WAIT_RESULT_FAILED;
+  const char* silent = std::getenv("REMOTETOUCH_FAKE_K4A_SILENT");
+  if (silent && device.serial == silent && device.next > 0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(std::clamp(timeout_ms, 0, 3000)));
+    return K4A_WAIT_RESULT_TIMEOUT;
+  }
   auto* fake = new FakeCapture{device.captures[device.next]};
   spoil(fake->data, device.next);
   ++device.next;
