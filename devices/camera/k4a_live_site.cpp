@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
+#include <thread>
 
 #include "camera/frame_sets.h"
 
@@ -27,6 +29,7 @@ struct LiveSite::Camera {
 
 void LiveSite::report(const std::string& problem) {
   if (!log_) return;
+  std::lock_guard lock(report_mutex_);
   if (reported_ < kMaxLiveReports) std::fprintf(log_, "k4a live: %s\n", problem.c_str());
   if (reported_ == kMaxLiveReports) std::fprintf(log_, "k4a live: further problems are only counted\n");
   ++reported_;
@@ -71,7 +74,7 @@ void start_live_cameras(const std::vector<std::unique_ptr<LiveCamera>>& cameras)
 
 LiveSite::LiveSite(const sim::SiteDescription& site, const std::vector<LiveCameraSettings>& settings, std::FILE* log,
                    std::shared_ptr<const Library> library)
-    : site_(site), log_(log) {
+    : site_(site), log_(log), decode_threads_(std::max(1u, std::thread::hardware_concurrency())) {
   devices_ = open_live_cameras(site_, settings, std::move(library));
   standalone_ = std::none_of(settings.begin(), settings.end(), [](const LiveCameraSettings& s) {
     return s.wired_sync == WiredSyncMode::master;
@@ -141,7 +144,24 @@ std::optional<sim::RgbdFrame> LiveSite::next_frame() {
   const auto asked = std::chrono::steady_clock::now();
   std::vector<std::vector<uint64_t>> times(count);
   for (;;) {
-    for (size_t k = 0; k < count; ++k) fill(k, wait_ms);
+    // Each camera's device and decoder are its own, so cameras wait and decode side by side.
+    std::atomic<size_t> next_camera{0};
+    std::vector<std::exception_ptr> failures(count);
+    const auto work = [&] {
+      for (size_t k; (k = next_camera++) < count;) {
+        try {
+          fill(k, wait_ms);
+        } catch (...) {
+          failures[k] = std::current_exception();
+        }
+      }
+    };
+    std::vector<std::thread> helpers;
+    for (unsigned t = 1; t < std::min<size_t>(decode_threads_, count); ++t) helpers.emplace_back(work);
+    work();
+    for (std::thread& helper : helpers) helper.join();
+    for (const std::exception_ptr& failure : failures)
+      if (failure) std::rethrow_exception(failure);
     bool any = false;
     for (size_t k = 0; k < count; ++k)
       if (cameras_[k]->pending) times[k] = {cameras_[k]->pending_us}, any = true;

@@ -8,9 +8,12 @@
 // subordinate waits for the master's pulses); a subordinate's delay is taken off its times, so
 // that all are on the master's clock. Standalone devices each count from their own start: their
 // captures are put together by the time since each one's first capture.
+#include <atomic>
 #include <cstdio>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -50,6 +53,8 @@ class LiveSite : public sim::RgbdSource {
   void set_timeout_ms(int32_t timeout_ms) { timeout_ms_ = timeout_ms; }
   // Captures left out: bad images, or times that did not increase.
   size_t skipped_captures() const { return skipped_; }
+  // The devices are waited for and their captures decoded side by side, on up to this many threads.
+  void set_decode_threads(unsigned threads) { decode_threads_ = std::max(1u, threads); }
 
  private:
   struct Camera;
@@ -66,7 +71,9 @@ class LiveSite : public sim::RgbdSource {
   bool standalone_ = true;
   int32_t timeout_ms_ = 2000;
   uint64_t next_index_ = 0;  // of the next set; 0 until one has been shown
-  size_t skipped_ = 0;
+  unsigned decode_threads_ = 1;
+  std::atomic<size_t> skipped_{0};
+  std::mutex report_mutex_;  // the cameras' threads report
   size_t reported_ = 0;
 };
 
