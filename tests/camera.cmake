@@ -67,3 +67,14 @@ add_cli_test(cli_list_cameras 0 "list-cameras: 1 k4a device[(]s[)] through '.*li
              ${CMAKE_COMMAND} -E env REMOTETOUCH_K4A_LIBRARY=$<TARGET_FILE:remotetouch_fake_k4a>
              REMOTETOUCH_FAKE_K4A_RECORDINGS=${k4a_simulated}/top-left.mkv ${rt} list-cameras)
 set_tests_properties(cli_list_cameras PROPERTIES FIXTURES_REQUIRED k4a_simulated)
+
+# record as a user runs it, through the fake library, on the devices test_k4a_live wrote (a
+# master and a subordinate that dropped one capture): every capture written, none left out.
+set(k4a_live_devices ${CMAKE_BINARY_DIR}/test-out/test_k4a_live/same)
+set_tests_properties(test_k4a_live PROPERTIES FIXTURES_SETUP k4a_live_devices)
+add_cli_test(cli_record 0 "record: [0-9.]+ s of 2 cameras into '.*record-cli' [(]captures: 5 4; 0 left out[)]"
+             /bin/sh -c "rm -rf '${CMAKE_BINARY_DIR}/test-out/record-cli' && exec \"$@\"" sh ${CMAKE_COMMAND} -E env
+             REMOTETOUCH_K4A_LIBRARY=$<TARGET_FILE:remotetouch_fake_k4a>
+             REMOTETOUCH_FAKE_K4A_RECORDINGS=${k4a_live_devices}/top-left.mkv:${k4a_live_devices}/top-centre.mkv
+             ${rt} record --site ${k4a_live_devices}/live.json --seconds 5 --out ${CMAKE_BINARY_DIR}/test-out/record-cli)
+set_tests_properties(cli_record PROPERTIES FIXTURES_REQUIRED k4a_live_devices)
