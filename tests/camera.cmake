@@ -43,15 +43,16 @@ add_cli_test(cli_bench_camera 0 "\n1 +6 +1 +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]+ +[0
 set_tests_properties(cli_bench_camera PROPERTIES FIXTURES_REQUIRED k4a_simulated)
 
 # A fake libk4a.so.1.4 that serves k4a recordings as connected devices (tests/fake_k4a), so that
-# the live backend's own code runs here; test_k4a_live loads it through REMOTETOUCH_K4A_LIBRARY.
+# the live backend's own code runs here; test_k4a_live loads it through REMOTETOUCH_K4A_LIBRARY,
+# told where it is by REMOTETOUCH_TEST_FAKE_K4A.
 add_library(remotetouch_fake_k4a SHARED ${CMAKE_CURRENT_SOURCE_DIR}/fake_k4a/fake_k4a.cpp)
 set_target_properties(remotetouch_fake_k4a PROPERTIES OUTPUT_NAME k4a PREFIX lib SUFFIX .so.1.4
                       LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/fake-k4a CXX_VISIBILITY_PRESET hidden)
 target_include_directories(remotetouch_fake_k4a PRIVATE ${CMAKE_SOURCE_DIR}/devices)
 target_link_libraries(remotetouch_fake_k4a PRIVATE PkgConfig::FFMPEG)
-add_dependencies(test_k4a_live remotetouch_fake_k4a)
-target_compile_definitions(test_k4a_live PRIVATE REMOTETOUCH_FAKE_K4A="$<TARGET_FILE:remotetouch_fake_k4a>")
-target_link_libraries(test_k4a_live PRIVATE ${CMAKE_DL_LIBS})
+add_dependencies(remotetouch_cpu_tests remotetouch_fake_k4a)
+set_tests_properties(test_k4a_live PROPERTIES ENVIRONMENT REMOTETOUCH_TEST_FAKE_K4A=$<TARGET_FILE:remotetouch_fake_k4a>)
+target_link_libraries(remotetouch_cpu_tests PRIVATE ${CMAKE_DL_LIBS})
 
 # list-cameras as a user meets it: without the k4a library it says what to install; through the
 # fake library it lists the simulated recording's device by serial ("<site>-<camera>").

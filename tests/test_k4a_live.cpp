@@ -23,6 +23,7 @@
 #include "camera/site_camera_sources.h"
 #include "config/assets.h"
 #include "config/json.h"
+#include "support/output_dir.h"
 
 using namespace rt;
 using namespace rt::camera;
@@ -31,8 +32,16 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kOut = std::filesystem::path(REMOTETOUCH_TEST_OUTPUT_DIR);
-constexpr uint64_t kStartUs = 5'000'000;
+const std::filesystem::path kOutK4aLive = rt::test::output_dir("test_k4a_live");
+
+// The fake library's path, which ctest gives (tests/camera.cmake): the build folder's path kept
+// out of the compile line, so that the compiler cache serves every worktree.
+std::string fake_k4a_library() {
+  const char* path = std::getenv("REMOTETOUCH_TEST_FAKE_K4A");
+  if (path == nullptr) FAIL("REMOTETOUCH_TEST_FAKE_K4A names no fake libk4a.so.1.4: run this test through ctest");
+  return path;
+}
+constexpr uint64_t kLiveStartUs = 5'000'000;
 constexpr uint64_t kSubordinateDelayUs = 160;
 
 sim::SiteDescription two_camera_site() {
@@ -59,7 +68,7 @@ HostImage gradient(uint32_t camera, uint32_t index) {
   return image;
 }
 
-HostImage depth_of(uint32_t camera, uint32_t index) {
+HostImage live_depth_of(uint32_t camera, uint32_t index) {
   HostImage depth(320, 288, PixelFormat::R16U);
   for (size_t i = 0; i < depth.texels.size(); ++i) depth.texels[i] = float(900 + 300 * camera + index + i % 251);
   return depth;
@@ -71,7 +80,7 @@ std::string serial_of(size_t camera) { return "fake-00" + std::to_string(camera)
 // capture 2; live.json names them as live devices. `standalone`: two standalone devices instead,
 // the second's clock `clock_offset_us` ahead. Returns the folder.
 std::filesystem::path write_devices(const std::string& name, bool standalone = false, uint64_t clock_offset_us = 0) {
-  const std::filesystem::path dir = kOut / name;
+  const std::filesystem::path dir = kOutK4aLive / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   sim::SiteDescription site = two_camera_site();
@@ -85,8 +94,8 @@ std::filesystem::path write_devices(const std::string& name, bool standalone = f
     for (uint32_t i = 0; i < 5; ++i) {
       if (k == 1 && i == 2) continue;
       const uint64_t offset_us = k == 0 ? 0 : standalone ? clock_offset_us : kSubordinateDelayUs;
-      writer.write_capture(kStartUs + offset_us + i * 33'333, encode_mjpg(gradient(uint32_t(k), i), 90),
-                           depth_of(uint32_t(k), i));
+      writer.write_capture(kLiveStartUs + offset_us + i * 33'333, encode_mjpg(gradient(uint32_t(k), i), 90),
+                           live_depth_of(uint32_t(k), i));
     }
     writer.close();
   }
@@ -104,7 +113,7 @@ std::filesystem::path write_devices(const std::string& name, bool standalone = f
 // Points the backend at the fake library and the fake's devices at these recordings.
 void use_fake(const std::vector<std::filesystem::path>& recordings, const std::string& fault = "",
               const std::filesystem::path& log = {}) {
-  ::setenv("REMOTETOUCH_K4A_LIBRARY", REMOTETOUCH_FAKE_K4A, 1);
+  ::setenv("REMOTETOUCH_K4A_LIBRARY", fake_k4a_library().c_str(), 1);
   std::string list;
   for (const auto& file : recordings) list += (list.empty() ? "" : ":") + file.string();
   ::setenv("REMOTETOUCH_FAKE_K4A_RECORDINGS", list.c_str(), 1);
@@ -121,7 +130,7 @@ std::vector<std::filesystem::path> recordings_in(const std::filesystem::path& di
 
 // The captures and images the fake lent and the backend has not given back.
 int fake_open_handles() {
-  void* handle = dlopen(REMOTETOUCH_FAKE_K4A, RTLD_NOW | RTLD_NOLOAD);
+  void* handle = dlopen(fake_k4a_library().c_str(), RTLD_NOW | RTLD_NOLOAD);
   if (!handle) return -1;
   const auto count = reinterpret_cast<int (*)()>(dlsym(handle, "fake_k4a_open_handles"));
   const int open = count ? count() : -1;
@@ -293,7 +302,7 @@ TEST_CASE("site file: each camera names its source; recordings by path; a mix is
   CHECK(site.cameras[1].k4a.at("wired_sync") == "SUBORDINATE");
 
   // Recordings elsewhere, named by path (relative to the site file's folder).
-  const std::filesystem::path moved = kOut / "sources-moved";
+  const std::filesystem::path moved = kOutK4aLive / "sources-moved";
   std::filesystem::remove_all(moved);
   std::filesystem::create_directories(moved / "takes");
   const std::vector<std::filesystem::path> files = recordings_in(dir);
@@ -330,7 +339,7 @@ TEST_CASE("site file: each camera names its source; recordings by path; a mix is
 
 TEST_CASE("record: live cameras written as k4a recordings play as the recordings they came from") {
   const std::filesystem::path dir = write_devices("record");
-  const std::filesystem::path out = kOut / "record-out";
+  const std::filesystem::path out = kOutK4aLive / "record-out";
   std::filesystem::remove_all(out);
   use_fake(recordings_in(dir), "3:huge-size");
   const sim::SiteDescription site = sim::load_site(dir / "live.json");
@@ -366,7 +375,7 @@ TEST_CASE("record: live cameras written as k4a recordings play as the recordings
   sim::SiteDescription mixed = site;
   mixed.cameras[1].source = "simulated";
   mixed.cameras[1].k4a = nlohmann::json::object();
-  CHECK_THROWS_WITH(record_live_site(mixed, "mixed.json", kOut / "record-mixed", 1.0, nullptr),
+  CHECK_THROWS_WITH(record_live_site(mixed, "mixed.json", kOutK4aLive / "record-mixed", 1.0, nullptr),
                     Contains("mixed.json: live cameras need every camera's source") &&
                         Contains("'" + site.cameras[1].name + "' (simulated) is not live"));
 }
