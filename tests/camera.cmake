@@ -4,14 +4,9 @@ find_program(REMOTETOUCH_MKVINFO mkvinfo)
 if(NOT REMOTETOUCH_MKVINFO AND REMOTETOUCH_REQUIRE_ALL_TESTS)
   message(FATAL_ERROR "mkvinfo not found: install mkvtoolnix (scripts/packages.txt)")
 endif()
-file(GLOB remotetouch_k4a_tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test_k4a_*.cpp)
-foreach(source ${remotetouch_k4a_tests})
-  get_filename_component(name ${source} NAME_WE)
-  target_compile_definitions(${name} PRIVATE REMOTETOUCH_TEST_OUTPUT_DIR="${CMAKE_BINARY_DIR}/test-out/${name}"
-                                             REMOTETOUCH_MKVINFO="${REMOTETOUCH_MKVINFO}")
-endforeach()
-# The writer's test also asks libavformat how it sees what we wrote.
-target_link_libraries(test_k4a_recording_writer PRIVATE PkgConfig::FFMPEG)
+target_compile_definitions(remotetouch_cpu_tests PRIVATE REMOTETOUCH_MKVINFO="${REMOTETOUCH_MKVINFO}")
+# The writer's test (test_k4a_recording_writer) also asks libavformat how it sees what we wrote.
+target_link_libraries(remotetouch_cpu_tests PRIVATE PkgConfig::FFMPEG)
 
 # simulate --format k4a refuses cameras whose images are not a k4a mode's size, before rendering.
 add_cli_test(cli_simulate_k4a_not_a_mode 1
@@ -46,3 +41,36 @@ set_tests_properties(cli_k4a_site_played PROPERTIES TIMEOUT 600 RUN_SERIAL TRUE)
 add_cli_test(cli_bench_camera 0 "\n1 +6 +1 +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]+ +[0-9]+\\.[0-9]"
              ${rt} bench camera ${k4a_simulated} --frames 3 --out ${CMAKE_BINARY_DIR}/test-out/bench-camera)
 set_tests_properties(cli_bench_camera PROPERTIES FIXTURES_REQUIRED k4a_simulated)
+
+# A fake libk4a.so.1.4 that serves k4a recordings as connected devices (tests/fake_k4a), so that
+# the live backend's own code runs here; test_k4a_live loads it through REMOTETOUCH_K4A_LIBRARY,
+# told where it is by REMOTETOUCH_TEST_FAKE_K4A.
+add_library(remotetouch_fake_k4a SHARED ${CMAKE_CURRENT_SOURCE_DIR}/fake_k4a/fake_k4a.cpp)
+set_target_properties(remotetouch_fake_k4a PROPERTIES OUTPUT_NAME k4a PREFIX lib SUFFIX .so.1.4
+                      LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/fake-k4a CXX_VISIBILITY_PRESET hidden)
+target_include_directories(remotetouch_fake_k4a PRIVATE ${CMAKE_SOURCE_DIR}/devices)
+target_link_libraries(remotetouch_fake_k4a PRIVATE PkgConfig::FFMPEG)
+add_dependencies(remotetouch_cpu_tests remotetouch_fake_k4a)
+set_tests_properties(test_k4a_live PROPERTIES ENVIRONMENT REMOTETOUCH_TEST_FAKE_K4A=$<TARGET_FILE:remotetouch_fake_k4a>)
+target_link_libraries(remotetouch_cpu_tests PRIVATE ${CMAKE_DL_LIBS})
+
+# list-cameras as a user meets it: without the k4a library it says what to install; through the
+# fake library it lists the simulated recording's device by serial ("<site>-<camera>").
+add_cli_test(cli_list_cameras_no_library 1
+             "remotetouch: error: live k4a cameras need the k4a library, and '/nonexistent/libk4a.so.1.4' could not be loaded .*Azure Kinect SDK.*Orbbec.*LD_LIBRARY_PATH"
+             ${CMAKE_COMMAND} -E env REMOTETOUCH_K4A_LIBRARY=/nonexistent/libk4a.so.1.4 ${rt} list-cameras)
+add_cli_test(cli_list_cameras 0 "list-cameras: 1 k4a device[(]s[)] through '.*libk4a.so.1.4'\n  serial [a-z]+-top-left\n"
+             ${CMAKE_COMMAND} -E env REMOTETOUCH_K4A_LIBRARY=$<TARGET_FILE:remotetouch_fake_k4a>
+             REMOTETOUCH_FAKE_K4A_RECORDINGS=${k4a_simulated}/top-left.mkv ${rt} list-cameras)
+set_tests_properties(cli_list_cameras PROPERTIES FIXTURES_REQUIRED k4a_simulated)
+
+# record as a user runs it, through the fake library, on the devices test_k4a_live wrote (a
+# master and a subordinate that dropped one capture): every capture written, none left out.
+set(k4a_live_devices ${CMAKE_BINARY_DIR}/test-out/test_k4a_live/same)
+set_tests_properties(test_k4a_live PROPERTIES FIXTURES_SETUP k4a_live_devices)
+add_cli_test(cli_record 0 "record: [0-9.]+ s of 2 cameras into '.*record-cli' [(]captures: 5 4; 0 left out[)]"
+             /bin/sh -c "rm -rf '${CMAKE_BINARY_DIR}/test-out/record-cli' && exec \"$@\"" sh ${CMAKE_COMMAND} -E env
+             REMOTETOUCH_K4A_LIBRARY=$<TARGET_FILE:remotetouch_fake_k4a>
+             REMOTETOUCH_FAKE_K4A_RECORDINGS=${k4a_live_devices}/top-left.mkv:${k4a_live_devices}/top-centre.mkv
+             ${rt} record --site ${k4a_live_devices}/live.json --seconds 5 --out ${CMAKE_BINARY_DIR}/test-out/record-cli)
+set_tests_properties(cli_record PROPERTIES FIXTURES_REQUIRED k4a_live_devices)

@@ -1,6 +1,6 @@
 # The OpenCV DNN peer check of Lumi-Net needs OpenCV's dnn module, which only this test links.
 find_package(OpenCV REQUIRED COMPONENTS dnn)
-target_link_libraries(test_lumi_onnx PRIVATE opencv_dnn)
+target_link_libraries(remotetouch_gpu_tests PRIVATE opencv_dnn)
 
 # Lumi-Net's training data as a user exports it (a tiny target), and its refusals.
 set(rt $<TARGET_FILE:remotetouch>)

@@ -24,7 +24,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kOpenCvData = "/usr/share/doc/opencv-doc/examples/data";
+const std::filesystem::path kOpenCvDataCalibrationIntrinsics = "/usr/share/doc/opencv-doc/examples/data";
 
 // Synthetic corners with 0.1 px noise, 15 views of a 1280x720 camera: OpenCV puts the
 // standard deviation of fx, fy, cx, cy at about 1 px for such a set, and over ten seeds the
@@ -58,7 +58,7 @@ constexpr double kPhotoFocalToleranceRelative = 0.01;
 constexpr double kPhotoPrincipalPointTolerancePx = 5.0;
 constexpr double kPhotoDistortionTolerancePx = 2.0;
 
-std::filesystem::path scratch_folder(const std::string& name) {
+std::filesystem::path scratch_folder_calibration_intrinsics(const std::string& name) {
   const auto folder = std::filesystem::temp_directory_path() /
                       ("remotetouch-test-calibration-intrinsics-" + std::to_string(getpid())) / name;
   std::filesystem::remove_all(folder);
@@ -146,7 +146,7 @@ std::vector<cv::Point2f> project_board(const CameraIntrinsics& k, const Eigen::I
 }
 
 CameraIntrinsics reference_left_intrinsics() {
-  cv::FileStorage file((kOpenCvData / "left_intrinsics.yml").string(), cv::FileStorage::READ);
+  cv::FileStorage file((kOpenCvDataCalibrationIntrinsics / "left_intrinsics.yml").string(), cv::FileStorage::READ);
   REQUIRE(file.isOpened());
   cv::Mat matrix, distortion;
   file["camera_matrix"] >> matrix;
@@ -249,7 +249,7 @@ TEST_CASE("Rendered chessboard photographs: corners found and the camera given b
   truth.distortion.p1 = 0.001;
   truth.distortion.p2 = -0.0005;
   const Chessboard board = parse_chessboard("9x6", 0.025);
-  const auto folder = scratch_folder("rendered");
+  const auto folder = scratch_folder_calibration_intrinsics("rendered");
   std::mt19937 rng(3);
   std::vector<std::filesystem::path> images;
   std::vector<std::vector<cv::Point2f>> true_corners;
@@ -287,15 +287,15 @@ TEST_CASE("Rendered chessboard photographs: corners found and the camera given b
 }
 
 TEST_CASE("The opencv-doc photographs give OpenCV's reference camera", "[calibration][intrinsics][photographs]") {
-  INFO("needs Debian's opencv-doc in " << kOpenCvData);
-  REQUIRE(std::filesystem::exists(kOpenCvData / "left01.jpg"));
+  INFO("needs Debian's opencv-doc in " << kOpenCvDataCalibrationIntrinsics);
+  REQUIRE(std::filesystem::exists(kOpenCvDataCalibrationIntrinsics / "left01.jpg"));
   const CameraIntrinsics reference = reference_left_intrinsics();
   const Chessboard board = parse_chessboard("9x6", 0.025);
-  const auto images = expand_image_patterns({(kOpenCvData / "left*.jpg").string()});
+  const auto images = expand_image_patterns({(kOpenCvDataCalibrationIntrinsics / "left*.jpg").string()});
   REQUIRE(images.size() == 14);  // left01..left14 without left10, and left.jpg, a scene without the board
 
   const ImageSetCalibration calibration = calibrate_intrinsics_from_images(images, board);
-  CHECK(calibration.board_not_found == std::vector<std::filesystem::path>{kOpenCvData / "left.jpg"});
+  CHECK(calibration.board_not_found == std::vector<std::filesystem::path>{kOpenCvDataCalibrationIntrinsics / "left.jpg"});
   CHECK(calibration.used_images.size() == 13);
   const IntrinsicsResult& result = calibration.result;
   const CameraIntrinsics& found = result.intrinsics;
@@ -317,9 +317,9 @@ TEST_CASE("The opencv-doc photographs give OpenCV's reference camera", "[calibra
   CHECK(report["std_dev_px"]["fx"].get<double>() == result.std_dev_px.fx);
   CHECK(report["distortion"]["k1"].get<double>() == found.distortion.k1);
   REQUIRE(report["per_image"].size() == 13);
-  CHECK(report["per_image"][0]["image"] == (kOpenCvData / "left01.jpg").string());
+  CHECK(report["per_image"][0]["image"] == (kOpenCvDataCalibrationIntrinsics / "left01.jpg").string());
   CHECK(report["per_image"][0]["rms_error_px"].get<double>() == result.view_rms_error_px[0]);
-  CHECK(report["board_not_found"] == nlohmann::json::array({(kOpenCvData / "left.jpg").string()}));
+  CHECK(report["board_not_found"] == nlohmann::json::array({(kOpenCvDataCalibrationIntrinsics / "left.jpg").string()}));
   const CameraIntrinsics read_back = intrinsics_from_json(report, "report");
   CHECK(read_back.fx == found.fx);
   CHECK(read_back.distortion.k3 == found.distortion.k3);
@@ -327,7 +327,7 @@ TEST_CASE("The opencv-doc photographs give OpenCV's reference camera", "[calibra
 
 TEST_CASE("Intrinsics input errors say what is wrong", "[calibration][intrinsics]") {
   const Chessboard board = parse_chessboard("9x6", 0.025);
-  const auto folder = scratch_folder("errors");
+  const auto folder = scratch_folder_calibration_intrinsics("errors");
 
   SECTION("patterns that match nothing, paths that do not exist") {
     CHECK_THROWS_WITH(expand_image_patterns({(folder / "*.jpg").string()}), Contains("matches no file"));
@@ -344,17 +344,17 @@ TEST_CASE("Intrinsics input errors say what is wrong", "[calibration][intrinsics
   }
   SECTION("too few views name the images without a board") {
     cv::imwrite((folder / "grey.png").string(), cv::Mat(480, 640, CV_8UC1, cv::Scalar(100)));
-    const std::vector<std::filesystem::path> images{kOpenCvData / "left01.jpg", kOpenCvData / "left02.jpg",
+    const std::vector<std::filesystem::path> images{kOpenCvDataCalibrationIntrinsics / "left01.jpg", kOpenCvDataCalibrationIntrinsics / "left02.jpg",
                                                     folder / "grey.png"};
     CHECK_THROWS_WITH(calibrate_intrinsics_from_images(images, board),
                       Contains("found in 2 of 3 images, at least 3") && Contains("grey.png"));
   }
   SECTION("images of different sizes") {
     cv::Mat larger;
-    cv::resize(cv::imread((kOpenCvData / "left04.jpg").string()), larger, cv::Size(800, 600), 0, 0, cv::INTER_LINEAR);
+    cv::resize(cv::imread((kOpenCvDataCalibrationIntrinsics / "left04.jpg").string()), larger, cv::Size(800, 600), 0, 0, cv::INTER_LINEAR);
     cv::imwrite((folder / "left04_larger.png").string(), larger);
-    const std::vector<std::filesystem::path> images{kOpenCvData / "left01.jpg", kOpenCvData / "left02.jpg",
-                                                    kOpenCvData / "left03.jpg", folder / "left04_larger.png"};
+    const std::vector<std::filesystem::path> images{kOpenCvDataCalibrationIntrinsics / "left01.jpg", kOpenCvDataCalibrationIntrinsics / "left02.jpg",
+                                                    kOpenCvDataCalibrationIntrinsics / "left03.jpg", folder / "left04_larger.png"};
     CHECK_THROWS_WITH(calibrate_intrinsics_from_images(images, board),
                       Contains("different sizes") && Contains("640x480") && Contains("800x600"));
   }

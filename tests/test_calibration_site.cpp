@@ -29,13 +29,13 @@ using Catch::Matchers::Contains;
 namespace {
 
 const std::filesystem::path kAssets = rt::config::assets_dir();
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
+constexpr double kDegreeCalibrationSite = 3.14159265358979323846 / 180.0;
 // The synthetic data's noise (0.1 px corners, 1 mm distances, 2 mm fingertips) bounds how well
 // the poses come back; the bounds are those of test_calibration_extrinsics and _tracker.
 constexpr double kCameraPositionToleranceM = 10e-3;
-constexpr double kCameraAngleToleranceRad = 0.5 * kDegree;
+constexpr double kCameraAngleToleranceRad = 0.5 * kDegreeCalibrationSite;
 constexpr double kTrackerPositionToleranceM = 4e-3;
-constexpr double kTrackerAngleToleranceRad = 0.6 * kDegree;
+constexpr double kTrackerAngleToleranceRad = 0.6 * kDegreeCalibrationSite;
 
 std::filesystem::path scratch_file(const std::string& name) {
   const auto folder =
@@ -58,7 +58,7 @@ std::string file_text(const std::filesystem::path& path) {
   return text.str();
 }
 
-double angle_between(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+double angle_between_calibration_site(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return Eigen::AngleAxisd(a.linear() * b.linear().transpose()).angle();
 }
 
@@ -94,7 +94,7 @@ TEST_CASE("Synthetic data calibrated into a copy of the default site: load_site 
     CHECK(found.name == expected.name);
     CHECK((found.color_camera().position_in_site() - expected.color_camera().position_in_site()).norm() <
           kCameraPositionToleranceM);
-    CHECK(angle_between(found.camera_from_site, expected.camera_from_site) < kCameraAngleToleranceRad);
+    CHECK(angle_between_calibration_site(found.camera_from_site, expected.camera_from_site) < kCameraAngleToleranceRad);
     // The color intrinsics are the calibrated ones (here: the inputs'), with their distortion.
     const CameraIntrinsics& calibrated = truth.extrinsics_input.cameras[i].intrinsics;
     CHECK(found.color.fx == Approx(calibrated.fx).epsilon(1e-12));
@@ -108,7 +108,7 @@ TEST_CASE("Synthetic data calibrated into a copy of the default site: load_site 
   const Eigen::Isometry3d& expected_tracker = truth.truth.tracker.site_from_tracker;
   CHECK((read.tracker.site_from_tracker.translation() - expected_tracker.translation()).norm() <
         kTrackerPositionToleranceM);
-  CHECK(angle_between(read.tracker.site_from_tracker, expected_tracker) < kTrackerAngleToleranceRad);
+  CHECK(angle_between_calibration_site(read.tracker.site_from_tracker, expected_tracker) < kTrackerAngleToleranceRad);
   REQUIRE(read.tracker.rms_residual_mm);
   CHECK(*read.tracker.rms_residual_mm == Approx(tracker.inlier_rms_mm).epsilon(1e-12));
   CHECK(read.name == shipped.name);
@@ -127,7 +127,7 @@ TEST_CASE("A scene naming the calibrated site file drives the simulated tracker 
   sim::SiteDescription guess = sim::make_default_site();
   guess.tracker.site_from_tracker.translation() += Eigen::Vector3d(0.03, -0.02, 0.02);
   guess.tracker.site_from_tracker.linear() =
-      Eigen::AngleAxisd(4 * kDegree, Eigen::Vector3d::UnitY()) * guess.tracker.site_from_tracker.linear();
+      Eigen::AngleAxisd(4 * kDegreeCalibrationSite, Eigen::Vector3d::UnitY()) * guess.tracker.site_from_tracker.linear();
   const auto site_path = scratch_file("guessed-tracker.json");
   sim::write_site(site_path, guess);
 
@@ -206,7 +206,7 @@ TEST_CASE("Calibration refuses a site file it cannot update, and leaves it as it
     sim::SiteDescription site = load_site_to_update(path);
     TrackerCalibration upside_down;
     upside_down.site_from_tracker = site.tracker.site_from_tracker *
-                                    Eigen::Isometry3d(Eigen::AngleAxisd(180 * kDegree, Eigen::Vector3d::UnitX()));
+                                    Eigen::Isometry3d(Eigen::AngleAxisd(180 * kDegreeCalibrationSite, Eigen::Vector3d::UnitX()));
     apply_tracker_calibration(site, upside_down);
     CHECK_THROWS_WITH(write_updated_site(path, site),
                       Contains("fails its checks") && Contains("does not see the touch region"));

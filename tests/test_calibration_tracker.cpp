@@ -21,25 +21,25 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
+constexpr double kDegreeCalibrationTracker = 3.14159265358979323846 / 180.0;
 // 17 good touches with 2 mm noise per axis over the synthetic site's 0.7 x 0.45 m grid (the
 // glass its tracker sees): the translation is good to about 2 mm / sqrt(17) at the grid's centre
 // (plus lever arm), the rotation to about 2 mm / 0.25 m = 0.5 degrees at worst.
 constexpr double kNoisyTranslationToleranceM = 4e-3;
-constexpr double kNoisyAngleToleranceRad = 0.6 * kDegree;
+constexpr double kNoisyAngleToleranceRad = 0.6 * kDegreeCalibrationTracker;
 // The residuals of the good touches keep the noise the 6 pose parameters do not absorb: their
 // RMS is about 2 mm * sqrt((3 * 17 - 6) / 17) = 3.3 mm (seeds 1 to 5 give 3.0 to 3.6 mm).
 constexpr double kNoisyRmsLowMm = 2.5;
 constexpr double kNoisyRmsHighMm = 4.2;
 
-std::filesystem::path scratch_file(const std::string& name) {
+std::filesystem::path scratch_file_calibration_tracker(const std::string& name) {
   const auto folder =
       std::filesystem::temp_directory_path() / ("remotetouch-test-calibration-tracker-" + std::to_string(getpid()));
   std::filesystem::create_directories(folder);
   return folder / name;
 }
 
-double angle_between(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+double angle_between_calibration_tracker(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return Eigen::AngleAxisd(a.linear() * b.linear().transpose()).angle();
 }
 
@@ -65,7 +65,7 @@ std::vector<Eigen::Vector3d> screen_grid(int columns, int rows) {
 
 Eigen::Isometry3d tracker_pose() {
   Eigen::Isometry3d site_from_tracker = Eigen::Isometry3d::Identity();
-  site_from_tracker.linear() = Eigen::AngleAxisd(-12 * kDegree, Eigen::Vector3d(0.1, 1, 0.05).normalized()).toRotationMatrix();
+  site_from_tracker.linear() = Eigen::AngleAxisd(-12 * kDegreeCalibrationTracker, Eigen::Vector3d(0.1, 1, 0.05).normalized()).toRotationMatrix();
   site_from_tracker.translation() = Eigen::Vector3d(-0.25, -0.40, 0.45);
   return site_from_tracker;
 }
@@ -82,9 +82,9 @@ TEST_CASE("Tracker: 2 mm noise and slipped touches; the slips are rejected, the 
     const Eigen::Isometry3d& truth = site.truth.tracker.site_from_tracker;
     INFO("seed " << seed << ": inlier RMS " << found.inlier_rms_mm << " mm, translation error "
                  << (found.site_from_tracker.translation() - truth.translation()).norm() * 1000 << " mm, rotation error "
-                 << angle_between(found.site_from_tracker, truth) / kDegree << " degrees");
+                 << angle_between_calibration_tracker(found.site_from_tracker, truth) / kDegreeCalibrationTracker << " degrees");
     CHECK((found.site_from_tracker.translation() - truth.translation()).norm() < kNoisyTranslationToleranceM);
-    CHECK(angle_between(found.site_from_tracker, truth) < kNoisyAngleToleranceRad);
+    CHECK(angle_between_calibration_tracker(found.site_from_tracker, truth) < kNoisyAngleToleranceRad);
     for (size_t i = 0; i < site.touches.size(); ++i) CHECK(found.inlier[i] == !site.touch_is_outlier[i]);
     REQUIRE(found.residuals_mm.size() == site.touches.size());
     for (size_t i = 0; i < site.touches.size(); ++i) {
@@ -122,7 +122,7 @@ TEST_CASE("Tracker: many touches go through random minimal sets with the same re
   CHECK(found.inlier_count() == 55);
   for (size_t i : {3u, 17u, 31u, 44u, 58u}) CHECK_FALSE(found.inlier[i]);
   CHECK((found.site_from_tracker.translation() - tracker_pose().translation()).norm() < kNoisyTranslationToleranceM);
-  CHECK(angle_between(found.site_from_tracker, tracker_pose()) < kNoisyAngleToleranceRad);
+  CHECK(angle_between_calibration_tracker(found.site_from_tracker, tracker_pose()) < kNoisyAngleToleranceRad);
 }
 
 TEST_CASE("Tracker: degenerate or inconsistent touch sets are refused with a reason", "[calibration][tracker]") {
@@ -202,7 +202,7 @@ TEST_CASE("Rigid alignment never reflects, and refuses a line", "[calibration][t
 
 TEST_CASE("Tracker touches file: read, and errors that name the touch and the field", "[calibration][tracker]") {
   const auto touches = exact_touches(screen_grid(3, 2), tracker_pose());
-  const auto path = scratch_file("touches.json");
+  const auto path = scratch_file_calibration_tracker("touches.json");
   std::ofstream(path) << tracker_touches_to_json(touches).dump(2);
   const auto read = read_tracker_touches(path);
   REQUIRE(read.size() == touches.size());
@@ -215,5 +215,5 @@ TEST_CASE("Tracker touches file: read, and errors that name the touch and the fi
   CHECK_THROWS_WITH(read_tracker_touches(path), Contains("touch 'touch 1'") && Contains("missing field 'tip_mm'"));
   std::ofstream(path) << R"({"touch": []})";
   CHECK_THROWS_WITH(read_tracker_touches(path), Contains("missing field 'touches'"));
-  CHECK_THROWS_WITH(read_tracker_touches(scratch_file("missing.json")), Contains("cannot open"));
+  CHECK_THROWS_WITH(read_tracker_touches(scratch_file_calibration_tracker("missing.json")), Contains("cannot open"));
 }

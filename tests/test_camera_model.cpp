@@ -16,7 +16,7 @@ using namespace rt;
 
 namespace {
 
-Camera test_camera() {
+Camera test_camera_camera_model() {
   Camera camera;
   camera.name = "top-left";
   camera.intrinsics = {512, 512, 250.0, 251.0, 255.5, 254.0, {0.1, -0.05, 0.001, -0.0005, 0.01, 0, 0, 0}};
@@ -38,7 +38,7 @@ Camera test_camera() {
 // each a different value, of the size an Azure Kinect's factory calibration gives its 1280x720
 // color camera (OpenCV's CALIB_RATIONAL_MODEL: k1-k6 near 1, p1 and p2 below 1e-3).
 Camera rational_camera() {
-  Camera camera = test_camera();
+  Camera camera = test_camera_camera_model();
   camera.name = "wide";
   camera.intrinsics = {1280, 720, 605.2, 604.8, 638.1, 367.4,
                        {.k1 = 0.52, .k2 = -2.71, .p1 = 6.1e-4, .p2 = -2.7e-4, .k3 = 1.62, .k4 = 0.40, .k5 = -2.53,
@@ -182,7 +182,7 @@ TEST_CASE("undistortion with the full rational model inverts OpenCV's projection
 }
 
 TEST_CASE("a projected point's ray passes back through it", "[camera]") {
-  const Camera camera = test_camera();
+  const Camera camera = test_camera_camera_model();
   CHECK((camera.position_in_site() - Eigen::Vector3d(-0.7, 0.45, 0.05)).norm() < 1e-12);
   for (const Eigen::Vector3d& point : {Eigen::Vector3d(0, 0, 0.7), Eigen::Vector3d(0.1, -0.2, 0.5),
                                        Eigen::Vector3d(-0.3, 0.3, 0.9)}) {
@@ -195,13 +195,13 @@ TEST_CASE("a projected point's ray passes back through it", "[camera]") {
 }
 
 TEST_CASE("points behind the camera do not project", "[camera]") {
-  const Camera camera = test_camera();
+  const Camera camera = test_camera_camera_model();
   CHECK_FALSE(camera.project(Eigen::Vector3d(-1.5, 0.9, -0.6)));
   CHECK_FALSE(camera.project(Eigen::Vector3d(std::nan(""), 0, 0.7)));
 }
 
 TEST_CASE("camera JSON round-trips with named fields", "[camera]") {
-  const Camera camera = test_camera();
+  const Camera camera = test_camera_camera_model();
   const nlohmann::json json = camera_to_json(camera);
   CHECK(json.at("fx").get<double>() == 250.0);
   CHECK(json.at("distortion").at("p2").get<double>() == -0.0005);
@@ -213,22 +213,22 @@ TEST_CASE("camera JSON round-trips with named fields", "[camera]") {
 }
 
 TEST_CASE("bad camera JSON names the camera and the field", "[camera]") {
-  nlohmann::json json = camera_to_json(test_camera());
+  nlohmann::json json = camera_to_json(test_camera_camera_model());
   json.erase("fx");
   CHECK_THROWS_WITH(camera_from_json(json), Catch::Contains("camera 'top-left'") && Catch::Contains("'fx'"));
-  json = camera_to_json(test_camera());
+  json = camera_to_json(test_camera_camera_model());
   json["fy"] = "two hundred";
   CHECK_THROWS_WITH(camera_from_json(json), Catch::Contains("'fy' must be a number"));
-  json = camera_to_json(test_camera());
+  json = camera_to_json(test_camera_camera_model());
   json["width"] = -5;
   CHECK_THROWS_WITH(camera_from_json(json), Catch::Contains("'width' must be > 0"));
-  json = camera_to_json(test_camera());
+  json = camera_to_json(test_camera_camera_model());
   json["distortion"]["k9"] = 0.1;
   CHECK_THROWS_WITH(camera_from_json(json), Catch::Contains("unknown coefficient 'k9'"));
-  json = camera_to_json(test_camera());
+  json = camera_to_json(test_camera_camera_model());
   json["camera_from_site"][0][0] = 2.0;
   CHECK_THROWS_WITH(camera_from_json(json), Catch::Contains("not a rotation"));
-  json = camera_to_json(test_camera());
+  json = camera_to_json(test_camera_camera_model());
   json["camera_from_site"] = {1, 2, 3};
   CHECK_THROWS_WITH(camera_from_json(json), Catch::Contains("4x4"));
   CHECK_THROWS_WITH(config::read_json_file("/nonexistent/site.json"), Catch::Contains("/nonexistent/site.json"));

@@ -16,7 +16,7 @@ HostImage quantised(HostImage image) {
   return image;
 }
 
-HostImage run_gpu(const HostImage& input, const passes::ColorSensorModel& model) {
+HostImage run_gpu_color_sensor(const HostImage& input, const passes::ColorSensorModel& model) {
   const passes::ColorSensorPass pass(test::gpu(), model);
   test::PassHarness gpu("color_sensor");
   pass.add_to(gpu.graph(), gpu.input("rendered", input),
@@ -32,9 +32,9 @@ TEST_CASE("color_sensor: off is the identity; gain and balance as the reference"
   for (const auto& [width, height] : test::odd_sizes()) {
     INFO(width << "x" << height);
     const HostImage input = quantised(test::random_image(rng, width, height, PixelFormat::RGBA8));
-    RT_REQUIRE_MATCHES(run_gpu(input, {}), input, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_color_sensor(input, {}), input, 0.0, 0.0);
     const passes::ColorSensorModel warm{1.3f, 1.1f, 1.0f, 0.8f};
-    RT_REQUIRE_MATCHES(run_gpu(input, warm), passes::color_sensor_reference(input, warm), kOneStep, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_color_sensor(input, warm), passes::color_sensor_reference(input, warm), kOneStep, 0.0);
   }
 }
 
@@ -42,11 +42,11 @@ TEST_CASE("color_sensor hard cases: black, saturated, zero gain, bad models", "[
   test::NoValidationErrors no_errors;
   const passes::ColorSensorModel bright{4.0f, 1.0f, 1.0f, 1.0f};
   const HostImage white(7, 5, PixelFormat::RGBA8, 1.0f), black(7, 5, PixelFormat::RGBA8, 0.0f);
-  RT_REQUIRE_MATCHES(run_gpu(white, bright), white, 0.0, 0.0);  // clipped, not wrapped
-  RT_REQUIRE_MATCHES(run_gpu(black, bright), black, 0.0, 0.0);
+  RT_REQUIRE_MATCHES(run_gpu_color_sensor(white, bright), white, 0.0, 0.0);  // clipped, not wrapped
+  RT_REQUIRE_MATCHES(run_gpu_color_sensor(black, bright), black, 0.0, 0.0);
   HostImage expected_dark(7, 5, PixelFormat::RGBA8, 0.0f);
   for (size_t i = 3; i < expected_dark.texels.size(); i += 4) expected_dark.texels[i] = 1.0f;
-  RT_REQUIRE_MATCHES(run_gpu(white, {0.0f, 1.0f, 1.0f, 1.0f}), expected_dark, 0.0, 0.0);
+  RT_REQUIRE_MATCHES(run_gpu_color_sensor(white, {0.0f, 1.0f, 1.0f, 1.0f}), expected_dark, 0.0, 0.0);
   CHECK_THROWS_WITH(passes::check_color_sensor_model({-1.0f, 1.0f, 1.0f, 1.0f}), Catch::Contains("gain"));
   CHECK_THROWS(passes::check_color_sensor_model({1.0f, std::numeric_limits<float>::quiet_NaN(), 1.0f, 1.0f}));
 }

@@ -10,9 +10,9 @@ using namespace rt;
 
 namespace {
 
-constexpr double kOneStep = 1.0 / 255.0 + 1e-6;
+constexpr double kOneStepComposite = 1.0 / 255.0 + 1e-6;
 
-HostImage run_gpu(const HostImage& fused, const HostImage& background) {
+HostImage run_gpu_composite(const HostImage& fused, const HostImage& background) {
   const passes::CompositePass pass(test::gpu());
   test::PassHarness gpu("composite");
   pass.add_to(gpu.graph(), gpu.input("fused", fused), gpu.input("background", background),
@@ -37,7 +37,7 @@ TEST_CASE("composite on random layers of odd sizes", "[composite][gpu]") {
     INFO(width << "x" << height);
     const HostImage fused = random_premultiplied(rng, width, height);
     const HostImage background = test::random_image(rng, width, height, PixelFormat::RGBA32F);
-    RT_REQUIRE_MATCHES(run_gpu(fused, background), passes::composite_reference(fused, background), kOneStep, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_composite(fused, background), passes::composite_reference(fused, background), kOneStepComposite, 0.0);
   }
 }
 
@@ -51,14 +51,14 @@ TEST_CASE("composite hard cases", "[composite][gpu]") {
 
   SECTION("alpha 0 everywhere shows the background") {
     const HostImage fused = test::filled_image(w, h, PixelFormat::RGBA32F, 0.0f);
-    RT_REQUIRE_MATCHES(run_gpu(fused, background), opaque_background, kOneStep, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_composite(fused, background), opaque_background, kOneStepComposite, 0.0);
   }
   SECTION("alpha 1 everywhere shows the layer") {
     HostImage fused = random_premultiplied(rng, w, h);
     for (size_t i = 3; i < fused.texels.size(); i += 4) fused.texels[i] = 1.0f;
-    RT_REQUIRE_MATCHES(run_gpu(fused, background), passes::composite_reference(fused, background), kOneStep, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_composite(fused, background), passes::composite_reference(fused, background), kOneStepComposite, 0.0);
     HostImage expected = fused;
-    RT_REQUIRE_MATCHES(run_gpu(fused, background), expected, kOneStep, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_composite(fused, background), expected, kOneStepComposite, 0.0);
   }
   SECTION("non-finite and out-of-range values stay in range") {
     HostImage fused = random_premultiplied(rng, w, h);
@@ -67,6 +67,6 @@ TEST_CASE("composite hard cases", "[composite][gpu]") {
     for (size_t i = 0; i < fused.texels.size(); i += 2) fused.texels[i] = bad[i % 5];
     HostImage bad_background = background;
     for (size_t i = 1; i < bad_background.texels.size(); i += 3) bad_background.texels[i] = bad[i % 5];
-    RT_REQUIRE_MATCHES(run_gpu(fused, bad_background), passes::composite_reference(fused, bad_background), kOneStep, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_composite(fused, bad_background), passes::composite_reference(fused, bad_background), kOneStepComposite, 0.0);
   }
 }

@@ -25,7 +25,7 @@ struct Rig {
   Eigen::Isometry3d color_from_depth = Eigen::Isometry3d::Identity();
 };
 
-HostImage run_gpu(const HostImage& depth_mm, const Rig& rig, const DepthInColorSettings& settings = {}) {
+HostImage run_gpu_depth_in_color(const HostImage& depth_mm, const Rig& rig, const DepthInColorSettings& settings = {}) {
   const passes::DepthInColorPass pass(test::gpu(), settings);
   const std::vector<float> rays = passes::depth_in_color_rays(rig.depth);
   const auto params = passes::depth_in_color_params(rig.color, rig.color_from_depth);
@@ -124,7 +124,7 @@ TEST_CASE("depth_in_color matches the reference on random cameras and scenes of 
     INFO("depth " << dw << "x" << dh << ", colour " << cw << "x" << ch);
     const Rig rig = random_rig(rng, dw, dh, cw, ch);
     const HostImage depth = scene(rng, dw, dh);
-    const HostImage gpu = run_gpu(depth, rig), ref = reference(depth, rig);
+    const HostImage gpu = run_gpu_depth_in_color(depth, rig), ref = reference(depth, rig);
     require_agrees(gpu, ref);
     if (dw < 2 || dh < 2) CHECK(nonzero(ref) == 0);  // a single row or column spans no area
     if (dw >= 33 && dh >= 17) CHECK(nonzero(ref) > ref.texels.size() / 4);
@@ -137,7 +137,7 @@ TEST_CASE("depth_in_color upsampled four times leaves no holes in a continuous s
   const uint32_t dw = 81, dh = 73, cw = 4 * dw, ch = 4 * dh;
   Rig rig = random_rig(rng, dw, dh, cw, ch);
   const HostImage depth = scene(rng, dw, dh, 0.0f, true);
-  const HostImage gpu = run_gpu(depth, rig), ref = reference(depth, rig);
+  const HostImage gpu = run_gpu_depth_in_color(depth, rig), ref = reference(depth, rig);
   require_agrees(gpu, ref);
   CHECK(holes(ref) == 0);
   CHECK(holes(gpu) == 0);
@@ -152,7 +152,7 @@ TEST_CASE("depth_in_color hard cases", "[depth_in_color][gpu]") {
 
   SECTION("no measurement anywhere: nothing lands") {
     const HostImage zero(dw, dh, PixelFormat::R16U, 0.0f);
-    const HostImage gpu = run_gpu(zero, rig);
+    const HostImage gpu = run_gpu_depth_in_color(zero, rig);
     require_agrees(gpu, reference(zero, rig));
     CHECK(nonzero(gpu) == 0);
   }
@@ -163,7 +163,7 @@ TEST_CASE("depth_in_color hard cases", "[depth_in_color][gpu]") {
     HostImage depth(dw, dh, PixelFormat::R16U);
     for (uint32_t y = 0; y < dh; ++y)
       for (uint32_t x = 0; x < dw; ++x) depth.at(x, y) = y < dh / 2 ? 1000.0f : 2000.0f;
-    const HostImage gpu = run_gpu(depth, rig);
+    const HostImage gpu = run_gpu_depth_in_color(depth, rig);
     require_agrees(gpu, reference(depth, rig));
     CHECK(nonzero(gpu) > 0);
     for (float mm : gpu.texels) CHECK((mm == 0.0f || std::abs(mm - 500.0f) <= 1.0f));
@@ -171,11 +171,11 @@ TEST_CASE("depth_in_color hard cases", "[depth_in_color][gpu]") {
   SECTION("points outside the colour image are dropped; partly outside, the rest lands") {
     const HostImage depth = scene(rng, dw, dh);
     rig.color_from_depth = Eigen::Translation3d(5.0, 0, 0) * Eigen::Isometry3d::Identity();
-    const HostImage away = run_gpu(depth, rig);
+    const HostImage away = run_gpu_depth_in_color(depth, rig);
     require_agrees(away, reference(depth, rig));
     CHECK(nonzero(away) == 0);
     rig.color_from_depth = Eigen::Translation3d(1.2, -0.9, 0) * Eigen::Isometry3d::Identity();
-    const HostImage partly = run_gpu(depth, rig);
+    const HostImage partly = run_gpu_depth_in_color(depth, rig);
     require_agrees(partly, reference(depth, rig));
     CHECK(nonzero(partly) > 0);
     CHECK(nonzero(partly) < partly.texels.size() / 2);
@@ -195,7 +195,7 @@ TEST_CASE("depth_in_color hard cases", "[depth_in_color][gpu]") {
       HostImage depth(64, 48, PixelFormat::R16U, 2000.0f), wall_only(64, 48, PixelFormat::R16U, 2000.0f);
       for (uint32_t y = 14; y <= 34; ++y)
         for (uint32_t x = 24; x <= 44; ++x) depth.at(x, y) = 1000.0f, wall_only.at(x, y) = 0.0f;
-      const HostImage gpu = run_gpu(depth, edge), ref = reference(depth, edge);
+      const HostImage gpu = run_gpu_depth_in_color(depth, edge), ref = reference(depth, edge);
       require_agrees(gpu, ref);
       // The wall alone does land under the square: without the minimum it could win there.
       const HostImage wall = reference(wall_only, edge);
@@ -216,7 +216,7 @@ TEST_CASE("depth_in_color hard cases", "[depth_in_color][gpu]") {
     HostImage depth(dw, dh, PixelFormat::R16U);
     for (uint32_t y = 0; y < dh; ++y)
       for (uint32_t x = 0; x < dw; ++x) depth.at(x, y) = float(1500 + 7 * x + 3 * y);
-    const HostImage gpu = run_gpu(depth, rig);
+    const HostImage gpu = run_gpu_depth_in_color(depth, rig);
     require_agrees(gpu, reference(depth, rig));
     RT_REQUIRE_MATCHES(gpu, depth, 1.0, 0.0);
   }
@@ -230,7 +230,7 @@ TEST_CASE("depth_in_color refuses what it cannot register", "[depth_in_color][gp
   CHECK_THROWS_WITH(passes::DepthInColorPass(test::gpu(), negative), Catch::Contains("max_jump_m"));
 }
 
-// Not run by default (`test_depth_in_color "[.bench]"`): the pass's GPU time at the device's
+// Not run by default (`remotetouch_gpu_tests "[.bench]"`): the pass's GPU time at the device's
 // sizes, through pipeline::DepthRegistration as the commands use it, on a scene the depth
 // camera measures everywhere (the worst case: a simulated person covers a few percent).
 TEST_CASE("depth_in_color time at k4a sizes", "[.bench][depth_in_color]") {

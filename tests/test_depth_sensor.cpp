@@ -16,7 +16,7 @@ using passes::DepthSensorModel;
 
 namespace {
 
-HostImage run_gpu(const HostImage& depth, const HostImage& part, const DepthSensorModel& model, uint32_t seed) {
+HostImage run_gpu_depth_sensor(const HostImage& depth, const HostImage& part, const DepthSensorModel& model, uint32_t seed) {
   const passes::DepthSensorPass pass(test::gpu(), model);
   test::PassHarness gpu("depth_sensor");
   pass.add_to(gpu.graph(), gpu.input("depth m", depth), gpu.input("part", part),
@@ -28,7 +28,7 @@ HostImage run_gpu(const HostImage& depth, const HostImage& part, const DepthSens
 struct DepthScene {
   HostImage depth, part;
 };
-DepthScene scene(std::mt19937& rng, uint32_t w, uint32_t h) {
+DepthScene scene_depth_sensor(std::mt19937& rng, uint32_t w, uint32_t h) {
   DepthScene s{HostImage(w, h, PixelFormat::R32F), HostImage(w, h, PixelFormat::R32F)};
   std::uniform_real_distribution<float> jitter(-0.05f, 0.05f), unit(0.0f, 1.0f);
   for (uint32_t y = 0; y < h; ++y)
@@ -75,8 +75,8 @@ TEST_CASE("depth_sensor with effects off is the ground truth in millimetres", "[
   std::mt19937 rng(31);
   for (const auto& [width, height] : test::odd_sizes()) {
     INFO(width << "x" << height);
-    const DepthScene s = scene(rng, width, height);
-    const HostImage gpu = run_gpu(s.depth, s.part, {}, 7);
+    const DepthScene s = scene_depth_sensor(rng, width, height);
+    const HostImage gpu = run_gpu_depth_sensor(s.depth, s.part, {}, 7);
     RT_REQUIRE_MATCHES(gpu, passes::depth_sensor_reference(s.depth, s.part, {}, 7), 0.0, 0.0);
     for (size_t i = 0; i < gpu.texels.size(); ++i) {
       const float z = s.depth.texels[i];
@@ -93,10 +93,10 @@ TEST_CASE("depth_sensor hard cases: NaN, Inf, negative, range ends, empty", "[de
   depth.texels = {nan, inf, -inf, -1.0f, 0.0f, 0.25f, 2.88f, 0.2499f, 2.8801f};
   const HostImage part(9, 1, PixelFormat::R32F, float(RT_PART_HAND));
   for (const DepthSensorModel& model : {DepthSensorModel{}, every_effect()}) {
-    const HostImage gpu = run_gpu(depth, part, model, 3);
+    const HostImage gpu = run_gpu_depth_sensor(depth, part, model, 3);
     require_close(gpu, passes::depth_sensor_reference(depth, part, model, 3), 1.0f, 0.0);
   }
-  const HostImage gpu = run_gpu(depth, HostImage(9, 1, PixelFormat::R32F), {}, 3);
+  const HostImage gpu = run_gpu_depth_sensor(depth, HostImage(9, 1, PixelFormat::R32F), {}, 3);
   CHECK(gpu.texels == std::vector<float>{0, 0, 0, 0, 0, 250, 2880, 0, 0});
 }
 
@@ -105,8 +105,8 @@ TEST_CASE("depth_sensor with every effect on matches the reference", "[depth_sen
   std::mt19937 rng(32);
   for (const auto& [width, height] : std::vector<std::pair<uint32_t, uint32_t>>{{641, 359}, {33, 17}, {7, 5}}) {
     INFO(width << "x" << height);
-    const DepthScene s = scene(rng, width, height);
-    const HostImage gpu = run_gpu(s.depth, s.part, every_effect(), 11);
+    const DepthScene s = scene_depth_sensor(rng, width, height);
+    const HostImage gpu = run_gpu_depth_sensor(s.depth, s.part, every_effect(), 11);
     require_close(gpu, passes::depth_sensor_reference(s.depth, s.part, every_effect(), 11), 1.0f, 0.0005);
   }
 }
@@ -120,14 +120,14 @@ TEST_CASE("depth_sensor effects: measured statistics match their parameters", "[
   SECTION("noise: sigma at 1 m within 10% of the configured value, mean unbiased") {
     DepthSensorModel model;
     model.noise_sigma_at_1m_m = 0.006f;
-    const HostImage gpu = run_gpu(plane, body, model, 5);
+    const HostImage gpu = run_gpu_depth_sensor(plane, body, model, 5);
     double sum = 0, sum2 = 0;
     for (float mm : gpu.texels) sum += mm / 1000.0, sum2 += (mm / 1000.0) * (mm / 1000.0);
     const double n = double(gpu.texels.size()), mean = sum / n, sigma = std::sqrt(sum2 / n - mean * mean);
     CHECK(mean == Approx(1.0).margin(0.0005));
     CHECK(sigma == Approx(0.006).epsilon(0.10));
     // Quadratic growth: at 2 m the sigma is four times larger.
-    const HostImage far = run_gpu(HostImage(w, h, PixelFormat::R32F, 2.0f), body, model, 6);
+    const HostImage far = run_gpu_depth_sensor(HostImage(w, h, PixelFormat::R32F, 2.0f), body, model, 6);
     double far_sum = 0, far_sum2 = 0;
     for (float mm : far.texels) far_sum += mm / 1000.0, far_sum2 += (mm / 1000.0) * (mm / 1000.0);
     const double far_mean = far_sum / n;
@@ -137,13 +137,13 @@ TEST_CASE("depth_sensor effects: measured statistics match their parameters", "[
     DepthSensorModel model;
     model.skin_bias_m = 0.01f;
     const HostImage hand(w, h, PixelFormat::R32F, float(RT_PART_HAND));
-    CHECK(run_gpu(plane, hand, model, 1).texels[1234] == 1010.0f);
-    CHECK(run_gpu(plane, body, model, 1).texels[1234] == 1000.0f);
+    CHECK(run_gpu_depth_sensor(plane, hand, model, 1).texels[1234] == 1010.0f);
+    CHECK(run_gpu_depth_sensor(plane, body, model, 1).texels[1234] == 1000.0f);
   }
   SECTION("near cutoff: nearer than range_min is invalid") {
     DepthSensorModel model;
     model.range_min_m = 1.5f;
-    CHECK(run_gpu(plane, body, model, 1).texels[99] == 0.0f);
+    CHECK(run_gpu_depth_sensor(plane, body, model, 1).texels[99] == 0.0f);
   }
   SECTION("flying pixels: only at edges, at the configured rate") {
     DepthSensorModel model;
@@ -152,7 +152,7 @@ TEST_CASE("depth_sensor effects: measured statistics match their parameters", "[
     HostImage step(w, h, PixelFormat::R32F, 1.0f);
     for (uint32_t y = 0; y < h; ++y)
       for (uint32_t x = w / 2; x < w; ++x) step.at(x, y) = 2.0f;  // one vertical edge
-    const HostImage gpu = run_gpu(step, body, model, 9);
+    const HostImage gpu = run_gpu_depth_sensor(step, body, model, 9);
     size_t dropped_at_edge = 0, changed_elsewhere = 0;
     for (uint32_t y = 1; y + 1 < h; ++y)
       for (uint32_t x = 1; x + 1 < w; ++x) {
@@ -171,7 +171,7 @@ TEST_CASE("depth_sensor effects: measured statistics match their parameters", "[
     HostImage ramp(w, h, PixelFormat::R32F);
     for (uint32_t y = 0; y < h; ++y)
       for (uint32_t x = 0; x < w; ++x) ramp.at(x, y) = 0.5f + 0.001f * float(x);
-    const HostImage gpu = run_gpu(ramp, body, model, 1);
+    const HostImage gpu = run_gpu_depth_sensor(ramp, body, model, 1);
     CHECK(gpu.at(100, 10) == std::floor(ramp.at(97, 10) * 1000.0f + 0.5f));
     CHECK(gpu.at(1, 10) == 0.0f);  // shifted in from outside the image
   }

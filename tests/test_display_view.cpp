@@ -11,11 +11,11 @@ using namespace rt;
 
 namespace {
 
-constexpr double kOneStep = 1.0 / 255.0 + 1e-6;
+constexpr double kOneStepDisplayView = 1.0 / 255.0 + 1e-6;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-HostImage run_gpu(const HostImage& source, const passes::DisplayViewMapping& mapping, uint32_t width, uint32_t height) {
+HostImage run_gpu_display_view(const HostImage& source, const passes::DisplayViewMapping& mapping, uint32_t width, uint32_t height) {
   const passes::DisplayViewPass pass(test::gpu());
   test::PassHarness gpu("display_view");
   pass.add_to(gpu.graph(), gpu.input("source", source), gpu.output("view", width, height, PixelFormat::RGBA8),
@@ -24,8 +24,8 @@ HostImage run_gpu(const HostImage& source, const passes::DisplayViewMapping& map
 }
 
 void require_matches(const HostImage& source, const passes::DisplayViewMapping& mapping, uint32_t width, uint32_t height) {
-  RT_REQUIRE_MATCHES(run_gpu(source, mapping, width, height),
-                     passes::display_view_reference(source, mapping, width, height), kOneStep, 0.0);
+  RT_REQUIRE_MATCHES(run_gpu_display_view(source, mapping, width, height),
+                     passes::display_view_reference(source, mapping, width, height), kOneStepDisplayView, 0.0);
 }
 
 passes::DisplayViewMapping depth_mapping() {
@@ -87,15 +87,15 @@ TEST_CASE("display_view hard cases", "[display_view][gpu]") {
   SECTION("non-finite values show magenta, zero depth dark blue") {
     HostImage depth(5, 1, PixelFormat::R32F);
     depth.texels = {kNaN, kInf, -kInf, 0.0f, 1.0f};
-    const HostImage view = run_gpu(depth, depth_mapping(), 5, 1);
+    const HostImage view = run_gpu_display_view(depth, depth_mapping(), 5, 1);
     require_matches(depth, depth_mapping(), 5, 1);
     for (uint32_t x = 0; x < 3; ++x) {
       CHECK(view.at(x, 0, 0) == 1.0f);
       CHECK(view.at(x, 0, 1) == 0.0f);
       CHECK(view.at(x, 0, 2) == 1.0f);
     }
-    CHECK(view.at(3, 0, 2) == Approx(64.0 / 255).margin(kOneStep));
-    CHECK(view.at(4, 0, 0) == Approx(1.0 - (1.0 - 0.3) / 2.2).margin(kOneStep));
+    CHECK(view.at(3, 0, 2) == Approx(64.0 / 255).margin(kOneStepDisplayView));
+    CHECK(view.at(4, 0, 0) == Approx(1.0 - (1.0 - 0.3) / 2.2).margin(kOneStepDisplayView));
   }
   SECTION("NaN color, zero alpha") {
     HostImage color = test::filled_image(4, 2, PixelFormat::RGBA32F, 0.0f);
@@ -119,7 +119,7 @@ TEST_CASE("display_view hard cases", "[display_view][gpu]") {
   SECTION("a very wide source into a tall window keeps its aspect: bars above and below") {
     std::mt19937 rng(14);
     const HostImage wide = test::random_image(rng, 40, 2, PixelFormat::RGBA32F);
-    const HostImage view = run_gpu(wide, {}, 20, 20);
+    const HostImage view = run_gpu_display_view(wide, {}, 20, 20);
     require_matches(wide, {}, 20, 20);
     CHECK(view.at(10, 0, 0) == 0.0f);
     CHECK(view.at(10, 19, 0) == 0.0f);

@@ -13,7 +13,7 @@ using namespace rt;
 
 namespace {
 
-std::vector<float> run_gpu(const std::vector<float>& seeds, uint32_t iterations) {
+std::vector<float> run_gpu_fma_peak(const std::vector<float>& seeds, uint32_t iterations) {
   const passes::FmaPeakPass pass(test::gpu());
   test::PassHarness gpu("fma_peak");
   vk::Buffer& sums = gpu.output_buffer<float>("sums", seeds.size());
@@ -21,8 +21,8 @@ std::vector<float> run_gpu(const std::vector<float>& seeds, uint32_t iterations)
   return gpu.run().values<float>("sums");
 }
 
-void require_matches(const std::vector<float>& seeds, uint32_t iterations) {
-  const std::vector<float> gpu = run_gpu(seeds, iterations);
+void require_matches_fma_peak(const std::vector<float>& seeds, uint32_t iterations) {
+  const std::vector<float> gpu = run_gpu_fma_peak(seeds, iterations);
   const std::vector<float> reference = passes::fma_peak_reference(seeds, iterations);
   REQUIRE(gpu.size() == reference.size());
   for (size_t i = 0; i < gpu.size(); ++i) {
@@ -42,7 +42,7 @@ TEST_CASE("fma_peak on random seeds, odd invocation counts and iteration counts"
     INFO(invocations << " invocations, " << iterations << " iterations");
     std::vector<float> seeds(invocations);
     for (float& s : seeds) s = seed(rng);
-    require_matches(seeds, iterations);
+    require_matches_fma_peak(seeds, iterations);
   }
 }
 
@@ -50,6 +50,6 @@ TEST_CASE("fma_peak hard cases: non-finite and huge seeds give finite sums", "[f
   test::NoValidationErrors no_errors;
   const std::vector<float> seeds = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
                                     -std::numeric_limits<float>::infinity(), 1e38f, -1e38f, 0.0f};
-  require_matches(seeds, 1000);
+  require_matches_fma_peak(seeds, 1000);
   CHECK(passes::fma_peak_flops(3, 5) == 3.0 * 5 * RT_FMA_CHAINS * 8);
 }

@@ -12,7 +12,7 @@ namespace {
 
 constexpr double kAbs = 1e-6, kRel = 1e-6;
 
-HostImage run_gpu(const HostImage& mask, float distance, passes::FusionRamp ramp = {}) {
+HostImage run_gpu_hand_alpha(const HostImage& mask, float distance, passes::FusionRamp ramp = {}) {
   const passes::HandAlphaPass pass(test::gpu(), ramp);
   test::PassHarness gpu("hand_alpha");
   pass.add_to(gpu.graph(), gpu.input("hand mask", mask),
@@ -41,7 +41,7 @@ TEST_CASE("hand_alpha on random masks of odd sizes", "[hand_alpha][gpu]") {
     const HostImage mask = test::random_image(rng, width, height, PixelFormat::R32F);
     const float d = distance(rng);
     INFO(width << "x" << height << ", d = " << d);
-    RT_REQUIRE_MATCHES(run_gpu(mask, d), passes::hand_alpha_reference(mask, d), kAbs, kRel);
+    RT_REQUIRE_MATCHES(run_gpu_hand_alpha(mask, d), passes::hand_alpha_reference(mask, d), kAbs, kRel);
   }
 }
 
@@ -54,14 +54,14 @@ TEST_CASE("hand_alpha hard distances: d_min, d_max, NaN, infinities, negative, h
   for (float d : {0.2f, 0.4f, nan, inf, -inf, -0.3f, 0.0f, 1e30f, -1e30f, std::numeric_limits<float>::max(),
                   std::numeric_limits<float>::denorm_min()}) {
     INFO("d = " << d);
-    const HostImage gpu = run_gpu(mask, d);
+    const HostImage gpu = run_gpu_hand_alpha(mask, d);
     RT_REQUIRE_MATCHES(gpu, passes::hand_alpha_reference(mask, d), kAbs, kRel);
   }
   // No hand (NaN) and far hands give alpha 0 everywhere; a hand at the glass gives the mask.
   const HostImage full = test::filled_image(9, 1, PixelFormat::R32F, 1.0f);
-  RT_REQUIRE_MATCHES(run_gpu(full, nan), test::filled_image(9, 1, PixelFormat::R32F, 0.0f), 0.0, 0.0);
-  RT_REQUIRE_MATCHES(run_gpu(full, inf), test::filled_image(9, 1, PixelFormat::R32F, 0.0f), 0.0, 0.0);
-  RT_REQUIRE_MATCHES(run_gpu(full, 0.0f), full, 0.0, 0.0);
+  RT_REQUIRE_MATCHES(run_gpu_hand_alpha(full, nan), test::filled_image(9, 1, PixelFormat::R32F, 0.0f), 0.0, 0.0);
+  RT_REQUIRE_MATCHES(run_gpu_hand_alpha(full, inf), test::filled_image(9, 1, PixelFormat::R32F, 0.0f), 0.0, 0.0);
+  RT_REQUIRE_MATCHES(run_gpu_hand_alpha(full, 0.0f), full, 0.0, 0.0);
 }
 
 TEST_CASE("hand_alpha hard masks: zero, one, NaN, Inf, out of range", "[hand_alpha][gpu]") {
@@ -70,7 +70,7 @@ TEST_CASE("hand_alpha hard masks: zero, one, NaN, Inf, out of range", "[hand_alp
                       -std::numeric_limits<float>::infinity(), -0.5f, 3.0f}) {
     INFO("mask value " << value);
     const HostImage mask = test::filled_image(33, 17, PixelFormat::R32F, value);
-    RT_REQUIRE_MATCHES(run_gpu(mask, 0.25f), passes::hand_alpha_reference(mask, 0.25f), kAbs, kRel);
+    RT_REQUIRE_MATCHES(run_gpu_hand_alpha(mask, 0.25f), passes::hand_alpha_reference(mask, 0.25f), kAbs, kRel);
   }
 }
 
@@ -81,7 +81,7 @@ TEST_CASE("hand_alpha ramp is a knob set by name", "[hand_alpha][gpu]") {
   const HostImage mask = test::random_image(rng, 641, 359, PixelFormat::R32F);
   for (float d : {0.1f, 0.15f, 0.2f, 0.3f}) {
     INFO("d = " << d);
-    RT_REQUIRE_MATCHES(run_gpu(mask, d, ramp), passes::hand_alpha_reference(mask, d, ramp), kAbs, kRel);
+    RT_REQUIRE_MATCHES(run_gpu_hand_alpha(mask, d, ramp), passes::hand_alpha_reference(mask, d, ramp), kAbs, kRel);
   }
   CHECK_THROWS_WITH(passes::HandAlphaPass(test::gpu(), {0.4f, 0.2f}), Catch::Contains("d_min < d_max"));
   CHECK_THROWS_WITH(passes::HandAlphaPass(test::gpu(), {0.3f, 0.3f}), Catch::Contains("d_min < d_max"));

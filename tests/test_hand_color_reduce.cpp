@@ -44,7 +44,7 @@ std::vector<ColorStatsPartial> random_partials(std::mt19937& rng, size_t groups)
   return partials;
 }
 
-AppearanceState run_gpu(const std::vector<ColorStatsPartial>& partials, const AppearanceState& state,
+AppearanceState run_gpu_hand_color_reduce(const std::vector<ColorStatsPartial>& partials, const AppearanceState& state,
                         const shader_abi::ColorStatsReduceParams& params) {
   const passes::HandColorReducePass pass(test::gpu());
   test::PassHarness gpu("hand_color_reduce");
@@ -79,7 +79,7 @@ TEST_CASE("hand_color_reduce matches the reference on random partials", "[hand_c
       const std::vector<ColorStatsPartial> partials = random_partials(rng, groups);
       auto params = params_for(groups);
       params.min_pixels = 1.0f;  // a single partial of a few pixels is still used
-      const AppearanceState gpu = run_gpu(partials, previous, params);
+      const AppearanceState gpu = run_gpu_hand_color_reduce(partials, previous, params);
       const AppearanceState reference = passes::color_reduce_reference(partials, previous, params);
       require_state_matches(gpu, reference);
       if (reference.header[2] >= 1.0f) {
@@ -99,7 +99,7 @@ TEST_CASE("hand_color_reduce hard cases", "[hand_color_reduce][gpu]") {
   for (const auto& p : partials) pixels += p.count[0];
 
   SECTION("smoothing: the new statistics weigh `smoothing`, the update is counted") {
-    const AppearanceState gpu = run_gpu(partials, previous, params_for(partials.size()));
+    const AppearanceState gpu = run_gpu_hand_color_reduce(partials, previous, params_for(partials.size()));
     require_state_matches(gpu, passes::color_reduce_reference(partials, previous, params_for(partials.size())));
     CHECK(gpu.header[1] == 5.0f);
     CHECK(gpu.header[2] == float(pixels));
@@ -111,12 +111,12 @@ TEST_CASE("hand_color_reduce hard cases", "[hand_color_reduce][gpu]") {
     garbage.image_sum = {std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f, 0.0f};
     with_garbage.insert(with_garbage.end(), 50, garbage);
     const auto params = params_for(partials.size());
-    require_state_matches(run_gpu(with_garbage, previous, params), run_gpu(partials, previous, params));
+    require_state_matches(run_gpu_hand_color_reduce(with_garbage, previous, params), run_gpu_hand_color_reduce(partials, previous, params));
   }
   SECTION("too few pixels leave the statistics unchanged") {
     auto strict = params_for(partials.size());
     strict.min_pixels = float(pixels + 1);
-    const AppearanceState unchanged = run_gpu(partials, previous, strict);
+    const AppearanceState unchanged = run_gpu_hand_color_reduce(partials, previous, strict);
     CHECK(unchanged.header[1] == 4.0f);
     CHECK(unchanged.image_mean == previous.image_mean);
     CHECK(unchanged.mesh_sigma == previous.mesh_sigma);
@@ -126,14 +126,14 @@ TEST_CASE("hand_color_reduce hard cases", "[hand_color_reduce][gpu]") {
   SECTION("a non-finite sum leaves the statistics unchanged") {
     std::vector<ColorStatsPartial> infinite = partials;
     infinite[7].mesh_sum_sq[1] = std::numeric_limits<float>::infinity();
-    const AppearanceState unchanged = run_gpu(infinite, previous, params_for(infinite.size()));
+    const AppearanceState unchanged = run_gpu_hand_color_reduce(infinite, previous, params_for(infinite.size()));
     CHECK(unchanged.header[1] == 4.0f);
     CHECK(unchanged.mesh_sigma == previous.mesh_sigma);
     CHECK(unchanged.header[2] == float(pixels));
   }
   SECTION("no valid pixel at all") {
     const std::vector<ColorStatsPartial> empty(40);
-    const AppearanceState result = run_gpu(empty, AppearanceState{}, params_for(empty.size()));
+    const AppearanceState result = run_gpu_hand_color_reduce(empty, AppearanceState{}, params_for(empty.size()));
     CHECK(result.header[0] == 0.0f);
     CHECK(result.header[2] == 0.0f);
     CHECK(result.image_mean == AppearanceState{}.image_mean);
@@ -151,7 +151,7 @@ TEST_CASE("hand_color_reduce weighs a frame by the frames fitted before it, as t
     INFO("frame " << frame);
     const std::vector<ColorStatsPartial> partials = random_partials(rng, 200);
     const AppearanceState before = reference;
-    gpu = run_gpu(partials, gpu, params);
+    gpu = run_gpu_hand_color_reduce(partials, gpu, params);
     reference = passes::color_reduce_reference(partials, reference, params);
     require_state_matches(gpu, reference);
     CHECK(gpu.header[1] == float(frame + 1));

@@ -45,7 +45,7 @@ struct GpuResult {
   AppearanceState state;
 };
 
-GpuResult run_gpu(const Inputs& in, const AppearanceState& state, const shader_abi::ColorStatsReduceParams& reduce) {
+GpuResult run_gpu_hand_color_stats(const Inputs& in, const AppearanceState& state, const shader_abi::ColorStatsReduceParams& reduce) {
   const passes::HandColorStatsPass stats(test::gpu());
   const passes::HandColorReducePass reducer(test::gpu());
   test::PassHarness gpu("hand_color_stats");
@@ -82,7 +82,7 @@ void require_sums_match(const std::vector<ColorStatsPartial>& partials, const pa
     for (int c = 0; c < 3; ++c) REQUIRE(std::abs(sums[k][c] - expected[k][c]) <= 1e-3 + 1e-3 * std::abs(expected[k][c]));
 }
 
-void require_state_matches(const AppearanceState& gpu, const AppearanceState& reference) {
+void require_state_matches_hand_color_stats(const AppearanceState& gpu, const AppearanceState& reference) {
   for (int c = 0; c < 4; ++c) {
     REQUIRE(gpu.header[c] == Approx(reference.header[c]).margin(1e-3));
     for (std::array<float, 4> AppearanceState::*field : {&AppearanceState::image_mean, &AppearanceState::image_sigma, &AppearanceState::mesh_mean,
@@ -104,13 +104,13 @@ TEST_CASE("hand_color_stats and hand_color_reduce match the reference on random 
     INFO(w << "x" << h);
     const Inputs in = random_inputs(rng, w, h);
     const AppearanceState empty{};
-    const GpuResult gpu = run_gpu(in, empty, kReduce);
+    const GpuResult gpu = run_gpu_hand_color_stats(in, empty, kReduce);
     const auto sums = passes::color_stats_reference(in.portrait_color, in.portrait_depth, in.mesh_color, in.mesh_depth,
                                                     in.mesh_mask, passes::color_stats_params(w, h));
     require_sums_match(gpu.partials, sums);
     auto params = kReduce;
     params.group_count = uint32_t(gpu.partials.size());
-    require_state_matches(gpu.state, passes::color_reduce_reference(gpu.partials, empty, params));
+    require_state_matches_hand_color_stats(gpu.state, passes::color_reduce_reference(gpu.partials, empty, params));
     if (sums.count >= 10) CHECK(gpu.state.header[0] == 1.0f);
   }
 }
@@ -136,17 +136,17 @@ TEST_CASE("Color statistics hard cases: black, saturated, NaN, depth disagreemen
   const auto sums = passes::color_stats_reference(in.portrait_color, in.portrait_depth, in.mesh_color, in.mesh_depth, in.mesh_mask, params);
   // A previous state, to see the smoothing.
   const AppearanceState previous = test::previous_appearance_state();
-  const GpuResult gpu = run_gpu(in, previous, kReduce);
+  const GpuResult gpu = run_gpu_hand_color_stats(in, previous, kReduce);
   require_sums_match(gpu.partials, sums);
   auto reduce = kReduce;
   reduce.group_count = uint32_t(gpu.partials.size());
-  require_state_matches(gpu.state, passes::color_reduce_reference(gpu.partials, previous, reduce));
+  require_state_matches_hand_color_stats(gpu.state, passes::color_reduce_reference(gpu.partials, previous, reduce));
   CHECK(gpu.state.header[1] == 5.0f);
 
   SECTION("too few pixels leave the statistics unchanged") {
     auto strict = kReduce;
     strict.min_pixels = float(w * h + 1);
-    const GpuResult unchanged = run_gpu(in, previous, strict);
+    const GpuResult unchanged = run_gpu_hand_color_stats(in, previous, strict);
     CHECK(unchanged.state.header[1] == 4.0f);
     CHECK(unchanged.state.image_mean == previous.image_mean);
     CHECK(unchanged.state.header[2] == Approx(sums.count));
@@ -154,7 +154,7 @@ TEST_CASE("Color statistics hard cases: black, saturated, NaN, depth disagreemen
   SECTION("no valid pixel at all") {
     Inputs none = in;
     for (float& m : none.mesh_mask.texels) m = 0.0f;
-    const GpuResult result = run_gpu(none, AppearanceState{}, kReduce);
+    const GpuResult result = run_gpu_hand_color_stats(none, AppearanceState{}, kReduce);
     CHECK(result.state.header[0] == 0.0f);
     CHECK(result.state.header[2] == 0.0f);
   }

@@ -14,7 +14,7 @@ using passes::AppearanceState;
 
 namespace {
 
-HostImage run_gpu(const HostImage& texture, const AppearanceState& state, float max_contrast = passes::kMaxContrast) {
+HostImage run_gpu_hand_color_transfer(const HostImage& texture, const AppearanceState& state, float max_contrast = passes::kMaxContrast) {
   const passes::HandColorTransferPass pass(test::gpu(), max_contrast);
   test::PassHarness gpu("hand_color_transfer");
   pass.add_to(gpu.graph(), gpu.input("template texture", texture),
@@ -43,7 +43,7 @@ TEST_CASE("hand_color_transfer matches the reference on random textures and stat
     INFO(w << "x" << h);
     const HostImage texture = test::random_image(rng, w, h, PixelFormat::RGBA32F);
     const AppearanceState state = random_state(rng);
-    RT_REQUIRE_MATCHES(run_gpu(texture, state), passes::color_transfer_reference(texture, state, passes::kSigmaFloor), 2e-3, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_hand_color_transfer(texture, state), passes::color_transfer_reference(texture, state, passes::kSigmaFloor), 2e-3, 0.0);
   }
 }
 
@@ -57,18 +57,18 @@ TEST_CASE("hand_color_transfer hard cases") {
       texture.at(x, 1, c) = 1.0f;
     }
   SECTION("no statistics yet: T' = T") {
-    RT_REQUIRE_MATCHES(run_gpu(texture, AppearanceState{}), texture, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_hand_color_transfer(texture, AppearanceState{}), texture, 0.0, 0.0);
   }
   SECTION("sigma_g of zero is floored; huge ratios saturate instead of overflowing") {
     AppearanceState state = random_state(rng);
     state.mesh_sigma = {0.0f, 0.0f, 0.0f, 0.0f};
     state.image_sigma = {50.0f, 50.0f, 50.0f, 0.0f};
-    RT_REQUIRE_MATCHES(run_gpu(texture, state), passes::color_transfer_reference(texture, state, passes::kSigmaFloor), 2e-3, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_hand_color_transfer(texture, state), passes::color_transfer_reference(texture, state, passes::kSigmaFloor), 2e-3, 0.0);
   }
   SECTION("a NaN in the statistics keeps the template texture") {
     AppearanceState state = random_state(rng);
     state.image_mean[0] = std::numeric_limits<float>::quiet_NaN();
-    const HostImage gpu = run_gpu(texture, state);
+    const HostImage gpu = run_gpu_hand_color_transfer(texture, state);
     REQUIRE(test::count_non_finite(gpu) == 0);
     RT_REQUIRE_MATCHES(gpu, texture, 0.0, 0.0);
   }
@@ -83,7 +83,7 @@ TEST_CASE("hand_color_transfer caps the contrast: the template's detail is stret
   state.image_sigma = {0.5f, 0.004f, 0.2f, 0.0f};  // ratios 10, 0.4, 10
   for (float cap : {0.5f, 1.0f, 4.0f}) {
     INFO("max_contrast " << cap);
-    RT_REQUIRE_MATCHES(run_gpu(texture, state, cap), passes::color_transfer_reference(texture, state, passes::kSigmaFloor, cap),
+    RT_REQUIRE_MATCHES(run_gpu_hand_color_transfer(texture, state, cap), passes::color_transfer_reference(texture, state, passes::kSigmaFloor, cap),
                        2e-3, 0.0);
   }
   // At a cap of 1 a channel whose ratio is above it keeps the template's spread: the same as an
@@ -91,7 +91,7 @@ TEST_CASE("hand_color_transfer caps the contrast: the template's detail is stret
   AppearanceState same_spread = state;
   same_spread.image_sigma[0] = state.mesh_sigma[0];
   same_spread.image_sigma[2] = state.mesh_sigma[2];
-  RT_REQUIRE_MATCHES(run_gpu(texture, state, 1.0f), passes::color_transfer_reference(texture, same_spread, passes::kSigmaFloor, 100.0f),
+  RT_REQUIRE_MATCHES(run_gpu_hand_color_transfer(texture, state, 1.0f), passes::color_transfer_reference(texture, same_spread, passes::kSigmaFloor, 100.0f),
                      2e-3, 0.0);
   CHECK_THROWS_AS(passes::HandColorTransferPass(test::gpu(), 0.0f), std::invalid_argument);
   CHECK_THROWS_AS(passes::HandColorTransferPass(test::gpu(), std::numeric_limits<float>::quiet_NaN()), std::invalid_argument);

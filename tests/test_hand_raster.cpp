@@ -38,7 +38,7 @@ passes::HandRasterParams params_of(const Camera& camera, const hand::ShadingVect
   return passes::hand_raster_params(passes::raster_view(camera, 0.05, 10.0), hand::raster_shading(shading));
 }
 
-GpuRaster run_gpu(const std::vector<SkinnedVertex>& skinned, const std::vector<uint32_t>& indices, const HostImage& texture,
+GpuRaster run_gpu_hand_raster(const std::vector<SkinnedVertex>& skinned, const std::vector<uint32_t>& indices, const HostImage& texture,
                   const Camera& camera, const hand::ShadingVector& shading = hand::unlit_shading()) {
   const passes::HandRasterPass pass(test::gpu());
   const vk::Sampler sampler(test::gpu(), "bilinear clamp");
@@ -55,7 +55,7 @@ GpuRaster run_gpu(const std::vector<SkinnedVertex>& skinned, const std::vector<u
   return {out.image("hand color"), out.image("hand depth"), out.image("hand mask"), out.image("hand normal")};
 }
 
-size_t require_matches(const GpuRaster& gpu, const passes::HandRasterReference& reference, double color_tolerance = 4e-3) {
+size_t require_matches_hand_raster(const GpuRaster& gpu, const passes::HandRasterReference& reference, double color_tolerance = 4e-3) {
   REQUIRE(test::count_non_finite(gpu.color) == 0);
   REQUIRE(test::count_non_finite(gpu.depth_m) == 0);
   REQUIRE(test::count_non_finite(gpu.mask) == 0);
@@ -126,8 +126,8 @@ TEST_CASE("hand_raster matches the reference on the skinned template at odd size
     // The hand fills a good part of a small view: 20 cm in front of the screen.
     const auto skinned = skinned_hand(hand, Eigen::Vector3d(0.0, 0.05, 0.2), 0.3);
     const Camera camera = close_view(w, h);
-    const size_t covered = require_matches(
-        run_gpu(skinned, hand.indices, hand.texture, camera),
+    const size_t covered = require_matches_hand_raster(
+        run_gpu_hand_raster(skinned, hand.indices, hand.texture, camera),
         passes::hand_raster_reference(skinned, hand.indices, hand.texture, params_of(camera, hand::unlit_shading()), w, h));
     if (w * h > 1000) CHECK(covered > w * h / 50);
   }
@@ -141,11 +141,11 @@ TEST_CASE("hand_raster shades by the light estimate as the reference does, and c
   hand::ShadingVector harsh = test_light();
   harsh *= 6.0;  // mostly outside [RT_HAND_SHADE_MIN, RT_HAND_SHADE_MAX]
   for (const hand::ShadingVector& shading : {test_light(), harsh}) {
-    const GpuRaster lit = run_gpu(skinned, hand.indices, hand.texture, camera, shading);
-    require_matches(lit, passes::hand_raster_reference(skinned, hand.indices, hand.texture, params_of(camera, shading), 83, 61),
+    const GpuRaster lit = run_gpu_hand_raster(skinned, hand.indices, hand.texture, camera, shading);
+    require_matches_hand_raster(lit, passes::hand_raster_reference(skinned, hand.indices, hand.texture, params_of(camera, shading), 83, 61),
                     4e-3 * RT_HAND_SHADE_MAX);
     // The shade does change the picture: otherwise the test above could pass on an unlit raster.
-    const GpuRaster unlit = run_gpu(skinned, hand.indices, hand.texture, camera);
+    const GpuRaster unlit = run_gpu_hand_raster(skinned, hand.indices, hand.texture, camera);
     double difference = 0;
     for (size_t i = 0; i < lit.color.texels.size(); ++i) difference += std::abs(lit.color.texels[i] - unlit.color.texels[i]);
     CHECK(difference > 1.0);
@@ -153,8 +153,8 @@ TEST_CASE("hand_raster shades by the light estimate as the reference does, and c
   // Collapsed normals: drawn unlit, with no normal, never NaN.
   std::vector<SkinnedVertex> flat = skinned;
   for (SkinnedVertex& v : flat) v.normal_v[0] = v.normal_v[1] = v.normal_v[2] = 0.0f;
-  const GpuRaster collapsed = run_gpu(flat, hand.indices, hand.texture, camera, test_light());
-  require_matches(collapsed, passes::hand_raster_reference(flat, hand.indices, hand.texture, params_of(camera, test_light()), 83, 61));
+  const GpuRaster collapsed = run_gpu_hand_raster(flat, hand.indices, hand.texture, camera, test_light());
+  require_matches_hand_raster(collapsed, passes::hand_raster_reference(flat, hand.indices, hand.texture, params_of(camera, test_light()), 83, 61));
   for (uint32_t y = 0; y < 61; ++y)
     for (uint32_t x = 0; x < 83; ++x) REQUIRE(collapsed.normal.at(x, y, 3) == 0.0f);
 }
@@ -168,9 +168,9 @@ TEST_CASE("hand_raster hard cases: across the near plane, behind the eye, nothin
   for (const Eigen::Vector3d& palm : {Eigen::Vector3d(eye + Eigen::Vector3d(0, 0, 0.1)),   // straddles the near plane
                                       Eigen::Vector3d(eye - Eigen::Vector3d(0, 0, 0.4))}) {  // behind the eye
     const auto skinned = skinned_hand(hand, palm, 0.5);
-    require_matches(run_gpu(skinned, hand.indices, hand.texture, camera),
+    require_matches_hand_raster(run_gpu_hand_raster(skinned, hand.indices, hand.texture, camera),
                     passes::hand_raster_reference(skinned, hand.indices, hand.texture, view, 61, 47));
   }
-  const GpuRaster empty = run_gpu({}, {}, hand.texture, camera);
+  const GpuRaster empty = run_gpu_hand_raster({}, {}, hand.texture, camera);
   for (float m : empty.mask.texels) REQUIRE(m == 0.0f);
 }

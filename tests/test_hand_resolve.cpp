@@ -15,7 +15,7 @@ using namespace rt;
 
 namespace {
 
-passes::HandLayers run_gpu(const HostImage& color, const HostImage& mask, const HostImage& depth, uint32_t factor) {
+passes::HandLayers run_gpu_hand_resolve(const HostImage& color, const HostImage& mask, const HostImage& depth, uint32_t factor) {
   const passes::HandResolvePass pass(test::gpu(), factor);
   test::PassHarness gpu("hand_resolve");
   const uint32_t w = color.width / factor, h = color.height / factor;
@@ -26,8 +26,8 @@ passes::HandLayers run_gpu(const HostImage& color, const HostImage& mask, const 
   return {out.image("color"), out.image("mask"), out.image("depth")};
 }
 
-void require_matches(const HostImage& color, const HostImage& mask, const HostImage& depth, uint32_t factor) {
-  const passes::HandLayers gpu = run_gpu(color, mask, depth, factor);
+void require_matches_hand_resolve(const HostImage& color, const HostImage& mask, const HostImage& depth, uint32_t factor) {
+  const passes::HandLayers gpu = run_gpu_hand_resolve(color, mask, depth, factor);
   const passes::HandLayers reference = passes::hand_resolve_reference(color, mask, depth, factor);
   RT_REQUIRE_MATCHES(gpu.color, reference.color, 1e-6, 1e-6);
   RT_REQUIRE_MATCHES(gpu.mask, reference.mask, 1e-6, 1e-6);
@@ -55,7 +55,7 @@ TEST_CASE("hand_resolve on random layers of odd sizes", "[hand_resolve][gpu]") {
           if (k == 0) mask.at(x, y) = 0.0f, depth.at(x, y) = 0.0f;
           if (k == 1) mask.at(x, y) = 1.0f;
         }
-      require_matches(color, mask, depth, factor);
+      require_matches_hand_resolve(color, mask, depth, factor);
     }
 }
 
@@ -63,7 +63,7 @@ TEST_CASE("hand_resolve hard cases", "[hand_resolve][gpu]") {
   test::NoValidationErrors no_errors;
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   SECTION("no coverage: color, mask and depth all zero") {
-    const passes::HandLayers gpu = run_gpu(HostImage(6, 4, PixelFormat::RGBA32F, 0.7f), HostImage(6, 4, PixelFormat::R32F, 0.0f),
+    const passes::HandLayers gpu = run_gpu_hand_resolve(HostImage(6, 4, PixelFormat::RGBA32F, 0.7f), HostImage(6, 4, PixelFormat::R32F, 0.0f),
                                            HostImage(6, 4, PixelFormat::R32F, 1.0f), 2);
     RT_REQUIRE_MATCHES(gpu.color, HostImage(3, 2, PixelFormat::RGBA32F, 0.0f), 0.0, 0.0);
     RT_REQUIRE_MATCHES(gpu.mask, HostImage(3, 2, PixelFormat::R32F, 0.0f), 0.0, 0.0);
@@ -76,7 +76,7 @@ TEST_CASE("hand_resolve hard cases", "[hand_resolve][gpu]") {
       color.at(0, y, 0) = 0.5f + 0.25f * float(y);
       depth.at(0, y) = 1.0f + float(y);
     }
-    const passes::HandLayers gpu = run_gpu(color, mask, depth, 2);
+    const passes::HandLayers gpu = run_gpu_hand_resolve(color, mask, depth, 2);
     REQUIRE(gpu.mask.at(0, 0) == Approx(0.5f));
     REQUIRE(gpu.color.at(0, 0, 0) == Approx(0.625f));
     REQUIRE(gpu.color.at(0, 0, 3) == 1.0f);
@@ -95,7 +95,7 @@ TEST_CASE("hand_resolve hard cases", "[hand_resolve][gpu]") {
       if (i % 6 == 0) depth.at(x, y) = bad[(i / 6) % 3];
       if (i % 10 == 0) depth.at(x, y) = 0.0f;  // covered, but with no depth
     }
-    require_matches(color, mask, depth, 3);
+    require_matches_hand_resolve(color, mask, depth, 3);
   }
   SECTION("factors outside 1 to 4 and mismatched sizes are refused") {
     REQUIRE_THROWS_WITH(passes::HandResolvePass(test::gpu(), 0), Catch::Contains("1 to 4"));

@@ -21,7 +21,7 @@ using passes::ShadingPartial;
 
 namespace {
 
-struct Inputs {
+struct InputsHandShadingStats {
   HostImage portrait_color, portrait_depth, mesh_color, mesh_depth, mesh_mask, mesh_normal;
 };
 
@@ -31,8 +31,8 @@ Eigen::Vector3d random_unit(std::mt19937& rng) {
   return n.norm() > 1e-6 ? n.normalized() : Eigen::Vector3d::UnitZ();
 }
 
-Inputs random_inputs(std::mt19937& rng, uint32_t w, uint32_t h) {
-  Inputs in{test::random_image(rng, w, h, PixelFormat::RGBA32F, 0.05f, 0.95f), test::random_image(rng, w, h, PixelFormat::R32F, 0.5f, 0.6f),
+InputsHandShadingStats random_inputs_hand_shading_stats(std::mt19937& rng, uint32_t w, uint32_t h) {
+  InputsHandShadingStats in{test::random_image(rng, w, h, PixelFormat::RGBA32F, 0.05f, 0.95f), test::random_image(rng, w, h, PixelFormat::R32F, 0.5f, 0.6f),
             test::random_image(rng, w, h, PixelFormat::RGBA32F, 0.05f, 0.95f), test::random_image(rng, w, h, PixelFormat::R32F, 0.5f, 0.6f),
             test::random_image(rng, w, h, PixelFormat::R32F, 0.0f, 1.0f), HostImage(w, h, PixelFormat::RGBA32F)};
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -47,7 +47,7 @@ Inputs random_inputs(std::mt19937& rng, uint32_t w, uint32_t h) {
   return in;
 }
 
-std::vector<ShadingPartial> run_gpu(const Inputs& in) {
+std::vector<ShadingPartial> run_gpu_hand_shading_stats(const InputsHandShadingStats& in) {
   const passes::HandShadingStatsPass pass(test::gpu());
   test::PassHarness gpu("hand_shading_stats");
   const uint32_t groups = passes::shading_stats_group_count(in.mesh_color.width, in.mesh_color.height);
@@ -58,12 +58,12 @@ std::vector<ShadingPartial> run_gpu(const Inputs& in) {
   return gpu.run().values<ShadingPartial>("partials");
 }
 
-hand::ShadingSums reference_of(const Inputs& in) {
+hand::ShadingSums reference_of(const InputsHandShadingStats& in) {
   return passes::shading_stats_reference(in.portrait_color, in.portrait_depth, in.mesh_color, in.mesh_depth, in.mesh_mask,
                                          in.mesh_normal);
 }
 
-void require_sums_match(const std::vector<ShadingPartial>& partials, const hand::ShadingSums& reference) {
+void require_sums_match_hand_shading_stats(const std::vector<ShadingPartial>& partials, const hand::ShadingSums& reference) {
   for (const auto& p : partials)
     for (const auto& v : p.sums)
       for (float value : v) REQUIRE(std::isfinite(value));
@@ -84,9 +84,9 @@ TEST_CASE("hand_shading_stats matches the reference on random images of odd size
   std::mt19937 rng(31);
   for (auto [w, h] : std::vector<std::pair<uint32_t, uint32_t>>{{1, 1}, {19, 1}, {1, 37}, {67, 61}, {131, 71}}) {
     INFO(w << "x" << h);
-    const Inputs in = random_inputs(rng, w, h);
+    const InputsHandShadingStats in = random_inputs_hand_shading_stats(rng, w, h);
     const hand::ShadingSums reference = reference_of(in);
-    require_sums_match(run_gpu(in), reference);
+    require_sums_match_hand_shading_stats(run_gpu_hand_shading_stats(in), reference);
     if (w * h > 100) CHECK(reference.count > w * h / 2);
   }
 }
@@ -95,7 +95,7 @@ TEST_CASE("hand_shading_stats hard cases: zero alpha, NaN, normals that are not 
   test::NoValidationErrors no_errors;
   std::mt19937 rng(5);
   const uint32_t w = 43, h = 29;
-  Inputs in = random_inputs(rng, w, h);
+  InputsHandShadingStats in = random_inputs_hand_shading_stats(rng, w, h);
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   for (uint32_t x = 0; x < w; ++x) {
     for (uint32_t y = 0; y < 9; ++y) in.mesh_mask.at(x, y) = in.portrait_color.at(x, y, 3) = 1.0f;
@@ -110,13 +110,13 @@ TEST_CASE("hand_shading_stats hard cases: zero alpha, NaN, normals that are not 
     in.mesh_depth.at(x, 8) = -1.0f;                                     // behind the camera
   }
   const hand::ShadingSums reference = reference_of(in);
-  require_sums_match(run_gpu(in), reference);
+  require_sums_match_hand_shading_stats(run_gpu_hand_shading_stats(in), reference);
   // None of the spoiled rows counted.
-  Inputs spoiled_only = in;
+  InputsHandShadingStats spoiled_only = in;
   for (uint32_t y = 9; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) spoiled_only.mesh_mask.at(x, y) = 0.0f;
   CHECK(reference_of(spoiled_only).count == 0);
-  const hand::ShadingSums none = hand::add_shading_partials(run_gpu(spoiled_only));
+  const hand::ShadingSums none = hand::add_shading_partials(run_gpu_hand_shading_stats(spoiled_only));
   CHECK(none.count == 0);
   CHECK(none.normal.isZero());
   CHECK(none.rhs.isZero());
@@ -129,7 +129,7 @@ TEST_CASE("The light estimate from the GPU's sums recovers a known light") {
   test::NoValidationErrors no_errors;
   std::mt19937 rng(77);
   const uint32_t w = 97, h = 53;
-  Inputs in = random_inputs(rng, w, h);
+  InputsHandShadingStats in = random_inputs_hand_shading_stats(rng, w, h);
   // The simulator's two-sided light (shaders/person_raster.frag), on normals facing the camera.
   const Eigen::Vector3d light = Eigen::Vector3d(1, 2, 3).normalized();
   auto true_shade = [&](const Eigen::Vector3d& n) { return 0.35 + 0.65 * std::abs(n.dot(light)); };
@@ -145,7 +145,7 @@ TEST_CASE("The light estimate from the GPU's sums recovers a known light") {
       in.mesh_depth.at(x, y) = in.portrait_depth.at(x, y);
     }
   hand::ShadingFit fit(0.25, 16);
-  REQUIRE(fit.add_frame(hand::add_shading_partials(run_gpu(in))));
+  REQUIRE(fit.add_frame(hand::add_shading_partials(run_gpu_hand_shading_stats(in))));
   const hand::ShadingVector c = fit.coefficients();
   REQUIRE(c.allFinite());
   // The fitted shade, up to its normalisation, follows the true one: compare the two normalised

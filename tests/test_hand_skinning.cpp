@@ -21,7 +21,7 @@ using passes::SkinnedVertex;
 
 namespace {
 
-std::vector<SkinnedVertex> run_gpu(const std::vector<HandVertex>& rest, const BoneMatrices& bones) {
+std::vector<SkinnedVertex> run_gpu_hand_skinning(const std::vector<HandVertex>& rest, const BoneMatrices& bones) {
   const passes::HandSkinningPass pass(test::gpu());
   test::PassHarness gpu("hand_skinning");
   pass.add_to(gpu.graph(), gpu.input_buffer("rest vertices", rest), gpu.input_buffer("bone transforms", bones),
@@ -29,7 +29,7 @@ std::vector<SkinnedVertex> run_gpu(const std::vector<HandVertex>& rest, const Bo
   return gpu.run().values<SkinnedVertex>("skinned vertices");
 }
 
-double require_matches(const std::vector<SkinnedVertex>& gpu, const std::vector<SkinnedVertex>& reference) {
+double require_matches_hand_skinning(const std::vector<SkinnedVertex>& gpu, const std::vector<SkinnedVertex>& reference) {
   REQUIRE(gpu.size() == reference.size());
   double worst = 0;
   for (size_t i = 0; i < gpu.size(); ++i)
@@ -88,7 +88,7 @@ TEST_CASE("hand_skinning matches the reference on random vertices and bones of o
     INFO(count << " vertices");
     const auto vertices = random_vertices(rng, count);
     const auto bones = random_rigid_bones(rng, 1.0);
-    require_matches(run_gpu(vertices, bones), passes::hand_skinning_reference(vertices, bones));
+    require_matches_hand_skinning(run_gpu_hand_skinning(vertices, bones), passes::hand_skinning_reference(vertices, bones));
   }
 }
 
@@ -108,7 +108,7 @@ TEST_CASE("hand_skinning of the template over random hand poses: the GPU error s
       const hand::BonePose pose = hand::pose_bones(skeleton, hand.rest);
       REQUIRE(pose.ok());
       const auto bones = hand::skinning_matrices(pose.frames, hand.rest);
-      CHECK(require_matches(run_gpu(hand.vertices, bones), passes::hand_skinning_reference(hand.vertices, bones)) < 1e-5);
+      CHECK(require_matches_hand_skinning(run_gpu_hand_skinning(hand.vertices, bones), passes::hand_skinning_reference(hand.vertices, bones)) < 1e-5);
     }
   }
 }
@@ -144,7 +144,7 @@ TEST_CASE("hand_skinning of the forearm, shape-adapted with widths: random poses
       REQUIRE(pose.ok());
       const auto bones = hand::skinning_matrices(pose.frames, adapted);
       const auto reference = passes::hand_skinning_reference(vertices, bones);
-      CHECK(require_matches(run_gpu(vertices, bones), reference) < 1e-5);
+      CHECK(require_matches_hand_skinning(run_gpu_hand_skinning(vertices, bones), reference) < 1e-5);
       CHECK(hand::forearm_tracked(skeleton, hand.rest) == (trial < 4));
       if (trial >= 4) continue;
       // The forearm's own vertices (arm weight only) lie on the tracked elbow-wrist segment's
@@ -172,8 +172,8 @@ TEST_CASE("hand_skinning hard cases: one bone, zero weights, far translations, a
     vertices[i].joints = {float(i % RT_HAND_BONES), 0.0f, 0.0f, 0.0f};
   }
   const auto far = random_rigid_bones(rng, 1000.0);
-  require_matches(run_gpu(vertices, far), passes::hand_skinning_reference(vertices, far));
+  require_matches_hand_skinning(run_gpu_hand_skinning(vertices, far), passes::hand_skinning_reference(vertices, far));
   // An all-zero transform (a bone never posed) must not turn normals into NaN.
   BoneMatrices zero{};
-  require_matches(run_gpu(vertices, zero), passes::hand_skinning_reference(vertices, zero));
+  require_matches_hand_skinning(run_gpu_hand_skinning(vertices, zero), passes::hand_skinning_reference(vertices, zero));
 }

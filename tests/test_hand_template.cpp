@@ -22,7 +22,7 @@ using namespace rt::hand;
 
 namespace {
 
-const std::filesystem::path kAssets = rt::config::assets_dir() / "hand";
+const std::filesystem::path kAssetsHandTemplate = rt::config::assets_dir() / "hand";
 
 HandSkeleton posed_hand(bool is_left, double scale, double curl, const Eigen::Vector3d& palm,
                         const Eigen::Quaterniond& orientation = Eigen::Quaterniond::Identity()) {
@@ -52,7 +52,7 @@ bool all_finite(const std::vector<Eigen::Vector3d>& points) {
 
 TEST_CASE("The committed hand templates load with the promised invariants") {
   for (bool is_left : {false, true}) {
-    const HandTemplate hand = load_hand_template(kAssets, is_left);
+    const HandTemplate hand = load_hand_template(kAssetsHandTemplate, is_left);
     INFO((is_left ? "left" : "right"));
     CHECK(hand.is_left == is_left);
     CHECK(hand.vertices.size() >= 3000);
@@ -76,7 +76,7 @@ TEST_CASE("The committed hand templates load with the promised invariants") {
   }
   // Both hands together stay small.
   uintmax_t bytes = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(kAssets)) bytes += entry.file_size();
+  for (const auto& entry : std::filesystem::directory_iterator(kAssetsHandTemplate)) bytes += entry.file_size();
   CHECK(bytes < 700 * 1024);
 }
 
@@ -88,7 +88,7 @@ TEST_CASE("The rest shape: the generator's flat medium hand, bones and mesh") {
   const Eigen::Vector3d palm_out = Eigen::Vector3d::UnitZ();
   for (bool is_left : {false, true})
     for (bool committed : {true, false}) {
-      const HandTemplate hand = committed ? load_hand_template(kAssets, is_left) : build_hand_template(is_left);
+      const HandTemplate hand = committed ? load_hand_template(kAssetsHandTemplate, is_left) : build_hand_template(is_left);
       INFO((is_left ? "left" : "right") << (committed ? ", committed" : ", generated"));
       const double mirror = is_left ? -1.0 : 1.0;
       auto at = [&](const Eigen::Vector2d& uv) { return Eigen::Vector3d(mirror * uv.x(), uv.y(), 0.0); };
@@ -215,19 +215,19 @@ TEST_CASE("Bad template files give an error that names the file and the problem"
   std::ofstream(dir / "right_hand.gltf") << "{ not json";
   CHECK_THROWS_WITH(load_hand_template(dir, false), Catch::Contains("right_hand.gltf") && Catch::Contains("glTF"));
   // A template whose .bin is cut short.
-  std::filesystem::copy_file(kAssets / "left_hand.gltf", dir / "left_hand.gltf", std::filesystem::copy_options::overwrite_existing);
-  std::filesystem::copy_file(kAssets / "hand_skin.png", dir / "hand_skin.png", std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(kAssetsHandTemplate / "left_hand.gltf", dir / "left_hand.gltf", std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(kAssetsHandTemplate / "hand_skin.png", dir / "hand_skin.png", std::filesystem::copy_options::overwrite_existing);
   {
-    std::ifstream in(kAssets / "left_hand.bin", std::ios::binary);
+    std::ifstream in(kAssetsHandTemplate / "left_hand.bin", std::ios::binary);
     std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
     std::ofstream(dir / "left_hand.bin", std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 2));
   }
   CHECK_THROWS_AS(load_hand_template(dir, true), HandTemplateError);
   // A template without the forearm's split, or with one past its indices.
-  std::filesystem::copy_file(kAssets / "left_hand.bin", dir / "left_hand.bin", std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(kAssetsHandTemplate / "left_hand.bin", dir / "left_hand.bin", std::filesystem::copy_options::overwrite_existing);
   std::string gltf;
   {
-    std::ifstream in(kAssets / "left_hand.gltf");
+    std::ifstream in(kAssetsHandTemplate / "left_hand.gltf");
     gltf.assign((std::istreambuf_iterator<char>(in)), {});
   }
   const size_t key = gltf.find("\"hand_index_count\"");

@@ -15,7 +15,7 @@ using namespace rt;
 
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kNaNIbrBlend = std::numeric_limits<float>::quiet_NaN();
 
 passes::Portrait run_blend(const HostImage& fused, const HostImage& warped, const HostImage& features, uint32_t views,
                            const passes::BlendSettings& settings = {}) {
@@ -102,7 +102,7 @@ TEST_CASE("ibr_blend weights and hard cases", "[ibr_blend][gpu]") {
   }
   SECTION("NaN features and colors count as not visible / clamped") {
     const auto [warped, features] =
-        views_with({{kNaN, 0.5f, 2.0f, 1}, {0.1f, 0.1f, 0.1f, 1}}, {{kNaN, 0, 1, 1}, {0.3f, kNaN, 1, 1}});
+        views_with({{kNaNIbrBlend, 0.5f, 2.0f, 1}, {0.1f, 0.1f, 0.1f, 1}}, {{kNaNIbrBlend, 0, 1, 1}, {0.3f, kNaNIbrBlend, 1, 1}});
     const passes::Portrait gpu = run_blend(fused, warped, features, 2);
     RT_REQUIRE_MATCHES(gpu.color, passes::ibr_blend_reference(fused, warped, features, 2).color, 1e-6, 0.0);
     REQUIRE(gpu.color.at(0, 0, 3) == 0.0f);

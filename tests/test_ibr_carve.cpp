@@ -15,7 +15,7 @@ namespace {
 
 constexpr uint32_t kDepthW = 9, kDepthH = 7;
 
-HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused, const HostImage& points,
+HostImage run_gpu_ibr_carve(const test::IbrRig& rig, const HostImage& fused, const HostImage& points,
                   const passes::CarveSettings& settings = {}) {
   const passes::IbrCarvePass pass(test::gpu(), settings);
   passes::IbrSceneBuffer scene(test::gpu());
@@ -69,7 +69,7 @@ TEST_CASE("ibr_carve on random inputs, odd sizes", "[ibr_carve][gpu]") {
       for (uint32_t y = 0; y < kDepthH; ++y)
         for (uint32_t x = 0; x < kDepthW; ++x)
           if (unit(rng) >= 0.2f) set_texel(points, rig, view, x, y, 0.3f + 1.2f * unit(rng));
-    const HostImage gpu = run_gpu(rig, fused, points);
+    const HostImage gpu = run_gpu_ibr_carve(rig, fused, points);
     const HostImage reference = passes::ibr_carve_reference(rig.table, fused, points);
     const auto comparison = test::compare_pixels(gpu, reference, 1e-5, 1e-5);
     REQUIRE(comparison.non_finite == 0);
@@ -100,7 +100,7 @@ TEST_CASE("ibr_carve: a view that sees through the fused surface carves it to wh
       set_texel(points, rig, 0, x, y, x < edge_column ? plane_m : 0.1f);
       set_texel(points, rig, 1, x, y, 0.1f);
     }
-  const HostImage gpu = run_gpu(rig, fused, points);
+  const HostImage gpu = run_gpu_ibr_carve(rig, fused, points);
   const HostImage reference = passes::ibr_carve_reference(rig.table, fused, points);
   RT_REQUIRE_MATCHES(gpu, reference, 1e-5, 1e-5);
   size_t carved = 0, kept_beyond_edge = 0;
@@ -153,7 +153,7 @@ TEST_CASE("ibr_carve hard cases", "[ibr_carve][gpu]") {
     fused.at(1, 1) = std::numeric_limits<float>::quiet_NaN();
     fused.at(2, 2) = -1.0f;
     fused.at(3, 3) = std::numeric_limits<float>::infinity();
-    const HostImage gpu = run_gpu(rig, fused, far_planes);
+    const HostImage gpu = run_gpu_ibr_carve(rig, fused, far_planes);
     REQUIRE(test::count_non_finite(gpu) == 0);
     for (uint32_t y = 0; y < h; ++y)
       for (uint32_t x = 0; x < w; ++x)
@@ -163,7 +163,7 @@ TEST_CASE("ibr_carve hard cases", "[ibr_carve][gpu]") {
   SECTION("views without depth (0 everywhere) carve nothing") {
     const HostImage fused(w, h, PixelFormat::R32F, 1.1f);
     const HostImage empty(kDepthW, kDepthH * 2, PixelFormat::RGBA32F, 0.0f);
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, empty), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_ibr_carve(rig, fused, empty), fused, 0.0, 0.0);
   }
   SECTION("points next to the eye, behind the top camera and outside the other's image, stay") {
     const HostImage fused(w, h, PixelFormat::R32F, 0.05f);
@@ -178,7 +178,7 @@ TEST_CASE("ibr_carve hard cases", "[ibr_carve][gpu]") {
           behind_a_camera += behind;
         }
     REQUIRE(behind_a_camera > 0);
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, far_planes), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_ibr_carve(rig, fused, far_planes), fused, 0.0, 0.0);
     RT_REQUIRE_MATCHES(passes::ibr_carve_reference(rig.table, fused, far_planes), fused, 0.0, 0.0);
   }
   SECTION("a surface behind that no view sees is not taken: carving never uncovers a pixel") {
@@ -189,10 +189,10 @@ TEST_CASE("ibr_carve hard cases", "[ibr_carve][gpu]") {
     passes::CarveSettings no_march;
     no_march.march_steps = 0;
     const HostImage fused(w, h, PixelFormat::R32F, 1.1f);
-    const HostImage gpu = run_gpu(rig, fused, misplaced, no_march);
+    const HostImage gpu = run_gpu_ibr_carve(rig, fused, misplaced, no_march);
     RT_REQUIRE_MATCHES(gpu, fused, 0.0, 0.0);
     RT_REQUIRE_MATCHES(passes::ibr_carve_reference(rig.table, fused, misplaced, no_march), fused, 0.0, 0.0);
-    REQUIRE(run_gpu(rig, fused, far_planes, no_march).texels != fused.texels);  // consistent points do carve
+    REQUIRE(run_gpu_ibr_carve(rig, fused, far_planes, no_march).texels != fused.texels);  // consistent points do carve
   }
   SECTION("bad settings are refused") {
     passes::CarveSettings bad;
@@ -200,6 +200,6 @@ TEST_CASE("ibr_carve hard cases", "[ibr_carve][gpu]") {
     REQUIRE_THROWS_WITH(passes::IbrCarvePass(test::gpu(), bad), Catch::Contains("probe_texels"));
     REQUIRE_THROWS_WITH(passes::IbrCarvePass(test::gpu(), {}, {0.03f, -0.01f}), Catch::Contains("visibility"));
     HostImage odd_points(kDepthW, 15, PixelFormat::RGBA32F, 0.0f);  // not two bands
-    REQUIRE_THROWS_WITH(run_gpu(rig, HostImage(w, h, PixelFormat::R32F, 1.1f), odd_points), Catch::Contains("bands"));
+    REQUIRE_THROWS_WITH(run_gpu_ibr_carve(rig, HostImage(w, h, PixelFormat::R32F, 1.1f), odd_points), Catch::Contains("bands"));
   }
 }

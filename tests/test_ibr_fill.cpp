@@ -18,7 +18,7 @@ namespace {
 
 // The tiles of `listing` (r32f) with a value > 0 are listed by ibr_tiles, whose reset zeroes the
 // filled portrait (stale values before); the fill runs over them. By default every tile.
-HostImage run_gpu(const HostImage& portrait, uint32_t radius_px, const HostImage* listing = nullptr) {
+HostImage run_gpu_ibr_fill(const HostImage& portrait, uint32_t radius_px, const HostImage* listing = nullptr) {
   const HostImage everything(portrait.width, portrait.height, PixelFormat::R32F, 1.0f);
   const passes::IbrTilesPass tiling(test::gpu());
   const passes::IbrFillPass pass(test::gpu(), radius_px);
@@ -31,7 +31,7 @@ HostImage run_gpu(const HostImage& portrait, uint32_t radius_px, const HostImage
   return gpu.run().image("filled");
 }
 
-HostImage reference(const HostImage& portrait, uint32_t radius_px, const HostImage* listing = nullptr) {
+HostImage reference_ibr_fill(const HostImage& portrait, uint32_t radius_px, const HostImage* listing = nullptr) {
   const HostImage everything(portrait.width, portrait.height, PixelFormat::R32F, 1.0f);
   return passes::ibr_fill_reference(portrait, radius_px, passes::ibr_tiles_reference(listing ? *listing : everything));
 }
@@ -82,8 +82,8 @@ TEST_CASE("ibr_fill on random portraits, odd sizes, radii 1, 3 and 8", "[ibr_fil
     for (const auto& [width, height] : test::odd_sizes()) {
       INFO(width << "x" << height << ", radius " << radius);
       const HostImage portrait = random_portrait(rng, width, height);
-      const HostImage expected = reference(portrait, radius);
-      const HostImage gpu = run_gpu(portrait, radius);
+      const HostImage expected = reference_ibr_fill(portrait, radius);
+      const HostImage gpu = run_gpu_ibr_fill(portrait, radius);
       REQUIRE(test::count_non_finite(gpu) == 0);
       REQUIRE(test::count_non_finite(expected) == 0);
       RT_REQUIRE_MATCHES(gpu, expected, 1e-5, 1e-5);
@@ -93,7 +93,7 @@ TEST_CASE("ibr_fill on random portraits, odd sizes, radii 1, 3 and 8", "[ibr_fil
         for (uint32_t x = 0; x < width; ++x)
           if ((x / RT_TILE_X + y / RT_TILE_Y) % 3 == 0) sparse.at(x, y, 3) = 0.0f;
       const HostImage listing = alpha_of(sparse);
-      RT_REQUIRE_MATCHES(run_gpu(sparse, radius, &listing), reference(sparse, radius, &listing), 1e-5, 1e-5);
+      RT_REQUIRE_MATCHES(run_gpu_ibr_fill(sparse, radius, &listing), reference_ibr_fill(sparse, radius, &listing), 1e-5, 1e-5);
     }
 }
 
@@ -102,7 +102,7 @@ TEST_CASE("ibr_fill hard cases", "[ibr_fill][gpu]") {
   SECTION("a one-pixel hole in a uniform patch takes the patch's color and full alpha") {
     HostImage portrait = patch(7, 5, 1, 1, 6, 4, 0.2f, 0.4f, 0.6f);
     uncover(portrait, 3, 2);
-    for (const HostImage& out : {run_gpu(portrait, 2), reference(portrait, 2)}) {
+    for (const HostImage& out : {run_gpu_ibr_fill(portrait, 2), reference_ibr_fill(portrait, 2)}) {
       CHECK(out.at(3, 2, 0) == Approx(0.2f));
       CHECK(out.at(3, 2, 1) == Approx(0.4f));
       CHECK(out.at(3, 2, 2) == Approx(0.6f));
@@ -119,7 +119,7 @@ TEST_CASE("ibr_fill hard cases", "[ibr_fill][gpu]") {
     portrait.at(1, 2, 0) = 1.0f, portrait.at(1, 2, 1) = 0.0f;
     portrait.at(5, 2, 1) = 0.0f, portrait.at(5, 2, 2) = 1.0f;
     // (3, 2)'s nearest: blue (5, 2) at distance 2, green at 1 on the left, above and below.
-    for (const HostImage& out : {run_gpu(portrait, 4), reference(portrait, 4)}) {
+    for (const HostImage& out : {run_gpu_ibr_fill(portrait, 4), reference_ibr_fill(portrait, 4)}) {
       const float sum = 1.0f + 0.5f + 2.0f;
       CHECK(out.at(3, 2, 0) == Approx(0.0f).margin(1e-6));
       CHECK(out.at(3, 2, 1) == Approx((1.0f + 2.0f) / sum));
@@ -137,7 +137,7 @@ TEST_CASE("ibr_fill hard cases", "[ibr_fill][gpu]") {
     for (uint32_t x = 5; x < 10; ++x) uncover(portrait, x, 3);              // five wide, radius 2
     uncover(portrait, 11, 3);                                               // on the right edge
     uncover(portrait, 7, 5);                                                // enclosed within 1
-    for (const HostImage& out : {run_gpu(portrait, 2), reference(portrait, 2)}) {
+    for (const HostImage& out : {run_gpu_ibr_fill(portrait, 2), reference_ibr_fill(portrait, 2)}) {
       for (uint32_t y = 1; y < 7; ++y) CHECK(out.at(2, y, 3) == 0.0f);
       CHECK(out.at(7, 3, 3) == 0.0f);  // three from either end of its row, radius 2
       CHECK(out.at(5, 3, 3) == 0.0f);  // one from the row's left end, five from its right
@@ -148,9 +148,9 @@ TEST_CASE("ibr_fill hard cases", "[ibr_fill][gpu]") {
   }
   SECTION("nothing covered: all zeros; one uncovered pixel alone stays uncovered") {
     const HostImage empty(5, 3, PixelFormat::RGBA32F, 0.0f);
-    RT_REQUIRE_MATCHES(run_gpu(empty, 8), empty, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_ibr_fill(empty, 8), empty, 0.0, 0.0);
     const HostImage single(1, 1, PixelFormat::RGBA32F, 0.0f);
-    RT_REQUIRE_MATCHES(run_gpu(single, 1), single, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_ibr_fill(single, 1), single, 0.0, 0.0);
   }
   SECTION("a tile not listed is left as the reset left it, holes and all") {
     HostImage portrait = patch(20, 8, 0, 0, 20, 8, 0.5f, 0.5f, 0.5f);
@@ -159,7 +159,7 @@ TEST_CASE("ibr_fill hard cases", "[ibr_fill][gpu]") {
     HostImage listing(20, 8, PixelFormat::R32F, 0.0f);
     listing.at(0, 0) = 1.0f;
     listing.at(19, 7) = 1.0f;
-    for (const HostImage& out : {run_gpu(portrait, 2, &listing), reference(portrait, 2, &listing)}) {
+    for (const HostImage& out : {run_gpu_ibr_fill(portrait, 2, &listing), reference_ibr_fill(portrait, 2, &listing)}) {
       CHECK(out.at(3, 3, 3) == 1.0f);
       CHECK(out.at(3, 3, 0) == Approx(0.5f));
       CHECK(out.at(12, 3, 3) == 0.0f);

@@ -12,7 +12,7 @@ using namespace rt;
 
 namespace {
 
-HostImage run_gpu(const test::IbrRig& rig, const HostImage& depth_mm, const HostImage& rays,
+HostImage run_gpu_ibr_foreground(const test::IbrRig& rig, const HostImage& depth_mm, const HostImage& rays,
                   const passes::ForegroundSettings& settings = {}) {
   const passes::IbrForegroundPass pass(test::gpu(), settings);
   passes::IbrSceneBuffer scene(test::gpu());
@@ -53,7 +53,7 @@ TEST_CASE("ibr_foreground on random depths of odd sizes", "[ibr_foreground][gpu]
       const HostImage depth = test::random_depth_atlas(rng, rig);
       const HostImage rays = passes::depth_ray_atlas(rig.cameras);
       const HostImage reference = passes::ibr_foreground_reference(rig.table, depth, rays);
-      require_match(run_gpu(rig, depth, rays), reference);
+      require_match(run_gpu_ibr_foreground(rig, depth, rays), reference);
       if (width * height > 1000) REQUIRE(foreground_pixels(reference) > width * height / 4);  // not a vacuous test
     }
   }
@@ -67,28 +67,28 @@ TEST_CASE("ibr_foreground hard cases", "[ibr_foreground][gpu]") {
 
   SECTION("depth 0 everywhere gives no foreground") {
     const HostImage depth(23, 34, PixelFormat::R16U, 0.0f);
-    const HostImage gpu = run_gpu(rig, depth, rays);
+    const HostImage gpu = run_gpu_ibr_foreground(rig, depth, rays);
     REQUIRE(foreground_pixels(gpu) == 0);
     require_match(gpu, passes::ibr_foreground_reference(rig.table, depth, rays));
   }
   SECTION("one view with no depth, the other intact") {
     HostImage depth = test::random_depth_atlas(rng, rig, 0.0f);
     std::fill(depth.texels.begin(), depth.texels.begin() + 23 * 17, 0.0f);
-    const HostImage gpu = run_gpu(rig, depth, rays);
+    const HostImage gpu = run_gpu_ibr_foreground(rig, depth, rays);
     require_match(gpu, passes::ibr_foreground_reference(rig.table, depth, rays));
     REQUIRE(foreground_pixels(passes::band_of(gpu, 0, 17)) == 0);
     REQUIRE(foreground_pixels(passes::band_of(gpu, 1, 17)) > 100);
   }
   SECTION("everything beyond the user's volume is background") {
     const HostImage depth(23, 34, PixelFormat::R16U, 3000.0f);  // 3 m: the wall behind the user
-    REQUIRE(foreground_pixels(run_gpu(rig, depth, rays)) == 0);
+    REQUIRE(foreground_pixels(run_gpu_ibr_foreground(rig, depth, rays)) == 0);
   }
   SECTION("an isolated pixel (a flying pixel) is removed; a plane's edge row survives") {
     HostImage depth(23, 34, PixelFormat::R16U, 0.0f);
     depth.at(5, 5) = 700.0f;  // alone
     for (uint32_t y = 20; y < 34; ++y)
       for (uint32_t x = 0; x < 23; ++x) depth.at(x, y) = 700.0f;  // all of view 1
-    const HostImage gpu = run_gpu(rig, depth, rays);
+    const HostImage gpu = run_gpu_ibr_foreground(rig, depth, rays);
     require_match(gpu, passes::ibr_foreground_reference(rig.table, depth, rays));
     REQUIRE(gpu.at(5, 5, 3) == 0.0f);
     REQUIRE(gpu.at(11, 20, 3) > 0.0f);  // top row of view 1's plane: 5 agreeing neighbours
@@ -97,7 +97,7 @@ TEST_CASE("ibr_foreground hard cases", "[ibr_foreground][gpu]") {
   SECTION("rays where undistortion failed are invalid") {
     HostImage broken = rays;
     for (size_t i = 0; i < broken.texels.size(); i += 4) broken.texels[i + 3] = 0.0f;
-    REQUIRE(foreground_pixels(run_gpu(rig, test::random_depth_atlas(rng, rig), broken)) == 0);
+    REQUIRE(foreground_pixels(run_gpu_ibr_foreground(rig, test::random_depth_atlas(rng, rig), broken)) == 0);
   }
   SECTION("bad settings are refused with a message") {
     passes::ForegroundSettings bad;

@@ -13,7 +13,7 @@ using namespace rt;
 
 namespace {
 
-HostImage run_gpu(const std::vector<uint32_t>& fusion, uint32_t width, uint32_t height,
+HostImage run_gpu_ibr_fuse(const std::vector<uint32_t>& fusion, uint32_t width, uint32_t height,
                   const passes::FuseSettings& settings = {}) {
   const passes::IbrFusePass pass(test::gpu(), settings);
   test::PassHarness gpu("ibr_fuse");
@@ -45,7 +45,7 @@ TEST_CASE("ibr_fuse from a given fusion buffer", "[ibr_fuse][gpu]") {
       }
       passes::FuseSettings settings;
       settings.fusion = mode;
-      RT_REQUIRE_MATCHES(run_gpu(fusion, width, height, settings),
+      RT_REQUIRE_MATCHES(run_gpu_ibr_fuse(fusion, width, height, settings),
                          passes::ibr_fuse_reference(fusion, width, height, settings), 1e-6, 1e-5);
     }
   }
@@ -67,7 +67,7 @@ TEST_CASE("ibr_fuse hard cases", "[ibr_fuse][gpu]") {
     REQUIRE(filled.at(15, 10) == Approx(1.005f).epsilon(1e-3));  // crack filled with the mean
     REQUIRE(filled.at(4, 10) == 0.0f);                            // outside the silhouette
     REQUIRE(filled.at(32, 10) == 0.0f);                           // between 1.0 and 1.5 m: an edge
-    RT_REQUIRE_MATCHES(run_gpu(fusion, 45, 27), filled, 1e-6, 1e-5);
+    RT_REQUIRE_MATCHES(run_gpu_ibr_fuse(fusion, 45, 27), filled, 1e-6, 1e-5);
   }
   SECTION("a fusion buffer of the wrong size is refused") {
     vk::Buffer small(test::gpu(), passes::fusion_buffer_desc(4, 4));

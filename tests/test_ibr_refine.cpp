@@ -25,7 +25,7 @@ HostImage points_atlas(std::mt19937& rng, const test::IbrRig& rig, float own_dep
 // A tolerance that accepts any valid own depth, to test the sweep apart from occlusion.
 constexpr passes::VisibilityTolerance kSeesEveryValidDepth{10.0f, 0.01f};
 
-HostImage run_gpu(const test::IbrRig& rig, const HostImage& fused, const HostImage& color, const HostImage& points,
+HostImage run_gpu_ibr_refine(const test::IbrRig& rig, const HostImage& fused, const HostImage& color, const HostImage& points,
                   const passes::RefineSettings& settings, passes::VisibilityTolerance visibility) {
   const passes::IbrRefinePass pass(test::gpu(), settings, visibility);
   passes::IbrSceneBuffer scene(test::gpu());
@@ -50,7 +50,7 @@ TEST_CASE("ibr_refine on random inputs, odd sizes", "[ibr_refine][gpu]") {
     const HostImage color = test::random_image(rng, 37, 63, PixelFormat::RGBA8);
     const HostImage points = points_atlas(rng, rig, -1.0f);
     const passes::RefineSettings settings;
-    const HostImage gpu = run_gpu(rig, fused, color, points, settings, kSeesEveryValidDepth);
+    const HostImage gpu = run_gpu_ibr_refine(rig, fused, color, points, settings, kSeesEveryValidDepth);
     const HostImage reference =
         passes::ibr_refine_reference(rig.table, fused, color, points, settings, kSeesEveryValidDepth);
     const auto comparison = test::compare_pixels(gpu, reference, 1e-5, 1e-5);
@@ -73,15 +73,15 @@ TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
   SECTION("uniform color: every hypothesis ties, the fused depth stays") {
     const HostImage fused = test::random_image(rng, 13, 11, PixelFormat::R32F, 1.3f, 1.5f);
     const HostImage grey(37, 42, PixelFormat::RGBA8, 0.5f);
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, grey, seen_everywhere, {}, kSeesEveryValidDepth), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_ibr_refine(rig, fused, grey, seen_everywhere, {}, kSeesEveryValidDepth), fused, 0.0, 0.0);
   }
   SECTION("occluded views do not score: with an occluder 10 cm before each camera the depth stays") {
     const HostImage fused = test::random_image(rng, 13, 11, PixelFormat::R32F, 1.3f, 1.5f);
     const HostImage color = test::random_image(rng, 37, 42, PixelFormat::RGBA8);
-    const HostImage moved = run_gpu(rig, fused, color, seen_everywhere, {}, kSeesEveryValidDepth);
+    const HostImage moved = run_gpu_ibr_refine(rig, fused, color, seen_everywhere, {}, kSeesEveryValidDepth);
     REQUIRE(moved.texels != fused.texels);  // the same colors do move depths where the views see
     const HostImage occluded = points_atlas(rng, rig, 0.1f);
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, color, occluded, {}, {}), fused, 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_ibr_refine(rig, fused, color, occluded, {}, {}), fused, 0.0, 0.0);
     RT_REQUIRE_MATCHES(passes::ibr_refine_reference(rig.table, fused, color, occluded), fused, 0.0, 0.0);
   }
   SECTION("no depth stays no depth; one hypothesis is the identity") {
@@ -89,7 +89,7 @@ TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
     fused.at(3, 3) = 1.4f;
     passes::RefineSettings one;
     one.hypotheses = 1;
-    RT_REQUIRE_MATCHES(run_gpu(rig, fused, test::random_image(rng, 37, 42, PixelFormat::RGBA8), seen_everywhere, one,
+    RT_REQUIRE_MATCHES(run_gpu_ibr_refine(rig, fused, test::random_image(rng, 37, 42, PixelFormat::RGBA8), seen_everywhere, one,
                                kSeesEveryValidDepth),
                        fused, 0.0, 0.0);
   }
@@ -99,7 +99,7 @@ TEST_CASE("ibr_refine hard cases", "[ibr_refine][gpu]") {
     REQUIRE_THROWS_WITH(passes::IbrRefinePass(test::gpu(), bad), Catch::Contains("hypotheses"));
     REQUIRE_THROWS_WITH(passes::IbrRefinePass(test::gpu(), {}, {0.03f, -0.01f}), Catch::Contains("visibility"));
     HostImage odd_points(9, 15, PixelFormat::RGBA32F, 0.0f);  // not two bands
-    REQUIRE_THROWS_WITH(run_gpu(rig, HostImage(13, 11, PixelFormat::R32F, 1.4f),
+    REQUIRE_THROWS_WITH(run_gpu_ibr_refine(rig, HostImage(13, 11, PixelFormat::R32F, 1.4f),
                                 test::random_image(rng, 37, 42, PixelFormat::RGBA8), odd_points, {}, {}),
                         Catch::Contains("bands"));
   }

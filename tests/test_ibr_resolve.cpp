@@ -18,7 +18,7 @@ using namespace rt;
 
 namespace {
 
-passes::Portrait run_gpu(const HostImage& fine_portrait, const HostImage& fine_depth, uint32_t factor) {
+passes::Portrait run_gpu_ibr_resolve(const HostImage& fine_portrait, const HostImage& fine_depth, uint32_t factor) {
   const passes::IbrResolvePass pass(test::gpu(), factor);
   test::PassHarness gpu("ibr_resolve");
   const uint32_t w = fine_portrait.width / factor, h = fine_portrait.height / factor;
@@ -52,7 +52,7 @@ TEST_CASE("ibr_resolve on random fine portraits, odd sizes, factors 2 to 4", "[i
     for (const auto& [width, height] : test::odd_sizes()) {
       INFO(width << "x" << height << " x" << factor);
       const auto [color, depth] = random_fine(rng, width * factor, height * factor);
-      const passes::Portrait gpu = run_gpu(color, depth, factor);
+      const passes::Portrait gpu = run_gpu_ibr_resolve(color, depth, factor);
       const passes::Portrait reference = passes::ibr_resolve_reference(color, depth, factor);
       REQUIRE(test::count_non_finite(gpu.color) == 0);
       RT_REQUIRE_MATCHES(gpu.color, reference.color, 1e-5, 1e-5);
@@ -64,7 +64,7 @@ TEST_CASE("ibr_resolve hard cases", "[ibr_resolve][gpu]") {
   test::NoValidationErrors no_errors;
   SECTION("nothing covered: alpha 0, color 0, depth 0") {
     const HostImage color(6, 4, PixelFormat::RGBA32F, 0.0f), depth(6, 4, PixelFormat::R32F, 0.0f);
-    const passes::Portrait gpu = run_gpu(color, depth, 2);
+    const passes::Portrait gpu = run_gpu_ibr_resolve(color, depth, 2);
     RT_REQUIRE_MATCHES(gpu.color, HostImage(3, 2, PixelFormat::RGBA32F, 0.0f), 0.0, 0.0);
     RT_REQUIRE_MATCHES(gpu.depth, HostImage(3, 2, PixelFormat::R32F, 0.0f), 0.0, 0.0);
   }
@@ -74,7 +74,7 @@ TEST_CASE("ibr_resolve hard cases", "[ibr_resolve][gpu]") {
       color.at(0, y, 0) = 0.2f, color.at(0, y, 1) = 0.4f, color.at(0, y, 2) = 0.6f, color.at(0, y, 3) = 1.0f;
       depth.at(0, y) = 1.0f + 0.1f * float(y);
     }
-    for (const passes::Portrait& out : {run_gpu(color, depth, 2), passes::ibr_resolve_reference(color, depth, 2)}) {
+    for (const passes::Portrait& out : {run_gpu_ibr_resolve(color, depth, 2), passes::ibr_resolve_reference(color, depth, 2)}) {
       CHECK(out.color.at(0, 0, 0) == Approx(0.2f));
       CHECK(out.color.at(0, 0, 2) == Approx(0.6f));
       CHECK(out.color.at(0, 0, 3) == Approx(0.5f));
@@ -91,7 +91,7 @@ TEST_CASE("ibr_resolve hard cases", "[ibr_resolve][gpu]") {
     color.at(4, 2, 1) = -inf;
     depth.at(2, 2) = nan;
     depth.at(5, 3) = inf;
-    const passes::Portrait gpu = run_gpu(color, depth, 3);
+    const passes::Portrait gpu = run_gpu_ibr_resolve(color, depth, 3);
     REQUIRE(test::count_non_finite(gpu.color) == 0);
     REQUIRE(test::count_non_finite(gpu.depth) == 0);
     RT_REQUIRE_MATCHES(gpu.color, passes::ibr_resolve_reference(color, depth, 3).color, 1e-5, 1e-5);

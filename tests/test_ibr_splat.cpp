@@ -23,7 +23,7 @@ struct SplatResult {
   HostImage fused_depth;
 };
 
-SplatResult run_gpu(const test::IbrRig& rig, const HostImage& points, const passes::SplatSettings& splat = {},
+SplatResult run_gpu_ibr_splat(const test::IbrRig& rig, const HostImage& points, const passes::SplatSettings& splat = {},
                     passes::FuseSettings fuse = {}) {
   fuse.fusion = splat.fusion;
   const passes::IbrSplatPass splat_pass(test::gpu(), splat);
@@ -87,7 +87,7 @@ double worst_over_covered(const std::vector<uint32_t>& fusion, uint32_t width, u
   return worst;
 }
 
-size_t covered(const std::vector<uint32_t>& fusion, size_t pixels) {
+size_t covered_ibr_splat(const std::vector<uint32_t>& fusion, size_t pixels) {
   size_t count = 0;
   for (size_t i = 0; i < pixels; ++i) count += fusion[i] != RT_IBR_EMPTY_DEPTH_BITS;
   return count;
@@ -108,11 +108,11 @@ TEST_CASE("ibr_splat min and average fusion on random views, odd target sizes", 
       passes::SplatSettings settings;
       settings.fusion = mode;
       settings.edge_inset = edge_inset;
-      const SplatResult gpu = run_gpu(rig, points, settings);
+      const SplatResult gpu = run_gpu_ibr_splat(rig, points, settings);
       const auto reference = passes::ibr_splat_reference(rig.table, points, settings);
       const size_t n = size_t(width) * height;
       require_fusion_matches(gpu.fusion, reference, n);
-      if (n > 1000) REQUIRE(covered(reference, n) > n / 20);  // the rig really lands in the target
+      if (n > 1000) REQUIRE(covered_ibr_splat(reference, n) > n / 20);  // the rig really lands in the target
       if (mode == passes::DepthFusion::Average) {
         // Counts and sums: same tolerance on coverage, sums to 1e-4 relative per sample.
         size_t differs = 0;
@@ -138,14 +138,14 @@ TEST_CASE("ibr_splat hard cases", "[ibr_splat][gpu]") {
         float* p = &points.texels[points.index(x, y)];
         p[0] = 0.001f * float(x), p[1] = 0.001f * float(y), p[2] = -1.0f, p[3] = 0.7f;  // z = -1: behind the eye at -0.7
       }
-    const SplatResult gpu = run_gpu(rig, points);
-    REQUIRE(covered(gpu.fusion, n) == 0);
-    REQUIRE(covered(passes::ibr_splat_reference(rig.table, points), n) == 0);
+    const SplatResult gpu = run_gpu_ibr_splat(rig, points);
+    REQUIRE(covered_ibr_splat(gpu.fusion, n) == 0);
+    REQUIRE(covered_ibr_splat(passes::ibr_splat_reference(rig.table, points), n) == 0);
   }
   SECTION("no points at all: an empty, finite depth") {
     const HostImage points(31, 58, PixelFormat::RGBA32F, 0.0f);
-    const SplatResult gpu = run_gpu(rig, points);
-    REQUIRE(covered(gpu.fusion, n) == 0);
+    const SplatResult gpu = run_gpu_ibr_splat(rig, points);
+    REQUIRE(covered_ibr_splat(gpu.fusion, n) == 0);
     RT_REQUIRE_MATCHES(gpu.fused_depth, HostImage(45, 27, PixelFormat::R32F, 0.0f), 0.0, 0.0);
   }
   SECTION("the nearest surface wins: a near point in front of a far plane") {
@@ -156,7 +156,7 @@ TEST_CASE("ibr_splat hard cases", "[ibr_splat][gpu]") {
     };
     put(0, 0, {0.0f, 0.1f, 0.9f});   // far (view 0)
     put(0, 29, {0.0f, 0.1f, 0.5f});  // near, same ray from the eye (view 1)
-    const SplatResult gpu = run_gpu(rig, points);
+    const SplatResult gpu = run_gpu_ibr_splat(rig, points);
     const auto reference = passes::ibr_splat_reference(rig.table, points);
     require_fusion_matches(gpu.fusion, reference, n);
     float nearest = 1e9f;
@@ -200,7 +200,7 @@ TEST_CASE("ibr_splat: splats of a tilted plane tile it at its own depths", "[ibr
   };
   INFO("eye to plane: " << std::acos(std::abs(normal.dot((eye.position_in_site() - centre).normalized()))) * 180 / 3.14159
                         << " degrees");
-  const SplatResult gpu = run_gpu(rig, points);
+  const SplatResult gpu = run_gpu_ibr_splat(rig, points);
   const auto reference = passes::ibr_splat_reference(rig.table, points);
   require_fusion_matches(gpu.fusion, reference, 321 * 181);
   size_t covered_gpu = 0, covered_reference = 0;
@@ -218,7 +218,7 @@ TEST_CASE("ibr_splat: splats of a tilted plane tile it at its own depths", "[ibr
   // one the plain splats leave empty, the depths stay the plane's, and the GPU agrees.
   passes::SplatSettings inset;
   inset.edge_inset = 0.3f;
-  const SplatResult gpu_inset = run_gpu(rig, points, inset);
+  const SplatResult gpu_inset = run_gpu_ibr_splat(rig, points, inset);
   const auto reference_inset = passes::ibr_splat_reference(rig.table, points, inset);
   require_fusion_matches(gpu_inset.fusion, reference_inset, 321 * 181);
   size_t covered_inset = 0;
@@ -251,9 +251,9 @@ TEST_CASE("ibr_splat: splats of a tilted plane tile it at its own depths", "[ibr
     for (uint32_t c = 0; c < 4; ++c) line.texels[line.index(60, y) + c] = points.texels[points.index(60, y) + c];
   const auto line_plain = passes::ibr_splat_reference(rig.table, line);
   const auto line_inset = passes::ibr_splat_reference(rig.table, line, inset);
-  CHECK(covered(line_plain, 321 * 181) > 50);
+  CHECK(covered_ibr_splat(line_plain, 321 * 181) > 50);
   CHECK(line_inset == line_plain);
-  require_fusion_matches(run_gpu(rig, line, inset).fusion, line_inset, 321 * 181);
+  require_fusion_matches(run_gpu_ibr_splat(rig, line, inset).fusion, line_inset, 321 * 181);
 }
 
 TEST_CASE("ibr_splat: splats of a curved surface stay on it, not in front of it", "[ibr_splat][gpu]") {
@@ -309,7 +309,7 @@ TEST_CASE("ibr_splat: splats of a curved surface stay on it, not in front of it"
       return ((eye.camera_from_site * *site).z() - double(depth)) * 1000.0;
     });
   };
-  const SplatResult gpu = run_gpu(rig, points);
+  const SplatResult gpu = run_gpu_ibr_splat(rig, points);
   const auto reference = passes::ibr_splat_reference(rig.table, points);
   require_fusion_matches(gpu.fusion, reference, 641 * 361);
   size_t tested_gpu = 0, tested_reference = 0;

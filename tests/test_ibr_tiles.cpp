@@ -24,7 +24,7 @@ struct Listed {
   HostImage portrait, portrait_depth;
 };
 
-Listed run_gpu(const HostImage& fused) {
+Listed run_gpu_ibr_tiles(const HostImage& fused) {
   const passes::IbrTilesPass pass(test::gpu());
   passes::IbrTiles tiles(test::gpu(), "surface tiles", fused.width, fused.height);
   test::PassHarness gpu("ibr_tiles");
@@ -45,7 +45,7 @@ Listed run_gpu(const HostImage& fused) {
 }
 
 void require_matches_reference(const HostImage& fused) {
-  const Listed gpu = run_gpu(fused);
+  const Listed gpu = run_gpu_ibr_tiles(fused);
   const std::vector<Tile> reference = passes::ibr_tiles_reference(fused);
   REQUIRE(gpu.dispatch == std::array<uint32_t, 3>{uint32_t(reference.size()), 1, 1});
   REQUIRE(gpu.tiles == reference);

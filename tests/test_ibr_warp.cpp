@@ -17,7 +17,7 @@ using namespace rt;
 
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kNaNIbrWarp = std::numeric_limits<float>::quiet_NaN();
 
 passes::WarpedViews run_warp(const test::IbrRig& rig, const HostImage& fused, const HostImage& color,
                              const HostImage& points, const passes::WarpSettings& settings = {}) {
@@ -118,7 +118,7 @@ TEST_CASE("ibr_warp hard cases", "[ibr_warp][gpu]") {
 
   SECTION("NaN, Inf, negative and zero fused depths give no sample") {
     HostImage fused(29, 19, PixelFormat::R32F);
-    const float bad[] = {kNaN, std::numeric_limits<float>::infinity(), -1.0f, 0.0f};
+    const float bad[] = {kNaNIbrWarp, std::numeric_limits<float>::infinity(), -1.0f, 0.0f};
     for (size_t i = 0; i < fused.texels.size(); ++i) fused.texels[i] = bad[i % 4];
     const passes::WarpedViews gpu = run_warp(rig, fused, color, points);
     REQUIRE(visible(gpu.features) == 0);
@@ -231,7 +231,7 @@ TEST_CASE("ibr_warp_reference counts how far its samples get", "[ibr_warp]") {
     const HostImage color = test::random_image(rng, 37, 42, PixelFormat::RGBA8);
     const HostImage points = points_agreeing_with(rng, rig);
     HostImage bad(29, 19, PixelFormat::R32F);
-    const float values[] = {kNaN, std::numeric_limits<float>::infinity(), -1.0f, 0.0f};
+    const float values[] = {kNaNIbrWarp, std::numeric_limits<float>::infinity(), -1.0f, 0.0f};
     for (size_t i = 0; i < bad.texels.size(); ++i) bad.texels[i] = values[i % 4];
     passes::WarpWork work;
     (void)passes::ibr_warp_reference(rig.table, bad, color, points, passes::WarpSettings{}, &work);

@@ -21,17 +21,17 @@ using namespace rt;
 
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kNaNIbrWarpBlend = std::numeric_limits<float>::quiet_NaN();
 
-struct Inputs {
+struct InputsIbrWarpBlend {
   HostImage fused, color, points;
 };
 
 // Views whose own depths agree with the fused surface often enough to exercise both outcomes
 // of the visibility test.
-Inputs random_inputs(std::mt19937& rng, const test::IbrRig& rig, uint32_t width, uint32_t height) {
+InputsIbrWarpBlend random_inputs_ibr_warp_blend(std::mt19937& rng, const test::IbrRig& rig, uint32_t width, uint32_t height) {
   const uint32_t views = uint32_t(rig.cameras.size());
-  Inputs in{test::random_fused_depth(rng, width, height),
+  InputsIbrWarpBlend in{test::random_fused_depth(rng, width, height),
             test::random_image(rng, rig.cameras[0].color.intrinsics.width,
                                rig.cameras[0].color.intrinsics.height * views, PixelFormat::RGBA8),
             passes::ibr_foreground_reference(rig.table, test::random_depth_atlas(rng, rig, 0.05f),
@@ -41,7 +41,7 @@ Inputs random_inputs(std::mt19937& rng, const test::IbrRig& rig, uint32_t width,
   return in;
 }
 
-passes::Portrait run_fused(const test::IbrRig& rig, const Inputs& in, const passes::BlendSettings& blend = {},
+passes::Portrait run_fused(const test::IbrRig& rig, const InputsIbrWarpBlend& in, const passes::BlendSettings& blend = {},
                            const passes::WarpSettings& warp = {}) {
   const passes::IbrTilesPass tiling(test::gpu());
   const passes::IbrWarpBlendPass pass(test::gpu(), uint32_t(rig.cameras.size()), warp, blend);
@@ -60,7 +60,7 @@ passes::Portrait run_fused(const test::IbrRig& rig, const Inputs& in, const pass
   return {out.image("portrait"), out.image("portrait depth")};
 }
 
-passes::Portrait run_split(const test::IbrRig& rig, const Inputs& in, const passes::BlendSettings& blend) {
+passes::Portrait run_split(const test::IbrRig& rig, const InputsIbrWarpBlend& in, const passes::BlendSettings& blend) {
   const passes::IbrWarpPass warp(test::gpu());
   const passes::IbrBlendPass blending(test::gpu(), blend);
   passes::IbrSceneBuffer scene(test::gpu());
@@ -78,7 +78,7 @@ passes::Portrait run_split(const test::IbrRig& rig, const Inputs& in, const pass
   return {out.image("portrait"), out.image("portrait depth")};
 }
 
-size_t covered(const passes::Portrait& portrait) {
+size_t covered_ibr_warp_blend(const passes::Portrait& portrait) {
   size_t count = 0;
   for (size_t i = 3; i < portrait.color.texels.size(); i += 4) count += portrait.color.texels[i] > 0.0f;
   return count;
@@ -94,14 +94,14 @@ TEST_CASE("ibr_warp_blend on random inputs, odd sizes, against the references an
     for (uint32_t views : {1u, 2u, 4u, 6u}) {
       INFO(width << "x" << height << ", " << views << " views");
       const test::IbrRig rig = test::ibr_rig(views, 37, 21, 41, 37, width, height);
-      const Inputs in = random_inputs(rng, rig, width, height);
+      const InputsIbrWarpBlend in = random_inputs_ibr_warp_blend(rng, rig, width, height);
       for (int k : {2, 3}) {
         INFO("k = " << k);
         passes::BlendSettings blend;
         blend.best_views = k;
         const passes::Portrait fused = run_fused(rig, in, blend);
         const passes::Portrait reference = passes::ibr_warp_blend_reference(rig.table, in.fused, in.color, in.points, {}, blend);
-        const size_t pixels = size_t(width) * height, seen = covered(reference);
+        const size_t pixels = size_t(width) * height, seen = covered_ibr_warp_blend(reference);
         INFO(seen << " pixels covered");
         // Every size of 500 pixels or more sees the surface here (1.2 to 9.6 % of its pixels
         // with this seed), whatever the view count: a case that covers nothing checks nothing.
@@ -121,12 +121,12 @@ TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
   test::NoValidationErrors no_errors;
   std::mt19937 rng(42);
   const test::IbrRig rig = test::ibr_rig(3, 37, 21, 41, 37, 29, 19);
-  const Inputs random = random_inputs(rng, rig, 29, 19);
+  const InputsIbrWarpBlend random = random_inputs_ibr_warp_blend(rng, rig, 29, 19);
   const passes::Portrait nothing{HostImage(29, 19, PixelFormat::RGBA32F, 0.0f), HostImage(29, 19, PixelFormat::R32F, 0.0f)};
 
   SECTION("NaN, Inf, negative and zero fused depths: alpha 0, color 0, depth 0") {
-    Inputs in = random;
-    const float bad[] = {kNaN, std::numeric_limits<float>::infinity(), -1.0f, 0.0f};
+    InputsIbrWarpBlend in = random;
+    const float bad[] = {kNaNIbrWarpBlend, std::numeric_limits<float>::infinity(), -1.0f, 0.0f};
     for (size_t i = 0; i < in.fused.texels.size(); ++i) in.fused.texels[i] = bad[i % 4];
     const passes::Portrait gpu = run_fused(rig, in);
     RT_REQUIRE_MOSTLY_MATCHES(gpu.color, nothing.color, 0.0, 1e-5, 0);
@@ -138,9 +138,9 @@ TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
     // surface is seen, so the tolerance does let samples through.
     passes::WarpSettings accept_any;
     accept_any.visibility = {10.0f, 0.0f};
-    Inputs in = random;
+    InputsIbrWarpBlend in = random;
     in.points = HostImage(in.points.width, in.points.height, PixelFormat::RGBA32F, 0.7f);
-    REQUIRE(covered(passes::ibr_warp_blend_reference(rig.table, in.fused, in.color, in.points, accept_any, {})) > 100);
+    REQUIRE(covered_ibr_warp_blend(passes::ibr_warp_blend_reference(rig.table, in.fused, in.color, in.points, accept_any, {})) > 100);
     std::fill(in.points.texels.begin(), in.points.texels.end(), 0.0f);
     const passes::Portrait gpu = run_fused(rig, in, {}, accept_any);
     RT_REQUIRE_MOSTLY_MATCHES(gpu.color, nothing.color, 0.0, 1e-5, 0);
@@ -150,7 +150,7 @@ TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
   }
   SECTION("surface points behind every camera are seen by none") {
     const test::IbrRig ahead = test::turned_away(rig);
-    Inputs in = random;
+    InputsIbrWarpBlend in = random;
     in.fused = HostImage(29, 19, PixelFormat::R32F, 0.3f);
     in.points = HostImage(in.points.width, in.points.height, PixelFormat::RGBA32F, 0.7f);
     passes::WarpSettings accept_any;
@@ -160,10 +160,10 @@ TEST_CASE("ibr_warp_blend hard cases", "[ibr_warp_blend][gpu]") {
   }
   SECTION("one view: its warped color where it sees the surface") {
     const test::IbrRig one = test::ibr_rig(1, 37, 21, 41, 37, 29, 19);
-    const Inputs in = random_inputs(rng, one, 29, 19);
+    const InputsIbrWarpBlend in = random_inputs_ibr_warp_blend(rng, one, 29, 19);
     const passes::Portrait gpu = run_fused(one, in);
     const passes::WarpedViews warped = passes::ibr_warp_reference(one.table, in.fused, in.color, in.points);
-    REQUIRE(covered(gpu) > 0);
+    REQUIRE(covered_ibr_warp_blend(gpu) > 0);
     // With one candidate its weight is its feather over itself: the color is the sample's.
     RT_REQUIRE_MOSTLY_MATCHES(gpu.color, warped.warped, 2e-3, 1e-5, 1 + 29 * 19 / 200);
   }

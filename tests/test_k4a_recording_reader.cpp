@@ -15,6 +15,7 @@
 #include "camera/k4a_recording_writer.h"
 #include "config/json.h"
 #include "image/image_io.h"
+#include "support/output_dir.h"
 
 using namespace rt;
 using namespace rt::camera::k4a;
@@ -22,7 +23,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kOut = REMOTETOUCH_TEST_OUTPUT_DIR;
+const std::filesystem::path kOut = rt::test::output_dir("test_k4a_recording_reader");
 constexpr uint64_t kStartUs = 7'000'000;
 constexpr int64_t kDepthDelayNs = 200'000;  // depth 200 us after colour
 constexpr uint32_t kPeriodUs = 33'333;

@@ -17,6 +17,7 @@
 
 extern "C" {
 #include <libavformat/avformat.h>
+#include "support/output_dir.h"
 }
 
 using namespace rt;
@@ -25,7 +26,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kOut = REMOTETOUCH_TEST_OUTPUT_DIR;
+const std::filesystem::path kOutK4aRecordingWriter = rt::test::output_dir("test_k4a_recording_writer");
 
 HostImage gradient_rgba(uint32_t width, uint32_t height, float shift) {
   HostImage image(width, height, PixelFormat::RGBA8);
@@ -117,7 +118,7 @@ MkvInfo mkvinfo(const std::filesystem::path& file) {
   return parse_mkvinfo(run(program + " -v '" + file.string() + "'"));
 }
 
-RecordingConfig test_config() {
+RecordingConfig test_config_k4a_recording_writer() {
   RecordingConfig config;
   config.color_resolution = ColorResolution::p720;
   config.depth_mode = DepthMode::nfov_2x2_binned;
@@ -138,9 +139,9 @@ RecordingConfig test_config() {
 }  // namespace
 
 TEST_CASE("k4a writer: the track headers, tags and attachment as mkvinfo reads them pass the SDK's playback rules") {
-  std::filesystem::create_directories(kOut);
-  const std::filesystem::path file = kOut / "rules.mkv";
-  const RecordingConfig config = test_config();
+  std::filesystem::create_directories(kOutK4aRecordingWriter);
+  const std::filesystem::path file = kOutK4aRecordingWriter / "rules.mkv";
+  const RecordingConfig config = test_config_k4a_recording_writer();
   // A device clock that started long before the recording; depth 120 us before colour.
   const uint64_t start_us = 5'000'123;
   {
@@ -196,11 +197,11 @@ TEST_CASE("k4a writer: the track headers, tags and attachment as mkvinfo reads t
 }
 
 TEST_CASE("k4a writer: the frame period of each k4a rate, and bad arguments refused") {
-  std::filesystem::create_directories(kOut);
+  std::filesystem::create_directories(kOutK4aRecordingWriter);
   for (uint32_t fps : {5u, 15u}) {
-    RecordingConfig config = test_config();
+    RecordingConfig config = test_config_k4a_recording_writer();
     config.fps = fps;
-    const std::filesystem::path file = kOut / ("rate" + std::to_string(fps) + ".mkv");
+    const std::filesystem::path file = kOutK4aRecordingWriter / ("rate" + std::to_string(fps) + ".mkv");
     {
       RecordingWriter writer(file, config);
       writer.write_capture(1000, encode_mjpg(gradient_rgba(1280, 720, 0.5f), 80), depth_ramp(320, 288, 0));
@@ -208,10 +209,10 @@ TEST_CASE("k4a writer: the frame period of each k4a rate, and bad arguments refu
     CHECK_THAT(mkvinfo(file).tracks.at("COLOR").at("Default duration"),
                Contains(fps == 5 ? "00:00:00.200000000" : "00:00:00.066666666"));
   }
-  RecordingConfig config = test_config();
+  RecordingConfig config = test_config_k4a_recording_writer();
   config.fps = 25;
-  CHECK_THROWS_WITH(RecordingWriter(kOut / "bad.mkv", config), Contains("25 fps is not a k4a rate"));
-  RecordingWriter writer(kOut / "bad.mkv", test_config());
+  CHECK_THROWS_WITH(RecordingWriter(kOutK4aRecordingWriter / "bad.mkv", config), Contains("25 fps is not a k4a rate"));
+  RecordingWriter writer(kOutK4aRecordingWriter / "bad.mkv", test_config_k4a_recording_writer());
   CHECK_THROWS_WITH(
       writer.write_capture(1000, encode_mjpg(gradient_rgba(1280, 720, 0.5f), 80), depth_ramp(640, 576, 0)),
       Contains("depth must be r16ui 320x288 (NFOV_2X2BINNED), got r16ui 640x576"));
@@ -219,20 +220,20 @@ TEST_CASE("k4a writer: the frame period of each k4a rate, and bad arguments refu
   CHECK_THROWS_WITH(
       writer.write_capture(1000, encode_mjpg(gradient_rgba(1280, 720, 0.5f), 80), depth_ramp(320, 288, 0)),
       Contains("capture times must increase"));
-  RecordingConfig bgra = test_config();
+  RecordingConfig bgra = test_config_k4a_recording_writer();
   bgra.color_format = ColorFormat::bgra;
-  RecordingWriter raw(kOut / "bad_bgra.mkv", bgra);
+  RecordingWriter raw(kOutK4aRecordingWriter / "bad_bgra.mkv", bgra);
   CHECK_THROWS_WITH(raw.write_capture(1000, encode_bgra(gradient_rgba(640, 360, 0.5f)), depth_ramp(320, 288, 0)),
                     Contains("BGRA colour of 921600 bytes, the mode needs 3686400"));
-  CHECK_THROWS_WITH(RecordingWriter("/nonexistent-dir/x.mkv", test_config()),
+  CHECK_THROWS_WITH(RecordingWriter("/nonexistent-dir/x.mkv", test_config_k4a_recording_writer()),
                     Contains("cannot create '/nonexistent-dir/x.mkv'"));
 }
 
 TEST_CASE("k4a writer: libavformat sees MJPG colour, gray16be depth, 30 fps and the calibration attachment") {
-  std::filesystem::create_directories(kOut);
-  const std::filesystem::path file = kOut / "libavformat.mkv";
+  std::filesystem::create_directories(kOutK4aRecordingWriter);
+  const std::filesystem::path file = kOutK4aRecordingWriter / "libavformat.mkv";
   {
-    RecordingWriter writer(file, test_config());
+    RecordingWriter writer(file, test_config_k4a_recording_writer());
     for (uint32_t i = 0; i < 2; ++i)
       writer.write_capture(1'000'000 + i * 33'333, encode_mjpg(gradient_rgba(1280, 720, 0.2f), 90),
                            depth_ramp(320, 288, i));

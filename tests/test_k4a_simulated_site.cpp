@@ -12,19 +12,20 @@
 #include "pipeline/site_simulator.h"
 #include "sim/scene.h"
 #include "support/gpu_test.h"
+#include "support/output_dir.h"
 
 using namespace rt;
 using namespace rt::camera::k4a;
 
 namespace {
 
-const std::filesystem::path kOut = REMOTETOUCH_TEST_OUTPUT_DIR;
-constexpr int kJpegQuality = 90;
+const std::filesystem::path kOutK4aSimulatedSite = rt::test::output_dir("test_k4a_simulated_site");
+constexpr int kJpegQualityK4aSimulatedSite = 90;
 // The simulator's images have hard edges (the user against black), where a JPEG rings: the
 // tolerance is on the mean error of a channel and on the share of values off by more than 16/255
 // (at quality 90 the worst camera, bottom-centre, measured 0.78/255 and 0.68 %; the others
 // 0.34 to 0.51/255 and 0.30 to 0.48 %).
-constexpr double kMeanTolerance = 1.5 / 255, kFarShareTolerance = 0.015;
+constexpr double kMeanToleranceK4aSimulatedSite = 1.5 / 255, kFarShareTolerance = 0.015;
 
 }  // namespace
 
@@ -35,12 +36,12 @@ TEST_CASE("k4a: a simulated site written as k4a recordings reads back as rendere
   scene.resolution_scale = 1.0;  // the default site's cameras are then k4a modes: 720p, WFOV 2x2 binned
   pipeline::SiteSimulator simulator(test::gpu(), scene, Site::A);
   const sim::SiteDescription& site = scene.at(Site::A).site;
-  const std::filesystem::path dir = kOut / "site";
+  const std::filesystem::path dir = kOutK4aSimulatedSite / "site";
   std::filesystem::remove_all(dir);
 
   std::vector<sim::RgbdFrame> frames;
   {
-    SiteWriter writer(dir, site, uint32_t(scene.fps), kJpegQuality);
+    SiteWriter writer(dir, site, uint32_t(scene.fps), kJpegQualityK4aSimulatedSite);
     while (std::optional<sim::RgbdFrame> frame = simulator.next_frame()) {
       writer.write_frame(*frame);
       frames.push_back(std::move(*frame));
@@ -90,7 +91,7 @@ TEST_CASE("k4a: a simulated site written as k4a recordings reads back as rendere
             far += error > 16.0 / 255;
           }
       const double mean = sum / values, far_share = double(far) / values;
-      CHECK(mean < kMeanTolerance);
+      CHECK(mean < kMeanToleranceK4aSimulatedSite);
       CHECK(far_share < kFarShareTolerance);
       if (frame.index == 0)
         std::printf("k4a simulated site, %s frame %llu: colour error mean %.2f/255, %.3f %% off by more than 16/255\n",

@@ -17,6 +17,7 @@
 #include "camera/k4a_site_writer.h"
 #include "camera/recorded_site.h"
 #include "config/assets.h"
+#include "support/output_dir.h"
 
 using namespace rt;
 using namespace rt::camera;
@@ -25,9 +26,9 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kOut = std::filesystem::path(REMOTETOUCH_TEST_OUTPUT_DIR) / "k4a_site";
-constexpr uint64_t kPeriodUs = 33'333;
-constexpr uint64_t kStartUs = 5'000'000;
+const std::filesystem::path kOutK4aSiteRecordings = rt::test::output_dir("test_k4a_site_recordings") / "k4a_site";
+constexpr uint64_t kPeriodUsK4aSiteRecordings = 33'333;
+constexpr uint64_t kStartUsK4aSiteRecordings = 5'000'000;
 
 // Every capture in exactly one set, at most one per camera, within half a period of the set's
 // time, which is its earliest capture's; set times never decrease.
@@ -45,7 +46,7 @@ void check_frame_sets(const std::vector<std::vector<uint64_t>>& times, const std
       const uint64_t time = times[k].at(*set.captures[k]);
       ++used[k][*set.captures[k]];
       CHECK(time >= set.time_us);
-      CHECK(time - set.time_us < (kPeriodUs + 1) / 2);
+      CHECK(time - set.time_us < (kPeriodUsK4aSiteRecordings + 1) / 2);
       earliest = std::min(earliest, time);
     }
     CHECK(earliest == set.time_us);
@@ -60,12 +61,12 @@ TEST_CASE("frame sets: aligned cameras give whole sets; a dropped frame leaves o
   std::vector<std::vector<uint64_t>> times(3);
   for (uint64_t i = 0; i < 6; ++i)
     for (size_t k = 0; k < 3; ++k)
-      if (!(k == 1 && i == 2)) times[k].push_back(kStartUs + i * kPeriodUs + k * 150);  // camera 1 drops frame 2
-  const std::vector<FrameSet> sets = assemble_frame_sets(times, kPeriodUs);
+      if (!(k == 1 && i == 2)) times[k].push_back(kStartUsK4aSiteRecordings + i * kPeriodUsK4aSiteRecordings + k * 150);  // camera 1 drops frame 2
+  const std::vector<FrameSet> sets = assemble_frame_sets(times, kPeriodUsK4aSiteRecordings);
   REQUIRE(sets.size() == 6);
   check_frame_sets(times, sets);
   for (size_t i = 0; i < 6; ++i) {
-    CHECK(sets[i].time_us == kStartUs + i * kPeriodUs);
+    CHECK(sets[i].time_us == kStartUsK4aSiteRecordings + i * kPeriodUsK4aSiteRecordings);
     CHECK(sets[i].captures[0] == i);
     CHECK(sets[i].captures[1].has_value() == (i != 2));
     CHECK(sets[i].captures[2] == i);
@@ -74,15 +75,15 @@ TEST_CASE("frame sets: aligned cameras give whole sets; a dropped frame leaves o
 }
 
 TEST_CASE("frame sets: half a period apart is another set; a camera with no captures never holds one back") {
-  const std::vector<std::vector<uint64_t>> split = {{1000}, {1000 + (kPeriodUs + 1) / 2}};
-  CHECK(assemble_frame_sets(split, kPeriodUs).size() == 2);
-  const std::vector<std::vector<uint64_t>> together = {{1000}, {1000 + (kPeriodUs + 1) / 2 - 1}};
-  CHECK(assemble_frame_sets(together, kPeriodUs).size() == 1);
-  const std::vector<std::vector<uint64_t>> silent = {{1000, 1000 + kPeriodUs}, {}};
-  const std::vector<FrameSet> sets = assemble_frame_sets(silent, kPeriodUs);
+  const std::vector<std::vector<uint64_t>> split = {{1000}, {1000 + (kPeriodUsK4aSiteRecordings + 1) / 2}};
+  CHECK(assemble_frame_sets(split, kPeriodUsK4aSiteRecordings).size() == 2);
+  const std::vector<std::vector<uint64_t>> together = {{1000}, {1000 + (kPeriodUsK4aSiteRecordings + 1) / 2 - 1}};
+  CHECK(assemble_frame_sets(together, kPeriodUsK4aSiteRecordings).size() == 1);
+  const std::vector<std::vector<uint64_t>> silent = {{1000, 1000 + kPeriodUsK4aSiteRecordings}, {}};
+  const std::vector<FrameSet> sets = assemble_frame_sets(silent, kPeriodUsK4aSiteRecordings);
   REQUIRE(sets.size() == 2);
   CHECK_FALSE(sets[0].captures[1]);
-  CHECK(assemble_frame_sets({}, kPeriodUs).empty());
+  CHECK(assemble_frame_sets({}, kPeriodUsK4aSiteRecordings).empty());
 }
 
 TEST_CASE("frame sets: random jitter and drops keep every capture once, within half a period") {
@@ -91,13 +92,13 @@ TEST_CASE("frame sets: random jitter and drops keep every capture once, within h
     const size_t cameras = 1 + random() % 6;
     std::vector<std::vector<uint64_t>> times(cameras);
     for (size_t k = 0; k < cameras; ++k) {
-      uint64_t time = kStartUs + random() % 40'000;
+      uint64_t time = kStartUsK4aSiteRecordings + random() % 40'000;
       for (int i = 0; i < 40; ++i) {
-        time += kPeriodUs - 2'000 + random() % 4'000 + (random() % 10 == 0 ? kPeriodUs : 0);  // jitter, drops
+        time += kPeriodUsK4aSiteRecordings - 2'000 + random() % 4'000 + (random() % 10 == 0 ? kPeriodUsK4aSiteRecordings : 0);  // jitter, drops
         if (random() % 7 != 0) times[k].push_back(time);
       }
     }
-    check_frame_sets(times, assemble_frame_sets(times, kPeriodUs));
+    check_frame_sets(times, assemble_frame_sets(times, kPeriodUsK4aSiteRecordings));
   }
 }
 
@@ -140,7 +141,7 @@ struct CameraPlan {
 
 // Writes site.json and one recording per camera: capture i of camera k at i periods.
 std::filesystem::path write_site(const std::string& name, const std::vector<CameraPlan>& plans, uint32_t captures = 5) {
-  const std::filesystem::path dir = kOut / name;
+  const std::filesystem::path dir = kOutK4aSiteRecordings / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const sim::SiteDescription site = test_site(plans.size());
@@ -159,7 +160,7 @@ std::filesystem::path write_site(const std::string& name, const std::vector<Came
       if (std::count(plan.dropped.begin(), plan.dropped.end(), i)) continue;
       const bool corrupt = std::count(plan.corrupt.begin(), plan.corrupt.end(), i) > 0;
       const std::vector<uint8_t> jpeg = corrupt ? std::vector<uint8_t>(600, 0x5a) : encode_mjpg(flat_color(0.1f * k + 0.02f * i), 90);
-      writer.write_capture(kStartUs + plan.clock_offset_us + plan.subordinate_delay_us + i * period_us, jpeg,
+      writer.write_capture(kStartUsK4aSiteRecordings + plan.clock_offset_us + plan.subordinate_delay_us + i * period_us, jpeg,
                            depth_of(uint32_t(k), i));
     }
     writer.close();
@@ -189,7 +190,7 @@ TEST_CASE("k4a site: a subordinate's delay taken off, a dropped and a corrupt ca
   CHECK(site.recorded_intrinsics()[1].depth.width == 320);
   CHECK(std::abs(site.recorded_intrinsics()[0].color.fx - 610) < 1e-6);
   for (size_t i = 0; i < 5; ++i) {
-    CHECK(site.frame_timestamp_us(i) == kStartUs + i * kPeriodUs);
+    CHECK(site.frame_timestamp_us(i) == kStartUsK4aSiteRecordings + i * kPeriodUsK4aSiteRecordings);
     const std::optional<sim::RgbdFrame> frame = site.next_frame();
     REQUIRE(frame);
     REQUIRE(frame->cameras.size() == 2);
@@ -203,7 +204,7 @@ TEST_CASE("k4a site: a subordinate's delay taken off, a dropped and a corrupt ca
     } else {
       CHECK(second.depth_mm.texels == depth_of(1, uint32_t(i)).texels);
       CHECK(std::abs(second.color.at(10, 10, 0) - (0.1f + 0.02f * i)) < 2.0f / 255);
-      CHECK(second.timestamp_us == kStartUs + i * kPeriodUs);  // the delay taken off
+      CHECK(second.timestamp_us == kStartUsK4aSiteRecordings + i * kPeriodUsK4aSiteRecordings);  // the delay taken off
     }
   }
   CHECK_FALSE(site.next_frame());
@@ -300,9 +301,9 @@ TEST_CASE("k4a site: folders that cannot be played are refused naming what is wr
     CHECK_THROWS_WITH(SiteRecordings(dir, nullptr), Contains(site.cameras[1].name + ".mkv"));
   }
   SECTION("no recording format at all") {
-    const std::filesystem::path dir = kOut / "empty";
+    const std::filesystem::path dir = kOutK4aSiteRecordings / "empty";
     std::filesystem::create_directories(dir);
     CHECK_THROWS_WITH(open_recorded_site(dir), Contains("neither a calibration.json") && Contains("site.json"));
-    CHECK_THROWS_WITH(open_recorded_site(kOut / "nowhere"), Contains("does not exist"));
+    CHECK_THROWS_WITH(open_recorded_site(kOutK4aSiteRecordings / "nowhere"), Contains("does not exist"));
   }
 }

@@ -15,9 +15,9 @@ using namespace rt;
 
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kNaNLumiBlend = std::numeric_limits<float>::quiet_NaN();
 
-passes::Portrait run_blend(const HostImage& fused, const HostImage& warped, const HostImage& features,
+passes::Portrait run_blend_lumi_blend(const HostImage& fused, const HostImage& warped, const HostImage& features,
                            const passes::LumiTensor& blending, uint32_t views) {
   const passes::LumiBlendPass pass(test::gpu());
   test::PassHarness gpu("lumi_blend");
@@ -45,7 +45,7 @@ TEST_CASE("lumi_blend on random views and weights, odd sizes", "[lumi_blend][gpu
       passes::LumiTensor blending = passes::random_lumi_tensor(rng, 1, 1 + views, width, height, 0.0f, 1.0f);
       for (float& b : blending.values)
         if (unit(rng) < 0.05f) b = 0.0f;
-      const passes::Portrait gpu = run_blend(fused, warped, features, blending, views);
+      const passes::Portrait gpu = run_blend_lumi_blend(fused, warped, features, blending, views);
       const passes::Portrait reference = passes::lumi_blend_reference(fused, warped, features, blending, views);
       RT_REQUIRE_MATCHES(gpu.color, reference.color, 1e-5, 1e-5);
       RT_REQUIRE_MATCHES(gpu.depth, reference.depth, 0.0, 0.0);
@@ -67,7 +67,7 @@ TEST_CASE("lumi_blend hard cases", "[lumi_blend][gpu]") {
     blending.at(0, 0, 0, 0) = alpha;
     blending.at(0, 1, 0, 0) = w0;
     blending.at(0, 2, 0, 0) = w1;
-    const passes::Portrait gpu = run_blend(fused, warped, features, blending, 2);
+    const passes::Portrait gpu = run_blend_lumi_blend(fused, warped, features, blending, 2);
     const passes::Portrait reference = passes::lumi_blend_reference(fused, warped, features, blending, 2);
     RT_REQUIRE_MATCHES(gpu.color, reference.color, 1e-6, 1e-6);
     RT_REQUIRE_MATCHES(gpu.depth, reference.depth, 0.0, 0.0);
@@ -86,12 +86,12 @@ TEST_CASE("lumi_blend hard cases", "[lumi_blend][gpu]") {
     REQUIRE(p.color.at(0, 0, 1) == Approx(1.0f).epsilon(1e-6));
   }
   SECTION("zero, negative and NaN weights: the seeing views share equally") {
-    const passes::Portrait p = run(true, true, kNaN, -1.0f, 1.0f);
+    const passes::Portrait p = run(true, true, kNaNLumiBlend, -1.0f, 1.0f);
     REQUIRE(p.color.at(0, 0, 0) == Approx(0.5f).epsilon(1e-6));
     REQUIRE(p.color.at(0, 0, 1) == Approx(0.5f).epsilon(1e-6));
   }
   SECTION("NaN alpha gives alpha 0, never NaN") {
-    REQUIRE(run(true, false, 1.0f, 0.0f, kNaN).color.at(0, 0, 3) == 0.0f);
+    REQUIRE(run(true, false, 1.0f, 0.0f, kNaNLumiBlend).color.at(0, 0, 3) == 0.0f);
   }
   SECTION("no view sees: empty portrait and no depth") {
     const passes::Portrait p = run(false, false, 0.5f, 0.5f, 1.0f);

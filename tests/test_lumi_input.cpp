@@ -16,7 +16,7 @@ using namespace rt;
 
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kNaNLumiInput = std::numeric_limits<float>::quiet_NaN();
 
 passes::LumiInputs run_input(const HostImage& warped, const HostImage& features, uint32_t height, uint32_t views,
                              uint32_t scale) {
@@ -48,7 +48,7 @@ TEST_CASE("lumi_input on random warped views, odd sizes", "[lumi_input][gpu]") {
         for (size_t i = 0; i < features.texels.size(); i += 4) {
           features.texels[i] *= 1.5f;
           features.texels[i + 3] = unit(rng) < 0.67f ? 1.0f : 0.0f;
-          if (unit(rng) < 0.02f) features.texels[i + 1] = kNaN;
+          if (unit(rng) < 0.02f) features.texels[i + 1] = kNaNLumiInput;
         }
         const passes::LumiInputs gpu = run_input(warped, features, height, views, scale);
         const passes::LumiInputs reference = passes::lumi_input_reference(warped, features, height, views, scale);
@@ -71,8 +71,8 @@ TEST_CASE("lumi_input by hand: partly seen blocks, unseen blocks, NaN", "[lumi_i
   };
   seen(0, 0, 0.2f, 0.1f);
   seen(1, 1, 0.6f, 0.3f);
-  warped.at(1, 0, 0) = kNaN;
-  seen(2, 0, 0.5f, kNaN);
+  warped.at(1, 0, 0) = kNaNLumiInput;
+  seen(2, 0, 0.5f, kNaNLumiInput);
   const passes::LumiInputs gpu = run_input(warped, features, 2, 1, 2);
   REQUIRE(gpu.inputs.at(0, 0, 0, 0) == Approx(0.4f).epsilon(1e-6));
   REQUIRE(gpu.inputs.at(0, 3, 0, 0) == 0.5f);

@@ -14,8 +14,8 @@ using namespace rt;
 
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaNLumiSoftmax = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInfLumiSoftmax = std::numeric_limits<float>::infinity();
 
 passes::LumiTensor run_softmax(const passes::LumiTensor& logits, const passes::LumiTensor& coverage) {
   const passes::LumiSoftmaxPass pass(test::gpu());
@@ -81,32 +81,32 @@ TEST_CASE("lumi_softmax hard cases", "[lumi_softmax][gpu]") {
     REQUIRE(gpu.at(0, 0, 0, 0) == Approx(1.0f / (1.0f + std::exp(-2.0f))).epsilon(1e-5));
   }
   SECTION("no view sees: alpha 0 and weights 0, whatever the logits") {
-    const passes::LumiTensor gpu = run({{kNaN, kInf, 3.0f}, {kInf, kNaN, 1.0f}, {0, 0, 0}});
+    const passes::LumiTensor gpu = run({{kNaNLumiSoftmax, kInfLumiSoftmax, 3.0f}, {kInfLumiSoftmax, kNaNLumiSoftmax, 1.0f}, {0, 0, 0}});
     for (uint32_t p = 0; p < 4; ++p) REQUIRE(gpu.at(0, p, 0, 0) == 0.0f);
   }
   SECTION("NaN and -Inf weight logits leave the softmax") {
-    const passes::LumiTensor gpu = run({{kNaN, -kInf, 1.0f}, {0.0f, 0.0f, 0.0f}, {1, 1, 1}});
+    const passes::LumiTensor gpu = run({{kNaNLumiSoftmax, -kInfLumiSoftmax, 1.0f}, {0.0f, 0.0f, 0.0f}, {1, 1, 1}});
     REQUIRE(gpu.at(0, 1, 0, 0) == 0.0f);
     REQUIRE(gpu.at(0, 2, 0, 0) == 0.0f);
     REQUIRE(gpu.at(0, 3, 0, 0) == 1.0f);
   }
   SECTION("+Inf weight logits share the weight") {
-    const passes::LumiTensor gpu = run({{kInf, kInf, 1e3f}, {0.0f, 0.0f, 0.0f}, {1, 1, 1}});
+    const passes::LumiTensor gpu = run({{kInfLumiSoftmax, kInfLumiSoftmax, 1e3f}, {0.0f, 0.0f, 0.0f}, {1, 1, 1}});
     REQUIRE(gpu.at(0, 1, 0, 0) == 0.5f);
     REQUIRE(gpu.at(0, 2, 0, 0) == 0.5f);
     REQUIRE(gpu.at(0, 3, 0, 0) == 0.0f);
   }
   SECTION("every seeing view's logit NaN or -Inf: they share equally") {
-    const passes::LumiTensor gpu = run({{kNaN, -kInf, 7.0f}, {0.0f, 0.0f, 0.0f}, {1, 1, 0}});
+    const passes::LumiTensor gpu = run({{kNaNLumiSoftmax, -kInfLumiSoftmax, 7.0f}, {0.0f, 0.0f, 0.0f}, {1, 1, 0}});
     REQUIRE(gpu.at(0, 1, 0, 0) == 0.5f);
     REQUIRE(gpu.at(0, 2, 0, 0) == 0.5f);
     REQUIRE(gpu.at(0, 3, 0, 0) == 0.0f);
   }
   SECTION("alpha logits: NaN ones are skipped, all NaN gives 0, +Inf gives 1, +Inf with -Inf gives 0") {
-    REQUIRE(run({{0, 0, 0}, {kNaN, 0.0f, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == Approx(0.5f).epsilon(1e-6));
-    REQUIRE(run({{0, 0, 0}, {kNaN, kNaN, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == 0.0f);
-    REQUIRE(run({{0, 0, 0}, {kInf, 0.0f, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == 1.0f);
-    REQUIRE(run({{0, 0, 0}, {kInf, -kInf, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == 0.0f);
-    REQUIRE(run({{0, 0, 0}, {-kInf, -kInf, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == 0.0f);
+    REQUIRE(run({{0, 0, 0}, {kNaNLumiSoftmax, 0.0f, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == Approx(0.5f).epsilon(1e-6));
+    REQUIRE(run({{0, 0, 0}, {kNaNLumiSoftmax, kNaNLumiSoftmax, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == 0.0f);
+    REQUIRE(run({{0, 0, 0}, {kInfLumiSoftmax, 0.0f, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == 1.0f);
+    REQUIRE(run({{0, 0, 0}, {kInfLumiSoftmax, -kInfLumiSoftmax, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == 0.0f);
+    REQUIRE(run({{0, 0, 0}, {-kInfLumiSoftmax, -kInfLumiSoftmax, 0.0f}, {1, 1, 0}}).at(0, 0, 0, 0) == 0.0f);
   }
 }

@@ -37,19 +37,19 @@ std::string reply_to(std::string_view line) {
   return replies[0];
 }
 
-motor_command parse(std::string_view line) { return motor_parse_line(line.data(), line.size()); }
+motor_command parse_motor_protocol(std::string_view line) { return motor_parse_line(line.data(), line.size()); }
 
 }  // namespace
 
 TEST_CASE("motor protocol: valid commands are parsed and echoed", "[motor][protocol]") {
-  const motor_command pulse = parse("P 120 200");
+  const motor_command pulse = parse_motor_protocol("P 120 200");
   CHECK(pulse.kind == MOTOR_COMMAND_PULSE);
   CHECK(pulse.duration_ms == 120);
   CHECK(pulse.strength == 200);
   CHECK(reply_to("P 120 200") == "OK P 120 200");
-  CHECK(parse("S").kind == MOTOR_COMMAND_STOP);
+  CHECK(parse_motor_protocol("S").kind == MOTOR_COMMAND_STOP);
   CHECK(reply_to("S") == "OK S");
-  CHECK(parse("V").kind == MOTOR_COMMAND_VERSION);
+  CHECK(parse_motor_protocol("V").kind == MOTOR_COMMAND_VERSION);
   CHECK(reply_to("V") == "OK V remotetouch-motor 1");
 
   // Spaces are separators however many; leading zeros are still the same number.
@@ -75,7 +75,7 @@ TEST_CASE("motor protocol: every bound is inclusive and enforced, never clamped"
   // Duration is checked first: both out of range reports the duration.
   CHECK(reply_to("P 0 0") == "ERR duration 0 ms out of range 1..1000");
 
-  const motor_command rejected = parse("P 5000 10");
+  const motor_command rejected = parse_motor_protocol("P 5000 10");
   CHECK(rejected.kind == MOTOR_COMMAND_REJECTED);
   CHECK(rejected.error == MOTOR_ERROR_DURATION_RANGE);
   CHECK(rejected.bad_value == 5000);

@@ -32,7 +32,7 @@ using namespace rt::net;
 
 namespace {
 
-constexpr std::chrono::milliseconds kPatience{20000};
+constexpr std::chrono::milliseconds kPatienceNetFlood{20000};
 
 double flood_seconds() {
   const char* text = std::getenv("REMOTETOUCH_FLOOD_SECONDS");
@@ -139,7 +139,7 @@ TEST_CASE("1,000 strangers a second from 64 networks: the peer gets in within a 
   Session listener(listener_options);
   listener.start();
   const sockaddr_in address = test::loopback_address(listener.local_port());
-  REQUIRE(test::eventually([&] { return thread_cpu_seconds("net B").has_value(); }, kPatience));
+  REQUIRE(test::eventually([&] { return thread_cpu_seconds("net B").has_value(); }, kPatienceNetFlood));
 
   const double seconds = flood_seconds();
   const double cpu_before = *thread_cpu_seconds("net B");
@@ -158,7 +158,7 @@ TEST_CASE("1,000 strangers a second from 64 networks: the peer gets in within a 
   Session connector(options);
   const auto tried = std::chrono::steady_clock::now();
   connector.start();
-  const bool connected = connector.wait_connected(kPatience);
+  const bool connected = connector.wait_connected(kPatienceNetFlood);
   const double connect_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tried).count();
   flooder.join();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - flood_start).count();
@@ -204,7 +204,7 @@ TEST_CASE("a stranger flooding from the peer's own address (its host, its NAT) d
     // The peer connects once from 127.0.0.1, then its run ends.
     Session first(options);
     first.start();
-    REQUIRE(first.wait_connected(kPatience));
+    REQUIRE(first.wait_connected(kPatienceNetFlood));
   }
   const sockaddr_in address = test::loopback_address(listener.local_port());
   // A stranger on that address (never shed: it is the peer's) floods silent connections and
@@ -248,7 +248,7 @@ TEST_CASE("a stranger flooding from the peer's own address (its host, its NAT) d
   Session again(options);
   const auto tried = std::chrono::steady_clock::now();
   again.start();
-  const bool connected = again.wait_connected(kPatience);
+  const bool connected = again.wait_connected(kPatienceNetFlood);
   const double connect_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tried).count();
   stop = true;
   flooder.join();

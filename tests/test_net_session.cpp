@@ -25,9 +25,9 @@ namespace {
 
 // How long a test waits for what must happen: far beyond what it takes on a 2-core CI runner
 // shared with other tests, so that only what never happens fails a test, never a slow machine.
-constexpr std::chrono::milliseconds kPatience{20000};
+constexpr std::chrono::milliseconds kPatienceNetSession{20000};
 
-bool eventually(const std::function<bool()>& done) { return test::eventually(done, kPatience); }
+bool eventually_net_session(const std::function<bool()>& done) { return test::eventually(done, kPatienceNetSession); }
 
 // A session logs each kind of refusal, shed or accept error once a second at most: from `since`
 // (before the session started) to now, that is at most one line more than the whole seconds
@@ -96,8 +96,8 @@ TEST_CASE("a session delivers all five message types both ways") {
     at_connector.messages.push_back(m);
   });
   link.connector->start();
-  REQUIRE(link.connector->wait_connected(kPatience));
-  REQUIRE(link.listener.wait_connected(kPatience));
+  REQUIRE(link.connector->wait_connected(kPatienceNetSession));
+  REQUIRE(link.listener.wait_connected(kPatienceNetSession));
   CHECK(link.log.contains("session established"));
 
   const PortraitMessage portrait = test::test_portrait(33, 17, 5);
@@ -109,7 +109,7 @@ TEST_CASE("a session delivers all five message types both ways") {
   }
   const std::set<MessageType> all = {MessageType::Eye, MessageType::Portrait, MessageType::Skeleton,
                                      MessageType::TouchEvent, MessageType::Heartbeat};
-  REQUIRE(eventually([&] { return at_listener.types() == all && at_connector.types() == all; }));
+  REQUIRE(eventually_net_session([&] { return at_listener.types() == all && at_connector.types() == all; }));
 
   // The mailboxes hold the same: the newest of each stream, touch events all.
   for (Session* s : {&link.listener, link.connector.get()}) {
@@ -141,11 +141,11 @@ TEST_CASE("a session delivers all five message types both ways") {
 TEST_CASE("a session that stops says goodbye: its peer counts the session's end, not a lost connection") {
   Link link;
   link.connector->start();
-  REQUIRE(link.connector->wait_connected(kPatience));
-  REQUIRE(link.listener.wait_connected(kPatience));
+  REQUIRE(link.connector->wait_connected(kPatienceNetSession));
+  REQUIRE(link.listener.wait_connected(kPatienceNetSession));
   link.connector->send(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
   link.connector->stop();  // the touch still goes, before the goodbye
-  REQUIRE(eventually([&] { return link.listener.status().state == ConnectionState::Ended; }));
+  REQUIRE(eventually_net_session([&] { return link.listener.status().state == ConnectionState::Ended; }));
   const NetCounters c = link.listener.counters();
   CHECK(c.sessions_ended_by_peer == 1);
   CHECK(c.connections_lost == 0);
@@ -158,10 +158,10 @@ TEST_CASE("a session that stops says goodbye: its peer counts the session's end,
 TEST_CASE("a listener that stops says goodbye to its connector too") {
   Link link;
   link.connector->start();
-  REQUIRE(link.listener.wait_connected(kPatience));
-  REQUIRE(link.connector->wait_connected(kPatience));
+  REQUIRE(link.listener.wait_connected(kPatienceNetSession));
+  REQUIRE(link.connector->wait_connected(kPatienceNetSession));
   link.listener.stop();
-  REQUIRE(eventually([&] { return link.connector->status().state != ConnectionState::Connected; }));
+  REQUIRE(eventually_net_session([&] { return link.connector->status().state != ConnectionState::Connected; }));
   CHECK(link.connector->counters().sessions_ended_by_peer == 1);
   CHECK(link.connector->counters().connections_lost == 0);
   // The session is over: the connector does not try to reach a peer that said goodbye.
@@ -176,11 +176,11 @@ TEST_CASE("a peer with the wrong key is refused on both sides and nothing is del
   link.listener.set_handler([](const Message&) { FAIL("a message passed a failed handshake"); });
   link.connector->start();
   link.connector->send(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
-  REQUIRE(eventually([&] {
+  REQUIRE(eventually_net_session([&] {
     return link.connector->status().state == ConnectionState::Refused && link.listener.status().state == ConnectionState::Refused;
   }));
   // The connector tries again after each refusal: a few retries, each refused the same way.
-  REQUIRE(eventually([&] {
+  REQUIRE(eventually_net_session([&] {
     return link.connector->counters().handshakes_refused >= 3 && link.listener.counters().handshakes_refused >= 3;
   }));
   // The listener refuses the connector's hello (its MAC is of another key) before making any
@@ -205,24 +205,24 @@ TEST_CASE("a peer with the wrong key is refused on both sides and nothing is del
 TEST_CASE("garbage from a stranger is refused while the real session goes on") {
   Link link;
   link.connector->start();
-  REQUIRE(link.listener.wait_connected(kPatience));
+  REQUIRE(link.listener.wait_connected(kPatienceNetSession));
   asio::io_context io;
   asio::ip::tcp::socket stranger(io);
   stranger.connect({asio::ip::make_address("127.0.0.1"), link.listener.local_port()});
   std::vector<uint8_t> garbage(200);
   for (size_t i = 0; i < garbage.size(); ++i) garbage[i] = uint8_t(i * 37 + 11);
   asio::write(stranger, asio::buffer(garbage));
-  REQUIRE(eventually([&] { return link.listener.counters().handshakes_refused == 1; }));
+  REQUIRE(eventually_net_session([&] { return link.listener.counters().handshakes_refused == 1; }));
   CHECK(link.log.contains("bad hello magic"));
   CHECK(link.listener.status().connected());
   link.connector->send(EyeMessage{7, {0, 0, -1}, true});
-  REQUIRE(eventually([&] { return link.listener.take_eye().has_value(); }));
+  REQUIRE(eventually_net_session([&] { return link.listener.take_eye().has_value(); }));
 }
 
 TEST_CASE("malformed messages from a peer holding the key are rejected, counted, and the session goes on") {
   Link link;
   link.connector->start();
-  REQUIRE(link.listener.wait_connected(kPatience));
+  REQUIRE(link.listener.wait_connected(kPatienceNetSession));
   const auto good = encode_message(TouchEventMessage{5, TouchEventMessage::Kind::End, 0, 1, 1});
   std::vector<std::vector<uint8_t>> bad;
   bad.push_back({1, 2, 3});                       // truncated
@@ -234,7 +234,7 @@ TEST_CASE("malformed messages from a peer holding the key are rejected, counted,
   std::memcpy(bad.back().data() + kHeaderSize + 8, &nan, 8);  // NaN eye
   for (auto& bytes : bad) link.connector->send_encoded(MessageType::TouchEvent, bytes);
   link.connector->send_encoded(MessageType::TouchEvent, good);
-  REQUIRE(eventually([&] { return link.listener.counters().messages_in[size_t(message_type_index(MessageType::TouchEvent))] == 1; }));
+  REQUIRE(eventually_net_session([&] { return link.listener.counters().messages_in[size_t(message_type_index(MessageType::TouchEvent))] == 1; }));
   const NetCounters c = link.listener.counters();
   CHECK(c.rejected == 5);
   CHECK(c.rejected_by_reason.at("truncated") == 1);
@@ -273,7 +273,7 @@ TEST_CASE("portraits: only the newest unsent one goes, only the newest received 
   for (uint64_t i = 0; i < 50; ++i) link.connector->send(TouchEventMessage{i, TouchEventMessage::Kind(i % 2), 0});
   CHECK(link.connector->counters().stale_dropped_out[kPortrait] == 4);
   link.connector->start();
-  REQUIRE(eventually([&] { return last_delivered() == 4; }));
+  REQUIRE(eventually_net_session([&] { return last_delivered() == 4; }));
   CHECK(link.listener.counters().messages_in[kPortrait] == 1);
   // Connected: the receiver does not poll while more arrive; it then finds only the newest.
   for (uint64_t frame = 5; frame < 12; ++frame) {
@@ -282,7 +282,7 @@ TEST_CASE("portraits: only the newest unsent one goes, only the newest received 
     link.connector->send(p);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  REQUIRE(eventually([&] { return last_delivered() == 11; }));
+  REQUIRE(eventually_net_session([&] { return last_delivered() == 11; }));
   const auto newest = link.listener.take_portrait();
   REQUIRE(newest);
   CHECK(newest->frame_index == 11);
@@ -291,7 +291,7 @@ TEST_CASE("portraits: only the newest unsent one goes, only the newest received 
   CHECK(in.messages_in[kPortrait] == delivered.size());
   CHECK(in.stale_dropped_in[kPortrait] >= delivered.size() - 1);  // every delivered one but the newest, at least
   for (size_t i = 1; i < delivered.size(); ++i) CHECK(delivered[i] > delivered[i - 1]);
-  REQUIRE(eventually([&] { return link.listener.counters().messages_in[size_t(message_type_index(MessageType::TouchEvent))] == 50; }));
+  REQUIRE(eventually_net_session([&] { return link.listener.counters().messages_in[size_t(message_type_index(MessageType::TouchEvent))] == 50; }));
   const auto touches = link.listener.take_touch_events();
   REQUIRE(touches.size() == 50);
   for (uint64_t i = 0; i < 50; ++i) CHECK(touches[i].timestamp_us == i);
@@ -300,13 +300,13 @@ TEST_CASE("portraits: only the newest unsent one goes, only the newest received 
 TEST_CASE("a portrait of many records (each at most 64 KiB of it) arrives intact") {
   Link link;
   link.connector->start();
-  REQUIRE(link.listener.wait_connected(kPatience));
+  REQUIRE(link.listener.wait_connected(kPatienceNetSession));
   const PortraitMessage portrait = test::test_portrait(640, 480, 77, 5);
   const auto bytes = encode_message(portrait);
   REQUIRE(bytes.size() > 256 * 1024);
   link.connector->send_encoded(MessageType::Portrait, bytes);
   std::optional<PortraitMessage> got;
-  REQUIRE(eventually([&] { return (got = link.listener.take_portrait()).has_value(); }));
+  REQUIRE(eventually_net_session([&] { return (got = link.listener.take_portrait()).has_value(); }));
   CHECK(got->frame_index == 77);
   CHECK(std::memcmp(got->depth.texels.data(), portrait.depth.texels.data(), portrait.depth.texels.size() * 4) == 0);
   CHECK(link.listener.counters().bytes_in > bytes.size());
@@ -342,7 +342,7 @@ TEST_CASE("out of descriptors, the listener backs off instead of spinning, and r
     clients.push_back(fd);
     ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address);
   }
-  REQUIRE(eventually([&] { return listener.counters().accept_errors > 0; }));
+  REQUIRE(eventually_net_session([&] { return listener.counters().accept_errors > 0; }));
 
   rusage before{}, after{};
   ::getrusage(RUSAGE_SELF, &before);
@@ -368,7 +368,7 @@ TEST_CASE("out of descriptors, the listener backs off instead of spinning, and r
   options.port = port;
   Session connector(options);
   connector.start();
-  CHECK(connector.wait_connected(kPatience));
+  CHECK(connector.wait_connected(kPatienceNetSession));
   // (A retry already failing when the descriptors came back may still have counted one more.)
   const NetCounters counters = listener.counters();
   CHECK(counters.accept_errors >= errors);
@@ -377,7 +377,7 @@ TEST_CASE("out of descriptors, the listener backs off instead of spinning, and r
 
 namespace {
 // A TCP connection to `to` from the loopback address `from` (any of 127.0.0.0/8).
-int connect_from(const sockaddr_in& to, const std::string& from) {
+int connect_from_net_session(const sockaddr_in& to, const std::string& from) {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
   REQUIRE(fd >= 0);
   sockaddr_in source{};
@@ -406,7 +406,7 @@ TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not f
   constexpr int kSilent = 320, kGarbage = 40;
   std::vector<int> strangers;
   for (int i = 0; i < kSilent + kGarbage; ++i) {
-    const int fd = connect_from(address, "127." + std::to_string(1 + i / 200) + "." + std::to_string(i % 200) + ".1");
+    const int fd = connect_from_net_session(address, "127." + std::to_string(1 + i / 200) + "." + std::to_string(i % 200) + ".1");
     if (i >= kSilent) {
       const std::string garbage(200, 'x');
       CHECK(::write(fd, garbage.data(), garbage.size()) > 0);
@@ -415,7 +415,7 @@ TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not f
   }
   // Beyond the room for connections awaiting their hello, the newest were turned away at accept
   // (or, on a machine slow enough, the oldest dropped for them).
-  REQUIRE(eventually([&] {
+  REQUIRE(eventually_net_session([&] {
     const NetCounters c = listener.counters();
     return c.connections_turned_away + c.handshakes_dropped_for_room >= kSilent - 256;
   }));
@@ -424,7 +424,7 @@ TEST_CASE("silent strangers cannot keep the real peer out, and refusals do not f
   Session connector(options);
   const auto start = std::chrono::steady_clock::now();
   connector.start();
-  CHECK(connector.wait_connected(kPatience));
+  CHECK(connector.wait_connected(kPatienceNetSession));
   INFO("connected after " << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s");
   // None of the strangers cost a key pair: the peer's hello alone made handshake state.
   NetCounters counters = listener.counters();
@@ -460,14 +460,14 @@ TEST_CASE("a flood from one network is shed at accept; the peer, from another or
   const std::string garbage(64, 'x');
   auto flood = [&](const std::string& from, int connections) {
     for (int i = 0; i < connections; ++i) {
-      const int fd = connect_from(address, from);
+      const int fd = connect_from_net_session(address, from);
       (void)!::write(fd, garbage.data(), garbage.size());
       ::close(fd);
     }
   };
   const auto flood_start = std::chrono::steady_clock::now();
   flood("127.0.5.2", 200);
-  REQUIRE(eventually([&] { return handled() >= 200; }));
+  REQUIRE(eventually_net_session([&] { return handled() >= 200; }));
   // The burst (20) and what refills (10 a second) until the listener has taken the whole flood
   // are let in; the rest is closed unread. A slow machine takes longer, and lets in more.
   const double flood_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - flood_start).count();
@@ -478,11 +478,11 @@ TEST_CASE("a flood from one network is shed at accept; the peer, from another or
   options.port = listener.local_port();
   Session connector(options);
   connector.start();
-  CHECK(connector.wait_connected(kPatience));
+  CHECK(connector.wait_connected(kPatienceNetSession));
   CHECK(listener.counters().connections_shed == shed);  // the peer's network has a rate of its own
   // The flooder's whole network (/24) is over its rate, not just its address.
   flood("127.0.5.77", 5);
-  REQUIRE(eventually([&] { return listener.counters().connections_shed >= shed + 5; }));
+  REQUIRE(eventually_net_session([&] { return listener.counters().connections_shed >= shed + 5; }));
   const uint64_t shed_with_network = listener.counters().connections_shed;
   CHECK(shed_with_network == shed + 5);
 
@@ -490,7 +490,7 @@ TEST_CASE("a flood from one network is shed at accept; the peer, from another or
   // lets the peer back in after the link is lost.
   const uint64_t handled_before = handled();
   flood("127.0.0.1", 200);
-  REQUIRE(eventually([&] { return handled() >= handled_before + 200; }));
+  REQUIRE(eventually_net_session([&] { return handled() >= handled_before + 200; }));
   CHECK(listener.counters().connections_shed == shed_with_network);
   const size_t shed_lines = lines_with(log, "B", "closed unread"), most_lines = most_lines_since(started);
   INFO(shed_lines << " lines of shed connections, " << most_lines << " at most at one a second");
@@ -515,7 +515,7 @@ struct RawConnector {
   // what has come when kPatience passes, if neither happens.
   std::vector<uint8_t> read_until_closed(bool* eof, size_t enough = SIZE_MAX) {
     std::vector<uint8_t> got;
-    const auto deadline = std::chrono::steady_clock::now() + kPatience;
+    const auto deadline = std::chrono::steady_clock::now() + kPatienceNetSession;
     socket.non_blocking(true);
     while (got.size() < enough && std::chrono::steady_clock::now() < deadline) {
       uint8_t buffer[256];
@@ -575,7 +575,7 @@ TEST_CASE("the listener sends nothing that proves the key before it has verified
     REQUIRE(reply.size() == kProofSize);
     CHECK_THAT(*connector.verify_proof(reply), Catch::Contains("did not prove knowledge of the session key"));
     // (Its log line may be held back: refusals are logged once a second at most.)
-    REQUIRE(eventually([&] { return listener.counters().handshakes_refused == 2; }));
+    REQUIRE(eventually_net_session([&] { return listener.counters().handshakes_refused == 2; }));
     CHECK_THAT(listener.status().reason, Catch::Contains("did not prove knowledge of the session key"));
   }
   {
@@ -590,7 +590,7 @@ TEST_CASE("the listener sends nothing that proves the key before it has verified
     std::array<uint8_t, kProofSize> proof{};
     asio::read(raw.socket, asio::buffer(proof));
     CHECK_FALSE(connector.verify_proof(proof));
-    CHECK(listener.wait_connected(kPatience));
+    CHECK(listener.wait_connected(kPatienceNetSession));
   }
   CHECK(listener.counters().handshakes_refused == 2);
   CHECK(listener.counters().handshakes_ok == 1);
@@ -609,7 +609,7 @@ TEST_CASE("a peer of the previous protocol version gets a clear error naming bot
   listener.start();
   RawConnector old_connector(listener.local_port());
   asio::write(old_connector.socket, asio::buffer(v2_hello(Role::Connector)));
-  REQUIRE(eventually([&] { return listener.counters().handshakes_refused == 1; }));
+  REQUIRE(eventually_net_session([&] { return listener.counters().handshakes_refused == 1; }));
   CHECK(log.contains("[B] connection with 127.0.0.1:"));
   CHECK(log.contains("refused: handshake: the peer speaks protocol version 2, this build version 3"));
   CHECK(listener.status().state == ConnectionState::Refused);
@@ -632,7 +632,7 @@ TEST_CASE("a peer of the previous protocol version gets a clear error naming bot
   asio::ip::tcp::socket accepted(io);
   old_listener.accept(accepted);
   asio::write(accepted, asio::buffer(v2_hello(Role::Listener)));
-  REQUIRE(eventually([&] { return connector.status().state == ConnectionState::Refused; }));
+  REQUIRE(eventually_net_session([&] { return connector.status().state == ConnectionState::Refused; }));
   CHECK_THAT(connector.status().reason, Catch::Contains("peer speaks protocol version 2, this build version 3"));
 }
 
@@ -650,7 +650,7 @@ TEST_CASE("a genuine hello played again is refused before any handshake state, a
     std::array<uint8_t, kHelloSize> reply{};
     asio::read(raw.socket, asio::buffer(reply));
     CHECK_FALSE(genuine.receive_hello(reply));
-    REQUIRE(eventually([&] { return listener.counters().handshakes_started == 1; }));
+    REQUIRE(eventually_net_session([&] { return listener.counters().handshakes_started == 1; }));
   }
   {
     // Recorded and played again, on a new connection: refused at the replay window, closed
@@ -661,7 +661,7 @@ TEST_CASE("a genuine hello played again is refused before any handshake state, a
     const auto got = replay.read_until_closed(&eof);
     CHECK(eof);
     CHECK(got.empty());
-    REQUIRE(eventually([&] { return listener.counters().hellos_replayed == 1; }));
+    REQUIRE(eventually_net_session([&] { return listener.counters().hellos_replayed == 1; }));
     CHECK(listener.counters().handshakes_started == 1);
     CHECK_THAT(listener.status().reason, Catch::Contains("no later than the last one accepted"));
   }
@@ -670,7 +670,7 @@ TEST_CASE("a genuine hello played again is refused before any handshake state, a
   options.port = listener.local_port();
   Session connector(options);
   connector.start();
-  CHECK(connector.wait_connected(kPatience));
+  CHECK(connector.wait_connected(kPatienceNetSession));
   CHECK(listener.counters().handshakes_started == 2);
 }
 
@@ -691,7 +691,7 @@ TEST_CASE("a listener that refuses once does not end the connector's attempts: t
     std::vector<uint8_t> old_hello = {'R', 'T', 'H', 'S', 2, 0, uint8_t(Role::Listener), 0};
     old_hello.resize(72, 0x5a);
     asio::write(accepted, asio::buffer(old_hello));
-    REQUIRE(eventually([&] { return connector.status().state == ConnectionState::Refused; }));
+    REQUIRE(eventually_net_session([&] { return connector.status().state == ConnectionState::Refused; }));
     CHECK_THAT(connector.status().reason, Catch::Contains("peer speaks protocol version 2, this build version 3"));
   }
   fake.reset();  // the fake goes; the real listener comes up on the same port
@@ -699,7 +699,7 @@ TEST_CASE("a listener that refuses once does not end the connector's attempts: t
   listener_options.port = port;
   Session listener(listener_options);
   listener.start();
-  CHECK(connector.wait_connected(kPatience));
+  CHECK(connector.wait_connected(kPatienceNetSession));
   CHECK(connector.counters().handshakes_refused >= 1);
   CHECK(connector.counters().handshakes_ok == 1);
 }

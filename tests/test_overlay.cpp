@@ -10,13 +10,13 @@ using namespace rt;
 
 namespace {
 
-constexpr double kAbs = 1e-5, kRel = 1e-5;
+constexpr double kAbsOverlay = 1e-5, kRel = 1e-5;
 
 struct Layers {
   HostImage hand_color, hand_alpha, portrait;
 };
 
-HostImage run_gpu(const Layers& in) {
+HostImage run_gpu_overlay(const Layers& in) {
   const passes::OverlayPass pass(test::gpu());
   test::PassHarness gpu("overlay");
   pass.add_to(gpu.graph(), gpu.input("hand color", in.hand_color), gpu.input("hand alpha", in.hand_alpha),
@@ -51,7 +51,7 @@ TEST_CASE("overlay on random layers of odd sizes", "[overlay][gpu]") {
   for (const auto& [width, height] : test::odd_sizes()) {
     INFO(width << "x" << height);
     const Layers in = random_layers(rng, width, height);
-    RT_REQUIRE_MATCHES(run_gpu(in), passes::overlay_reference(in.hand_color, in.hand_alpha, in.portrait), kAbs, kRel);
+    RT_REQUIRE_MATCHES(run_gpu_overlay(in), passes::overlay_reference(in.hand_color, in.hand_alpha, in.portrait), kAbsOverlay, kRel);
   }
 }
 
@@ -64,18 +64,18 @@ TEST_CASE("overlay hard cases: alpha 0 and 1 everywhere, non-finite inputs", "[o
   SECTION("both alphas 0: alpha_f = 0 gives (0, 0, 0, 0), not 0/0") {
     in.hand_alpha = test::filled_image(w, h, PixelFormat::R32F, 0.0f);
     for (uint32_t i = 3; i < in.portrait.texels.size(); i += 4) in.portrait.texels[i] = 0.0f;
-    RT_REQUIRE_MATCHES(run_gpu(in), test::filled_image(w, h, PixelFormat::RGBA32F, 0.0f), 0.0, 0.0);
+    RT_REQUIRE_MATCHES(run_gpu_overlay(in), test::filled_image(w, h, PixelFormat::RGBA32F, 0.0f), 0.0, 0.0);
   }
   SECTION("hand alpha 1: the hand hides the portrait") {
     in.hand_alpha = test::filled_image(w, h, PixelFormat::R32F, 1.0f);
     HostImage expected = in.hand_color;
     for (uint32_t i = 3; i < expected.texels.size(); i += 4) expected.texels[i] = 1.0f;
-    RT_REQUIRE_MATCHES(run_gpu(in), expected, kAbs, kRel);
+    RT_REQUIRE_MATCHES(run_gpu_overlay(in), expected, kAbsOverlay, kRel);
   }
   SECTION("hand alpha 0, portrait alpha 1: the portrait alone") {
     in.hand_alpha = test::filled_image(w, h, PixelFormat::R32F, 0.0f);
     for (uint32_t i = 3; i < in.portrait.texels.size(); i += 4) in.portrait.texels[i] = 1.0f;
-    RT_REQUIRE_MATCHES(run_gpu(in), in.portrait, kAbs, kRel);
+    RT_REQUIRE_MATCHES(run_gpu_overlay(in), in.portrait, kAbsOverlay, kRel);
   }
   SECTION("NaN and Inf in every input count as 0") {
     const float bad[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
@@ -83,6 +83,6 @@ TEST_CASE("overlay hard cases: alpha 0 and 1 everywhere, non-finite inputs", "[o
     for (size_t i = 0; i < in.hand_color.texels.size(); i += 3) in.hand_color.texels[i] = bad[i % 5];
     for (size_t i = 0; i < in.hand_alpha.texels.size(); i += 2) in.hand_alpha.texels[i] = bad[i % 5];
     for (size_t i = 1; i < in.portrait.texels.size(); i += 3) in.portrait.texels[i] = bad[i % 5];
-    RT_REQUIRE_MATCHES(run_gpu(in), passes::overlay_reference(in.hand_color, in.hand_alpha, in.portrait), kAbs, kRel);
+    RT_REQUIRE_MATCHES(run_gpu_overlay(in), passes::overlay_reference(in.hand_color, in.hand_alpha, in.portrait), kAbsOverlay, kRel);
   }
 }

@@ -18,7 +18,7 @@ using passes::MeshVertex;
 
 namespace {
 
-Camera test_camera(uint32_t width, uint32_t height) {
+Camera test_camera_person_raster(uint32_t width, uint32_t height) {
   Camera camera;
   camera.name = "test";
   camera.intrinsics = {width, height, 0.8 * width, 0.8 * width, 0.5 * width - 0.5 + 0.3, 0.5 * height - 0.5 - 0.2, {}};
@@ -51,11 +51,11 @@ std::vector<MeshVertex> random_soup(std::mt19937& rng, int triangles, double z_l
   return mesh;
 }
 
-struct GpuRaster {
+struct GpuRasterPersonRaster {
   HostImage color, depth_m, part;
 };
 
-GpuRaster run_gpu(const std::vector<MeshVertex>& mesh, const Camera& camera, const HostImage* face = nullptr) {
+GpuRasterPersonRaster run_gpu_person_raster(const std::vector<MeshVertex>& mesh, const Camera& camera, const HostImage* face = nullptr) {
   const passes::PersonRasterPass pass(test::gpu());
   test::PassHarness gpu("person_raster");
   const uint32_t w = camera.intrinsics.width, h = camera.intrinsics.height;
@@ -70,7 +70,7 @@ GpuRaster run_gpu(const std::vector<MeshVertex>& mesh, const Camera& camera, con
 }
 
 // Compares away from edges; returns how many covered pixels were compared.
-size_t require_matches(const GpuRaster& gpu, const passes::RasterReference& reference) {
+size_t require_matches_person_raster(const GpuRasterPersonRaster& gpu, const passes::RasterReference& reference) {
   REQUIRE(test::count_non_finite(gpu.color) == 0);
   REQUIRE(test::count_non_finite(gpu.depth_m) == 0);
   REQUIRE(test::count_non_finite(gpu.part) == 0);
@@ -104,10 +104,10 @@ TEST_CASE("person_raster: random triangle soups of odd sizes", "[person_raster][
   std::mt19937 rng(21);
   for (const auto& [width, height] : std::vector<std::pair<uint32_t, uint32_t>>{{97, 61}, {64, 64}, {33, 17}, {160, 91}}) {
     INFO(width << "x" << height);
-    const Camera camera = test_camera(width, height);
+    const Camera camera = test_camera_person_raster(width, height);
     const auto mesh = random_soup(rng, 12, 1.2, 3.0);
     const auto view = passes::raster_view(camera, 0.1, 10.0);
-    const size_t compared = require_matches(run_gpu(mesh, camera), passes::person_raster_reference(mesh, view, width, height));
+    const size_t compared = require_matches_person_raster(run_gpu_person_raster(mesh, camera), passes::person_raster_reference(mesh, view, width, height));
     CHECK(compared > size_t(width * height / 20));  // the comparison is not vacuous
   }
 }
@@ -124,7 +124,7 @@ TEST_CASE("person_raster: the face texture on head vertices", "[person_raster][g
       for (uint32_t c = 0; c < 3; ++c) face.at(x, y, c) = 0.3f + 1.5f * face.at(x, y, c);
   for (const auto& [width, height] : std::vector<std::pair<uint32_t, uint32_t>>{{97, 61}, {33, 17}}) {
     INFO(width << "x" << height);
-    const Camera camera = test_camera(width, height);
+    const Camera camera = test_camera_person_raster(width, height);
     auto mesh = random_soup(rng, 12, 1.2, 3.0);
     // Every other triangle is head: texture coordinates beyond [0, 1] too (clamped to the edge),
     // and facing beyond [0, 1] (clamped).
@@ -135,11 +135,11 @@ TEST_CASE("person_raster: the face texture on head vertices", "[person_raster][g
       }
     const auto view = passes::raster_view(camera, 0.1, 10.0);
     const size_t compared =
-        require_matches(run_gpu(mesh, camera, &face), passes::person_raster_reference(mesh, view, width, height, &face));
+        require_matches_person_raster(run_gpu_person_raster(mesh, camera, &face), passes::person_raster_reference(mesh, view, width, height, &face));
     CHECK(compared > size_t(width * height / 20));
     // Without a texture the head is its plain albedo, on both sides.
     const auto plain = passes::person_raster_reference(mesh, view, width, height);
-    require_matches(run_gpu(mesh, camera), plain);
+    require_matches_person_raster(run_gpu_person_raster(mesh, camera), plain);
     size_t differs = 0;
     const auto textured = passes::person_raster_reference(mesh, view, width, height, &face);
     for (size_t i = 0; i < plain.color.texels.size(); ++i) differs += std::abs(plain.color.texels[i] - textured.color.texels[i]) > 0.02f;
@@ -150,44 +150,44 @@ TEST_CASE("person_raster: the face texture on head vertices", "[person_raster][g
 TEST_CASE("person_raster: behind the camera, across the near plane, degenerate", "[person_raster][gpu]") {
   test::NoValidationErrors no_errors;
   std::mt19937 rng(22);
-  const Camera camera = test_camera(97, 61);
+  const Camera camera = test_camera_person_raster(97, 61);
   const auto view = passes::raster_view(camera, 0.1, 10.0);
   const Eigen::Vector3f grey(0.5f, 0.5f, 0.5f);
   const Eigen::Vector3d facing(0, 0, -1);
 
   SECTION("everything behind the camera draws nothing") {
     const auto mesh = random_soup(rng, 20, -3.0, -0.5);
-    const GpuRaster gpu = run_gpu(mesh, camera);
+    const GpuRasterPersonRaster gpu = run_gpu_person_raster(mesh, camera);
     CHECK(*std::max_element(gpu.part.texels.begin(), gpu.part.texels.end()) == 0.0f);
-    require_matches(gpu, passes::person_raster_reference(mesh, view, 97, 61));
+    require_matches_person_raster(gpu, passes::person_raster_reference(mesh, view, 97, 61));
   }
   SECTION("triangles across the near plane are clipped") {
     const std::vector<MeshVertex> mesh = {vertex({-1, -1, -0.5}, 1, grey, facing), vertex({1, -1, 2.0}, 1, grey, facing),
                                           vertex({0, 1, 2.0}, 1, grey, facing)};
-    const size_t compared = require_matches(run_gpu(mesh, camera), passes::person_raster_reference(mesh, view, 97, 61));
+    const size_t compared = require_matches_person_raster(run_gpu_person_raster(mesh, camera), passes::person_raster_reference(mesh, view, 97, 61));
     CHECK(compared > 100);
   }
   SECTION("degenerate triangles (repeated or collinear vertices) draw nothing") {
     const std::vector<MeshVertex> mesh = {vertex({0, 0, 1}, 1, grey, facing), vertex({0, 0, 1}, 1, grey, facing),
                                           vertex({0.5, 0.1, 1}, 1, grey, facing), vertex({0, 0, 1}, 2, grey, facing),
                                           vertex({0.2, 0.2, 1}, 2, grey, {0, 0, 0}), vertex({0.4, 0.4, 1}, 2, grey, facing)};
-    const GpuRaster gpu = run_gpu(mesh, camera);
+    const GpuRasterPersonRaster gpu = run_gpu_person_raster(mesh, camera);
     CHECK(*std::max_element(gpu.part.texels.begin(), gpu.part.texels.end()) == 0.0f);
   }
   SECTION("an empty mesh draws nothing") {
-    const GpuRaster gpu = run_gpu({}, camera);
+    const GpuRasterPersonRaster gpu = run_gpu_person_raster({}, camera);
     CHECK(*std::max_element(gpu.depth_m.texels.begin(), gpu.depth_m.texels.end()) == 0.0f);
   }
   SECTION("a zero normal is lit, not NaN") {
     const std::vector<MeshVertex> mesh = {vertex({-1, -1, 2}, 1, grey, {0, 0, 0}), vertex({1, -1, 2}, 1, grey, {0, 0, 0}),
                                           vertex({0, 1, 2}, 1, grey, {0, 0, 0})};
-    require_matches(run_gpu(mesh, camera), passes::person_raster_reference(mesh, view, 97, 61));
+    require_matches_person_raster(run_gpu_person_raster(mesh, camera), passes::person_raster_reference(mesh, view, 97, 61));
   }
 }
 
 TEST_CASE("person_raster: nearer surfaces win, and stripes show", "[person_raster][gpu]") {
   test::NoValidationErrors no_errors;
-  const Camera camera = test_camera(64, 64);
+  const Camera camera = test_camera_person_raster(64, 64);
   const Eigen::Vector3d facing(0, 0, -1);
   // A striped quad at 2 m behind a hand-part triangle at 1 m.
   std::vector<MeshVertex> mesh;
@@ -197,7 +197,7 @@ TEST_CASE("person_raster: nearer surfaces win, and stripes show", "[person_raste
     mesh.push_back(vertex(p, 1, white, facing, 0.2f));
   for (const auto& p : {Eigen::Vector3d(-0.2, -0.2, 1), Eigen::Vector3d(0.2, -0.2, 1), Eigen::Vector3d(0, 0.2, 1)})
     mesh.push_back(vertex(p, 2, {0.8f, 0.6f, 0.5f}, facing));
-  const GpuRaster gpu = run_gpu(mesh, camera);
+  const GpuRasterPersonRaster gpu = run_gpu_person_raster(mesh, camera);
   CHECK(gpu.part.at(32, 32) == 2.0f);
   CHECK(gpu.depth_m.at(32, 32) == Approx(1.0f).epsilon(1e-5));
   CHECK(gpu.part.at(2, 2) == 1.0f);

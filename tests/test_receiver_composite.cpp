@@ -18,20 +18,20 @@ using namespace rt;
 
 namespace {
 
-constexpr double kOneStep = 1.0 / 255.0 + 1e-6;
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr double kOneStepReceiverComposite = 1.0 / 255.0 + 1e-6;
+constexpr float kNaNReceiverComposite = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInfReceiverComposite = std::numeric_limits<float>::infinity();
 
-struct Layers {
+struct LayersReceiverComposite {
   HostImage hand_mask, hand_color, portrait, background;
 };
 
-Layers random_layers(std::mt19937& rng, uint32_t w, uint32_t h) {
+LayersReceiverComposite random_layers_receiver_composite(std::mt19937& rng, uint32_t w, uint32_t h) {
   return {test::random_image(rng, w, h, PixelFormat::R32F), test::random_image(rng, w, h, PixelFormat::RGBA32F),
           test::random_image(rng, w, h, PixelFormat::RGBA32F), test::random_image(rng, w, h, PixelFormat::RGBA32F)};
 }
 
-HostImage run_one_pass(const Layers& in, float distance) {
+HostImage run_one_pass(const LayersReceiverComposite& in, float distance) {
   const passes::ReceiverCompositePass pass(test::gpu());
   test::PassHarness gpu("receiver_composite");
   const uint32_t w = in.portrait.width, h = in.portrait.height;
@@ -41,7 +41,7 @@ HostImage run_one_pass(const Layers& in, float distance) {
   return gpu.run().image("display");
 }
 
-HostImage run_three_passes(const Layers& in, float distance) {
+HostImage run_three_passes(const LayersReceiverComposite& in, float distance) {
   const passes::HandAlphaPass hand_alpha(test::gpu());
   const passes::OverlayPass overlay(test::gpu());
   const passes::CompositePass composite(test::gpu());
@@ -56,13 +56,13 @@ HostImage run_three_passes(const Layers& in, float distance) {
   return gpu.run().image("display");
 }
 
-void require_both_agree(const Layers& in, float distance) {
+void require_both_agree(const LayersReceiverComposite& in, float distance) {
   INFO("distance " << distance << " m");
   const HostImage gpu = run_one_pass(in, distance);
   const HostImage reference = passes::receiver_composite_reference(in.hand_mask, in.hand_color, in.portrait,
                                                                    in.background, distance);
-  RT_REQUIRE_MATCHES(gpu, reference, kOneStep, 0.0);
-  RT_REQUIRE_MATCHES(gpu, run_three_passes(in, distance), kOneStep, 0.0);
+  RT_REQUIRE_MATCHES(gpu, reference, kOneStepReceiverComposite, 0.0);
+  RT_REQUIRE_MATCHES(gpu, run_three_passes(in, distance), kOneStepReceiverComposite, 0.0);
 }
 
 }  // namespace
@@ -73,7 +73,7 @@ TEST_CASE("receiver_composite on random layers of odd sizes across the ramp", "[
   const passes::FusionRamp ramp;
   for (const auto& [width, height] : test::odd_sizes()) {
     INFO(width << "x" << height);
-    const Layers in = random_layers(rng, width, height);
+    const LayersReceiverComposite in = random_layers_receiver_composite(rng, width, height);
     for (float distance : {0.0f, ramp.d_min_m, 0.5f * (ramp.d_min_m + ramp.d_max_m), ramp.d_max_m, 1.5f})
       require_both_agree(in, distance);
   }
@@ -87,7 +87,7 @@ TEST_CASE("receiver_composite follows Eq. 4's linear ramp between d_min and d_ma
   test::NoValidationErrors no_errors;
   std::mt19937 rng(19);
   const passes::FusionRamp ramp;
-  Layers in = random_layers(rng, 13, 7);
+  LayersReceiverComposite in = random_layers_receiver_composite(rng, 13, 7);
   in.hand_mask = test::filled_image(13, 7, PixelFormat::R32F, 1.0f);
   for (size_t i = 3; i < in.portrait.texels.size(); i += 4) in.portrait.texels[i] = 1.0f;
   for (const float along : {0.25f, 0.75f}) {
@@ -101,8 +101,8 @@ TEST_CASE("receiver_composite follows Eq. 4's linear ramp between d_min and d_ma
           expected.at(x, y, c) = in.hand_color.at(x, y, c) * alpha + in.portrait.at(x, y, c) * (1.0f - alpha);
         expected.at(x, y, 3) = 1.0f;
       }
-    RT_REQUIRE_MATCHES(run_one_pass(in, distance), expected, kOneStep, 0.0);
-    RT_REQUIRE_MATCHES(run_three_passes(in, distance), expected, kOneStep, 0.0);
+    RT_REQUIRE_MATCHES(run_one_pass(in, distance), expected, kOneStepReceiverComposite, 0.0);
+    RT_REQUIRE_MATCHES(run_three_passes(in, distance), expected, kOneStepReceiverComposite, 0.0);
   }
 }
 
@@ -113,31 +113,31 @@ TEST_CASE("receiver_composite hard cases", "[receiver_composite][gpu]") {
   const float inside_ramp = 0.5f * (ramp.d_min_m + ramp.d_max_m);
 
   SECTION("NaN and infinite distances: no geometry hand, the portrait over the background") {
-    const Layers in = random_layers(rng, 13, 7);
-    Layers no_hand = in;
+    const LayersReceiverComposite in = random_layers_receiver_composite(rng, 13, 7);
+    LayersReceiverComposite no_hand = in;
     no_hand.hand_mask = test::filled_image(13, 7, PixelFormat::R32F, 0.0f);
-    for (float distance : {kNaN, kInf, -kInf}) {
+    for (float distance : {kNaNReceiverComposite, kInfReceiverComposite, -kInfReceiverComposite}) {
       require_both_agree(in, distance);
-      RT_REQUIRE_MATCHES(run_one_pass(in, distance), run_one_pass(no_hand, inside_ramp), kOneStep, 0.0);
+      RT_REQUIRE_MATCHES(run_one_pass(in, distance), run_one_pass(no_hand, inside_ramp), kOneStepReceiverComposite, 0.0);
     }
   }
   SECTION("zero alpha everywhere shows the background") {
-    Layers in = random_layers(rng, 13, 7);
+    LayersReceiverComposite in = random_layers_receiver_composite(rng, 13, 7);
     in.hand_mask = test::filled_image(13, 7, PixelFormat::R32F, 0.0f);
     for (size_t i = 3; i < in.portrait.texels.size(); i += 4) in.portrait.texels[i] = 0.0f;
     HostImage opaque_background = in.background;
     for (size_t i = 3; i < opaque_background.texels.size(); i += 4) opaque_background.texels[i] = 1.0f;
     require_both_agree(in, inside_ramp);
-    RT_REQUIRE_MATCHES(run_one_pass(in, inside_ramp), opaque_background, kOneStep, 0.0);
+    RT_REQUIRE_MATCHES(run_one_pass(in, inside_ramp), opaque_background, kOneStepReceiverComposite, 0.0);
   }
   SECTION("NaN, infinite and out-of-range layers stay in range") {
-    Layers in = random_layers(rng, 11, 5);
-    const float bad[] = {kNaN, kInf, -kInf, -1.0f, 5.0f};
+    LayersReceiverComposite in = random_layers_receiver_composite(rng, 11, 5);
+    const float bad[] = {kNaNReceiverComposite, kInfReceiverComposite, -kInfReceiverComposite, -1.0f, 5.0f};
     for (HostImage* image : {&in.hand_mask, &in.hand_color, &in.portrait, &in.background})
       for (size_t i = 0; i < image->texels.size(); i += 3) image->texels[i] = bad[(i / 3) % 5];
-    for (float distance : {0.0f, inside_ramp, kNaN}) require_both_agree(in, distance);
+    for (float distance : {0.0f, inside_ramp, kNaNReceiverComposite}) require_both_agree(in, distance);
   }
   SECTION("a 1x1 frame") {
-    require_both_agree(random_layers(rng, 1, 1), inside_ramp);
+    require_both_agree(random_layers_receiver_composite(rng, 1, 1), inside_ramp);
   }
 }

@@ -16,7 +16,7 @@ using hand::ShadingVector;
 
 namespace {
 
-Eigen::Vector3d random_unit(std::mt19937& rng) {
+Eigen::Vector3d random_unit_shading_fit(std::mt19937& rng) {
   std::normal_distribution<double> gauss;
   const Eigen::Vector3d n(gauss(rng), gauss(rng), gauss(rng));
   return n.normalized();
@@ -33,7 +33,7 @@ ShadingVector mild_light() {
 ShadingSums frame_of(const ShadingVector& c, double scale, int pixels, std::mt19937& rng) {
   ShadingSums sums;
   for (int i = 0; i < pixels; ++i) {
-    const Eigen::Vector3d n = random_unit(rng);
+    const Eigen::Vector3d n = random_unit_shading_fit(rng);
     sums.add(n, scale * c.dot(hand::shading_basis(n)));
   }
   return sums;
@@ -53,7 +53,7 @@ TEST_CASE("The light estimate recovers a shade inside its basis, normalised") {
   // Geometric mean over the pixels close to 1.
   double log_sum = 0;
   const int samples = 4000;
-  for (int i = 0; i < samples; ++i) log_sum += std::log(hand::shade(c, random_unit(rng)));
+  for (int i = 0; i < samples; ++i) log_sum += std::log(hand::shade(c, random_unit_shading_fit(rng)));
   CHECK(std::exp(log_sum / samples) == Approx(1.0).margin(1e-2));
   CHECK(fit.frames() == 1);
   const nlohmann::json json = fit.to_json();
@@ -68,7 +68,7 @@ TEST_CASE("The light estimate's shade, apart from its scale, follows the true on
   const ShadingVector c = fit.coefficients();
   double worst = 0;
   for (int i = 0; i < 500; ++i) {
-    const Eigen::Vector3d n = random_unit(rng);
+    const Eigen::Vector3d n = random_unit_shading_fit(rng);
     worst = std::max(worst, std::abs(hand::shade(c, n) / c[0] - mild_light().dot(hand::shading_basis(n)) / mild_light()[0]));
   }
   CHECK(worst < 0.05);

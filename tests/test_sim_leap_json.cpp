@@ -18,6 +18,7 @@
 #include "sim/tracker_replay.h"
 #include "sim/tracker_sim.h"
 #include "sim/tracker_space.h"
+#include "support/output_dir.h"
 
 using namespace rt;
 using namespace rt::sim;
@@ -25,18 +26,18 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kScenes = rt::config::assets_dir() / "scenes";
-const std::filesystem::path kOut = REMOTETOUCH_TEST_OUTPUT_DIR;
+const std::filesystem::path kScenesSimLeapJson = rt::config::assets_dir() / "scenes";
+const std::filesystem::path kOutSimLeapJson = rt::test::output_dir("test_sim_leap_json");
 
-std::vector<TrackerFrame> simulate(const std::string& scene_name, Site site) {
-  SimulatedHandTracker tracker = make_simulated_tracker(load_scene(kScenes / (scene_name + ".json")), site);
+std::vector<TrackerFrame> simulate_sim_leap_json(const std::string& scene_name, Site site) {
+  SimulatedHandTracker tracker = make_simulated_tracker(load_scene(kScenesSimLeapJson / (scene_name + ".json")), site);
   std::vector<TrackerFrame> frames;
   while (std::optional<TrackerFrame> frame = tracker.next_frame()) frames.push_back(*frame);
   return frames;
 }
 
 TrackerFrame frame_with_a_hand() {
-  for (const TrackerFrame& frame : simulate("clap", Site::A))
+  for (const TrackerFrame& frame : simulate_sim_leap_json("clap", Site::A))
     if (!frame.hands.empty()) return frame;
   FAIL("the clap scene never shows a hand to the tracker");
   return {};
@@ -70,7 +71,7 @@ void require_rejected(const nlohmann::json& json, const std::string& part1, cons
 
 TEST_CASE("frames written as Leap v6 JSON read back exactly", "[sim][leap_json]") {
   int with_hands = 0;
-  for (const TrackerFrame& frame : simulate("noisy-clap", Site::B)) {
+  for (const TrackerFrame& frame : simulate_sim_leap_json("noisy-clap", Site::B)) {
     const std::string line = leap_json_line(frame);
     REQUIRE(line.find('\n') == std::string::npos);  // one frame per line
     CHECK(parse_leap_json_line(line) == frame);
@@ -149,7 +150,7 @@ TEST_CASE("fields other service versions leave out are derived from the digits",
   // of what the tracker sent (millimetres, the hand about 180 mm long).
   size_t hands_checked = 0;
   for (const Site site : {Site::A, Site::B})
-    for (const TrackerFrame& frame : simulate("clap", site)) {
+    for (const TrackerFrame& frame : simulate_sim_leap_json("clap", site)) {
       if (frame.hands.empty()) continue;
       const nlohmann::json sent = leap_json_from_frame(frame);
       auto without = [&](std::initializer_list<const char*> fields) {
@@ -291,8 +292,8 @@ TEST_CASE("no mangled line crashes the parser: it parses or gives a JsonError", 
 }
 
 TEST_CASE("replaying a recorded tracker.jsonl gives the simulated frames exactly", "[sim][leap_json]") {
-  const std::filesystem::path path = kOut / "noisy-clap-A" / "tracker.jsonl";
-  const Scene scene = load_scene(kScenes / "noisy-clap.json");
+  const std::filesystem::path path = kOutSimLeapJson / "noisy-clap-A" / "tracker.jsonl";
+  const Scene scene = load_scene(kScenesSimLeapJson / "noisy-clap.json");
   SimulatedHandTracker recorded = make_simulated_tracker(scene, Site::A);
   const uint64_t written = record_tracker_jsonl(recorded, path);
   CHECK(written == tracker_frame_count(scene));
@@ -314,18 +315,18 @@ TEST_CASE("replaying a recorded tracker.jsonl gives the simulated frames exactly
 }
 
 TEST_CASE("a bad recording names the file and the line", "[sim][leap_json]") {
-  std::filesystem::create_directories(kOut);
-  CHECK_THROWS_WITH(ReplayHandTracker(kOut / "no-such-tracker.jsonl"), Contains("no-such-tracker.jsonl"));
+  std::filesystem::create_directories(kOutSimLeapJson);
+  CHECK_THROWS_WITH(ReplayHandTracker(kOutSimLeapJson / "no-such-tracker.jsonl"), Contains("no-such-tracker.jsonl"));
 
   const std::string good = leap_json_line(frame_with_a_hand());
-  const std::filesystem::path broken = kOut / "broken-tracker.jsonl";
+  const std::filesystem::path broken = kOutSimLeapJson / "broken-tracker.jsonl";
   std::ofstream(broken) << good << "\n\n" << R"({"id": 2, "timestamp": 99999999, "hands": [{"id": 4}], "pointables": []})"
                         << "\n";
   ReplayHandTracker replay(broken);
   CHECK(replay.next_frame());
   CHECK_THROWS_WITH(replay.next_frame(), Contains("broken-tracker.jsonl' line 3") && Contains("missing field 'type'"));
 
-  const std::filesystem::path backwards = kOut / "backwards-tracker.jsonl";
+  const std::filesystem::path backwards = kOutSimLeapJson / "backwards-tracker.jsonl";
   std::ofstream(backwards) << R"({"id": 1, "timestamp": 40000, "hands": [], "pointables": []})" << "\n"
                            << R"({"id": 2, "timestamp": 20000, "hands": [], "pointables": []})" << "\n";
   ReplayHandTracker reversed(backwards);
@@ -337,7 +338,7 @@ TEST_CASE("a bad recording names the file and the line", "[sim][leap_json]") {
   CHECK_THROWS_WITH(check_tracker_recording(backwards), Contains("line 2"));
 
   // A line without end (a file of 3 MB and no newline) is refused at the bound, not buffered.
-  const std::filesystem::path endless = kOut / "endless-tracker.jsonl";
+  const std::filesystem::path endless = kOutSimLeapJson / "endless-tracker.jsonl";
   {
     std::ofstream out(endless);
     out << good << "\n";
@@ -347,7 +348,7 @@ TEST_CASE("a bad recording names the file and the line", "[sim][leap_json]") {
   ReplayHandTracker long_line(endless);
   CHECK(long_line.next_frame());
   CHECK_THROWS_WITH(long_line.next_frame(), Contains("line 2") && Contains("longer than 1048576 bytes"));
-  const std::filesystem::path two = kOut / "two-frames-tracker.jsonl";
+  const std::filesystem::path two = kOutSimLeapJson / "two-frames-tracker.jsonl";
   std::ofstream(two) << good << "\n\n" << good << "\n";
   CHECK(check_tracker_recording(two) == 2);
 }

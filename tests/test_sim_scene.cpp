@@ -10,6 +10,7 @@
 #include "geometry/site_frames.h"
 #include "sim/motion.h"
 #include "sim/scene.h"
+#include "support/output_dir.h"
 
 using namespace rt;
 using namespace rt::sim;
@@ -17,7 +18,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::filesystem::path kScenes = rt::config::assets_dir() / "scenes";
+const std::filesystem::path kScenesSimScene = rt::config::assets_dir() / "scenes";
 const char* const kShippedScenes[] = {"clap", "miss", "wave", "approach", "noisy-clap", "train-fast-reach", "train-raise-hold"};
 
 struct Touch {
@@ -41,11 +42,11 @@ Touch find_touch(const Scene& scene, Site site) {
   return touch;
 }
 
-nlohmann::json clap_json() { return config::read_json_file(kScenes / "clap.json"); }
+nlohmann::json clap_json() { return config::read_json_file(kScenesSimScene / "clap.json"); }
 
 void require_error(const nlohmann::json& json, const std::string& part1, const std::string& part2 = "") {
   try {
-    scene_from_json(json, kScenes, "scene 'test.json'");
+    scene_from_json(json, kScenesSimScene, "scene 'test.json'");
     FAIL("accepted a bad scene");
   } catch (const config::JsonError& error) {
     CHECK_THAT(error.what(), Contains("scene 'test.json'") && Contains(part1) && Contains(part2));
@@ -57,7 +58,7 @@ void require_error(const nlohmann::json& json, const std::string& part1, const s
 TEST_CASE("the shipped scenes load; two different users; motions fit in the frames", "[sim][scene]") {
   for (const char* name : kShippedScenes) {
     INFO(name);
-    const Scene scene = load_scene(kScenes / (std::string(name) + ".json"));
+    const Scene scene = load_scene(kScenesSimScene / (std::string(name) + ".json"));
     CHECK(scene.name == name);
     CHECK(scene.fps == 30.0);
     CHECK(scene.frame_count >= 60);
@@ -80,7 +81,7 @@ TEST_CASE("the shipped scenes load; two different users; motions fit in the fram
 }
 
 TEST_CASE("clap: both palms meet on one spot of the shared glass, at the same time", "[sim][scene]") {
-  const Scene scene = load_scene(kScenes / "clap.json");
+  const Scene scene = load_scene(kScenesSimScene / "clap.json");
   const Touch a = find_touch(scene, Site::A), b = find_touch(scene, Site::B);
   REQUIRE(a.start_s >= 0);
   REQUIRE(b.start_s >= 0);
@@ -93,7 +94,7 @@ TEST_CASE("clap: both palms meet on one spot of the shared glass, at the same ti
 
 TEST_CASE("the cameras keep the head (top row) and the chest (all) in view while the user leans in to touch",
           "[sim][scene]") {
-  const Scene scene = load_scene(kScenes / "clap.json");
+  const Scene scene = load_scene(kScenesSimScene / "clap.json");
   for (Site site : {Site::A, Site::B}) {
     const MotionTrack track = make_motion_track(scene, site);
     for (uint32_t frame = 0; frame < scene.frame_count; frame += 3) {
@@ -108,7 +109,7 @@ TEST_CASE("the cameras keep the head (top row) and the chest (all) in view while
 }
 
 TEST_CASE("miss: both touch the glass at the same time, far apart", "[sim][scene]") {
-  const Scene scene = load_scene(kScenes / "miss.json");
+  const Scene scene = load_scene(kScenesSimScene / "miss.json");
   const Touch a = find_touch(scene, Site::A), b = find_touch(scene, Site::B);
   REQUIRE(a.start_s >= 0);
   REQUIRE(b.start_s >= 0);
@@ -118,8 +119,8 @@ TEST_CASE("miss: both touch the glass at the same time, far apart", "[sim][scene
 
 TEST_CASE("effects are off unless listed; noisy-clap lists them all with their parameters", "[sim][scene]") {
   for (const char* name : {"clap", "miss", "wave", "approach"})
-    CHECK_FALSE(load_scene(kScenes / (std::string(name) + ".json")).effects.any());
-  const Effects effects = load_scene(kScenes / "noisy-clap.json").effects;
+    CHECK_FALSE(load_scene(kScenesSimScene / (std::string(name) + ".json")).effects.any());
+  const Effects effects = load_scene(kScenesSimScene / "noisy-clap.json").effects;
   REQUIRE(effects.depth_noise);
   CHECK(effects.depth_noise->sigma_at_1m_m == 0.003);
   REQUIRE(effects.flying_pixels);
@@ -224,7 +225,7 @@ TEST_CASE("bad scenes name the field", "[sim][scene]") {
     require_error(json, "site A: field 'site'", "nowhere.json' does not exist");
   }
   SECTION("site file that is broken") {
-    const std::filesystem::path dir = REMOTETOUCH_TEST_OUTPUT_DIR;
+    const std::filesystem::path dir = rt::test::output_dir("test_sim_scene");
     std::filesystem::create_directories(dir);
     std::ofstream(dir / "broken-site.json") << R"({"name": "broken"})";
     nlohmann::json json = clap_json();
@@ -259,7 +260,7 @@ TEST_CASE("bad scenes name the field", "[sim][scene]") {
 }
 
 TEST_CASE("a scene file that is missing or not JSON is named", "[sim][scene]") {
-  const std::filesystem::path dir = REMOTETOUCH_TEST_OUTPUT_DIR;
+  const std::filesystem::path dir = rt::test::output_dir("test_sim_scene");
   std::filesystem::create_directories(dir);
   CHECK_THROWS_WITH(load_scene(dir / "no-such-scene.json"), Contains("no-such-scene.json"));
   std::ofstream(dir / "half-scene.json") << R"({"name": "half", "frames": )";
@@ -267,7 +268,7 @@ TEST_CASE("a scene file that is missing or not JSON is named", "[sim][scene]") {
   // Site paths resolve against the scene file's folder, wherever the scene is read from.
   nlohmann::json json = clap_json();
   for (const char* site : {"A", "B"})
-    json["sites"][site]["site"] = std::filesystem::relative(kScenes / "../sites/default.json", dir).string();
+    json["sites"][site]["site"] = std::filesystem::relative(kScenesSimScene / "../sites/default.json", dir).string();
   config::write_json_file(dir / "moved-clap.json", json);
   CHECK(load_scene(dir / "moved-clap.json").at(Site::B).site.cameras.size() == 6);
   json["frames"] = 0;

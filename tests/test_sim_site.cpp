@@ -13,6 +13,7 @@
 #include "config/json.h"
 #include "sim/default_site.h"
 #include "sim/site_description.h"
+#include "support/output_dir.h"
 
 using namespace rt;
 using namespace rt::sim;
@@ -49,7 +50,7 @@ std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, c
 
 nlohmann::json default_json() { return site_to_json(make_default_site()); }
 
-void require_error(const nlohmann::json& json, const std::string& part1, const std::string& part2 = "") {
+void require_error_sim_site(const nlohmann::json& json, const std::string& part1, const std::string& part2 = "") {
   try {
     site_from_json(json, "site 'test'");
     FAIL("accepted a bad site description");
@@ -208,90 +209,90 @@ TEST_CASE("bad site descriptions name the field or the camera", "[sim][site]") {
   SECTION("missing intrinsic") {
     nlohmann::json json = default_json();
     json["cameras"][0].erase("fx");
-    require_error(json, "'fx'", "top-left");
+    require_error_sim_site(json, "'fx'", "top-left");
   }
   SECTION("wrong type") {
     nlohmann::json json = default_json();
     json["cameras"][2]["depth"]["width"] = "512";
-    require_error(json, "'width'", "top-right");
+    require_error_sim_site(json, "'width'", "top-right");
   }
   SECTION("missing pose") {
     nlohmann::json json = default_json();
     json["cameras"][1].erase("camera_from_site");
-    require_error(json, "'camera_from_site'", "top-centre");
+    require_error_sim_site(json, "'camera_from_site'", "top-centre");
   }
   SECTION("pose that is not a rotation") {
     nlohmann::json json = default_json();
     json["cameras"][1]["camera_from_site"][0][0] = 2.0;
-    require_error(json, "not a rotation", "top-centre");
+    require_error_sim_site(json, "not a rotation", "top-centre");
   }
   SECTION("missing depth range") {
     nlohmann::json json = default_json();
     json["cameras"][3]["depth"].erase("max_range_m");
-    require_error(json, "'max_range_m'", "bottom-left");
+    require_error_sim_site(json, "'max_range_m'", "bottom-left");
   }
   SECTION("inverted depth range") {
     nlohmann::json json = default_json();
     json["cameras"][3]["depth"]["min_range_m"] = 3.0;
-    require_error(json, "'max_range_m' must be greater", "bottom-left");
+    require_error_sim_site(json, "'max_range_m' must be greater", "bottom-left");
   }
   SECTION("a camera turned away from the user sees nothing of them") {
     SiteDescription site = make_default_site();
     site.cameras[4].camera_from_site =
         camera_from_site_looking_at(site.cameras[4].camera_from_site.inverse().translation(), {0.0, -2.0, -1.0});
-    require_error(site_to_json(site), "camera 'bottom-centre' cannot see the seated user's chest", "(0, -0.2, 0.7)");
+    require_error_sim_site(site_to_json(site), "camera 'bottom-centre' cannot see the seated user's chest", "(0, -0.2, 0.7)");
   }
   SECTION("a camera too far for its depth range") {
     SiteDescription site = make_default_site();
     site.cameras[0].depth_max_m = 0.5;
-    require_error(site_to_json(site), "camera 'top-left'", "beyond the depth range");
+    require_error_sim_site(site_to_json(site), "camera 'top-left'", "beyond the depth range");
   }
   SECTION("a seat the cameras do not see") {
     nlohmann::json json = default_json();
     json["seat"]["head_centre_m"] = {0.0, 2.5, 0.7};
-    require_error(json, "cannot see the seated user's chest");
+    require_error_sim_site(json, "cannot see the seated user's chest");
   }
   SECTION("a tracker facing away from the touch region") {
     SiteDescription site = make_default_site();
     site.tracker.site_from_tracker =
         site.tracker.site_from_tracker * Eigen::Isometry3d(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()));
-    require_error(site_to_json(site), "tracker", "touch region");
+    require_error_sim_site(site_to_json(site), "tracker", "touch region");
   }
   SECTION("a file with the old tracker convention") {
     nlohmann::json json = default_json();
     json["tracker"]["tracker_from_site"] = json["tracker"]["site_from_tracker"];
     json["tracker"].erase("site_from_tracker");
-    require_error(json, "field 'tracker_from_site' is the old convention", "'site_from_tracker'");
+    require_error_sim_site(json, "field 'tracker_from_site' is the old convention", "'site_from_tracker'");
   }
   SECTION("a negative calibration residual") {
     nlohmann::json json = default_json();
     json["tracker"]["rms_residual_mm"] = -1.0;
-    require_error(json, "'rms_residual_mm'", "tracker");
+    require_error_sim_site(json, "'rms_residual_mm'", "tracker");
   }
   SECTION("unknown and misspelt fields") {
     nlohmann::json json = default_json();
     json["tracker"]["rnage"] = json["tracker"]["range"];
-    require_error(json, "unknown field 'rnage'", "tracker");
+    require_error_sim_site(json, "unknown field 'rnage'", "tracker");
   }
   SECTION("two cameras with one name") {
     nlohmann::json json = default_json();
     json["cameras"][1]["name"] = "top-left";
-    require_error(json, "two cameras are named 'top-left'");
+    require_error_sim_site(json, "two cameras are named 'top-left'");
   }
   SECTION("no cameras") {
     nlohmann::json json = default_json();
     json["cameras"] = nlohmann::json::array();
-    require_error(json, "'cameras'");
+    require_error_sim_site(json, "'cameras'");
   }
   SECTION("screen width is text") {
     nlohmann::json json = default_json();
     json["screen"]["width_m"] = "wide";
-    require_error(json, "'width_m' must be a number");
+    require_error_sim_site(json, "'width_m' must be a number");
   }
 }
 
 TEST_CASE("a site file that is missing or not JSON is named", "[sim][site]") {
-  const std::filesystem::path dir = std::filesystem::path(REMOTETOUCH_TEST_OUTPUT_DIR);
+  const std::filesystem::path dir = rt::test::output_dir("test_sim_site");
   std::filesystem::create_directories(dir);
   CHECK_THROWS_WITH(load_site(dir / "no-such-site.json"), Contains("no-such-site.json"));
   const std::filesystem::path broken = dir / "broken-site.json";

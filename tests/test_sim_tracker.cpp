@@ -23,7 +23,7 @@ using namespace rt::sim;
 
 namespace {
 
-const std::filesystem::path kScenes = rt::config::assets_dir() / "scenes";
+const std::filesystem::path kScenesSimTracker = rt::config::assets_dir() / "scenes";
 
 std::vector<TrackerFrame> all_frames(HandTracker& tracker) {
   std::vector<TrackerFrame> frames;
@@ -32,7 +32,7 @@ std::vector<TrackerFrame> all_frames(HandTracker& tracker) {
 }
 
 Scene clap_with(const TrackerEffects& effects) {
-  Scene scene = load_scene(kScenes / "clap.json");
+  Scene scene = load_scene(kScenesSimTracker / "clap.json");
   scene.effects.tracker = effects;
   return scene;
 }
@@ -227,7 +227,7 @@ TEST_CASE("tracker_dropouts: the lost fraction and burst length are the configur
 
   // Through the tracker: a hand always in view, frames without it at the configured rate, and
   // a new hand id after each loss, as Leap gives.
-  const TrackerPlacement placement = load_scene(kScenes / "clap.json").at(Site::A).site.tracker;
+  const TrackerPlacement placement = load_scene(kScenesSimTracker / "clap.json").at(Site::A).site.tracker;
   TrackerEffects effects;
   effects.dropouts = TrackerDropouts{0.1, 4.0};
   SimulatedHandTracker tracker(steady_hand(placement), placement, effects, 7, 20'000);
@@ -255,7 +255,7 @@ TEST_CASE("tracker_dropouts: the lost fraction and burst length are the configur
 }
 
 TEST_CASE("tracking is lost outside the tracker's range", "[sim][tracker]") {
-  const TrackerPlacement placement = load_scene(kScenes / "clap.json").at(Site::A).site.tracker;
+  const TrackerPlacement placement = load_scene(kScenesSimTracker / "clap.json").at(Site::A).site.tracker;
   const Eigen::Isometry3d& site_from_tracker = placement.site_from_tracker;
   const Eigen::Vector3d device = site_from_tracker.translation();
   const Eigen::Vector3d up = site_from_tracker.linear().col(1);
@@ -287,7 +287,7 @@ TEST_CASE("tracking is lost outside the tracker's range", "[sim][tracker]") {
 }
 
 TEST_CASE("the simulated tracker is deterministic from the scene's seed", "[sim][tracker]") {
-  const Scene noisy = load_scene(kScenes / "noisy-clap.json");
+  const Scene noisy = load_scene(kScenesSimTracker / "noisy-clap.json");
   SimulatedHandTracker first = make_simulated_tracker(noisy, Site::B);
   SimulatedHandTracker second = make_simulated_tracker(noisy, Site::B);
   const std::vector<TrackerFrame> a = all_frames(first), b = all_frames(second);

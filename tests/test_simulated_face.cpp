@@ -3,7 +3,7 @@
 // cameras at the scene's own resolution, and the eye located from them (triangulated, or placed
 // by the depth of the one view that sees the face frontally: viewer/eye_depth.h) lands within 2
 // cm of the simulator's true eye; a scene that asks for the seat gets the seat without a search.
-//   build/tests/test_simulated_face
+//   build/tests/remotetouch_gpu_tests -# "[#test_simulated_face]"
 #include <catch2/catch.hpp>
 
 #include <opencv2/core.hpp>

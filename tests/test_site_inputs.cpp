@@ -28,10 +28,10 @@ using Catch::Contains;
 
 namespace {
 
-const std::filesystem::path kOut = std::filesystem::path("test-out") / "site_inputs";
+const std::filesystem::path kOutSiteInputs = std::filesystem::path("test-out") / "site_inputs";
 
-std::filesystem::path fresh_dir(const std::string& name) {
-  const std::filesystem::path dir = kOut / name;
+std::filesystem::path fresh_dir_site_inputs(const std::string& name) {
+  const std::filesystem::path dir = kOutSiteInputs / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
@@ -88,9 +88,9 @@ enum class CalibrationSizes { Recorded, ScaleStated, Unstated };
 constexpr double kRecordedScale = 0.02;
 
 // A tiny recording of the default site: `frames` frames at 1/50 of the cameras' resolution.
-std::filesystem::path write_recording(const std::string& name, int frames = 3,
+std::filesystem::path write_recording_site_inputs(const std::string& name, int frames = 3,
                                       CalibrationSizes sizes = CalibrationSizes::Recorded) {
-  const std::filesystem::path dir = fresh_dir(name);
+  const std::filesystem::path dir = fresh_dir_site_inputs(name);
   const sim::SiteDescription site = sim::make_default_site();
   sim::SiteDescription recorded = site;
   for (auto& camera : recorded.cameras) {
@@ -290,7 +290,7 @@ TEST_CASE("motor choice: the board when attached, else the simulated motor, sayi
 }
 
 TEST_CASE("a recording for replay: cameras at the images' size, ground truth where recorded", "[site_inputs][replay]") {
-  const std::filesystem::path dir = write_recording("good");
+  const std::filesystem::path dir = write_recording_site_inputs("good");
   site::SiteReplay replay(dir, 0, 4);
   CHECK(replay.frame_count() == 3);
   CHECK(replay.origin_us() == 1'000'000);
@@ -311,22 +311,22 @@ TEST_CASE("a recording's calibration gives the recorded sizes, or states the sca
   const CameraIntrinsics recorded = scaled_intrinsics(full, kRecordedScale);
   REQUIRE(recorded.width != full.width);
 
-  site::SiteReplay as_recorded(write_recording("sizes-recorded", 1, CalibrationSizes::Recorded), 0, 4);
+  site::SiteReplay as_recorded(write_recording_site_inputs("sizes-recorded", 1, CalibrationSizes::Recorded), 0, 4);
   CHECK(as_recorded.cameras()[0].color.intrinsics.width == recorded.width);
   CHECK(as_recorded.cameras()[0].color.intrinsics.fx == recorded.fx);
 
-  site::SiteReplay stated(write_recording("sizes-stated", 1, CalibrationSizes::ScaleStated), 0, 4);
+  site::SiteReplay stated(write_recording_site_inputs("sizes-stated", 1, CalibrationSizes::ScaleStated), 0, 4);
   CHECK(stated.cameras()[0].color.intrinsics.width == recorded.width);
   CHECK(stated.cameras()[0].color.intrinsics.fx == Approx(recorded.fx));
   CHECK(stated.cameras()[0].depth.intrinsics.height == scaled_intrinsics(sim::make_default_site().cameras[0].depth, kRecordedScale).height);
 
-  const std::filesystem::path unstated = write_recording("sizes-unstated", 1, CalibrationSizes::Unstated);
+  const std::filesystem::path unstated = write_recording_site_inputs("sizes-unstated", 1, CalibrationSizes::Unstated);
   CHECK_THROWS_WITH(site::SiteReplay(unstated, 0, 4),
                     Contains(sim::color_path(unstated, 0, 0).string()) &&
                         Contains(std::to_string(recorded.width) + "x" + std::to_string(recorded.height)) &&
                         Contains(std::to_string(full.width) + "x" + std::to_string(full.height)) && Contains("recorded_scale"));
 
-  const std::filesystem::path wrong_scale = write_recording("sizes-wrong-scale", 1, CalibrationSizes::ScaleStated);
+  const std::filesystem::path wrong_scale = write_recording_site_inputs("sizes-wrong-scale", 1, CalibrationSizes::ScaleStated);
   nlohmann::json calibration = config::read_json_file(wrong_scale / "calibration.json");
   calibration["recorded_scale"] = 0.5;
   config::write_json_file(wrong_scale / "calibration.json", calibration);
@@ -340,47 +340,47 @@ TEST_CASE("a recording's calibration gives the recorded sizes, or states the sca
 }
 
 TEST_CASE("a bad recording is refused before the site connects, naming the file", "[site_inputs][replay]") {
-  CHECK_THROWS_WITH(site::SiteReplay(kOut / "no-such-recording", 0, 4),
+  CHECK_THROWS_WITH(site::SiteReplay(kOutSiteInputs / "no-such-recording", 0, 4),
                     Contains("no-such-recording") && Contains("does not exist"));
 
-  std::filesystem::path dir = write_recording("bad-format");
+  std::filesystem::path dir = write_recording_site_inputs("bad-format");
   nlohmann::json calibration = config::read_json_file(dir / "calibration.json");
   calibration["format"] = "something-else/2";
   config::write_json_file(dir / "calibration.json", calibration);
   CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains("calibration.json") && Contains("something-else/2"));
 
-  dir = write_recording("broken-calibration");
+  dir = write_recording_site_inputs("broken-calibration");
   std::ofstream(dir / "calibration.json") << "{\"format\": \"remotetouch-recording/1\", \"cameras\": [";
   CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains("calibration.json") && Contains("not valid JSON"));
 
-  dir = write_recording("too-few-cameras");
+  dir = write_recording_site_inputs("too-few-cameras");
   CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 7), Contains("calibration.json") && Contains("has 6 cameras"));
 
-  dir = write_recording("missing-image");
+  dir = write_recording_site_inputs("missing-image");
   std::filesystem::remove(sim::depth_path(dir, 4, 2));
   CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains(sim::depth_path(dir, 4, 2).string()));
   CHECK_NOTHROW(site::SiteReplay(dir, 2, 4));  // the frames played are all there
 
-  dir = write_recording("unreadable-image");
+  dir = write_recording_site_inputs("unreadable-image");
   std::ofstream(sim::color_path(dir, 2, 0)) << "not a png";
   CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains(sim::color_path(dir, 2, 0).string()));
 
-  dir = write_recording("unreadable-later");
+  dir = write_recording_site_inputs("unreadable-later");
   std::ofstream(sim::color_path(dir, 3, 2)) << "not a png";
   site::SiteReplay later(dir, 0, 4);  // only the first frame is read at start
   CHECK_THROWS_WITH(later.read(2), Contains(sim::color_path(dir, 3, 2).string()));
 
-  dir = write_recording("wrong-size");
+  dir = write_recording_site_inputs("wrong-size");
   write_image(sim::color_path(dir, 1, 0), HostImage(10, 10, PixelFormat::RGBA8));
   CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains(sim::color_path(dir, 1, 0).string()) && Contains("10x10"));
 
-  dir = write_recording("no-tracker");
+  dir = write_recording_site_inputs("no-tracker");
   std::filesystem::remove(dir / "tracker.jsonl");
   CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains("tracker.jsonl"));
 }
 
 TEST_CASE("site config: replay relative to the config's folder, motor checked", "[site_inputs]") {
-  const std::filesystem::path dir = fresh_dir("config");
+  const std::filesystem::path dir = fresh_dir_site_inputs("config");
   std::ofstream(dir / "site.json") << R"({"site": "B", "replay": "recordings/b", "motor": "simulated"})";
   site::SiteRunOptions options;
   site::apply_site_config(dir / "site.json", options);

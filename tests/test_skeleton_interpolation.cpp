@@ -18,7 +18,7 @@ namespace {
 
 constexpr uint64_t kMs = 1000;
 
-HandSkeleton hand_at(double x, uint64_t t_us, int32_t id = 1, bool is_left = false) {
+HandSkeleton hand_at_skeleton_interpolation(double x, uint64_t t_us, int32_t id = 1, bool is_left = false) {
   HandSkeleton hand = test::flat_hand(x, 0.1, 0.3, t_us);
   hand.id = id;
   hand.is_left = is_left;
@@ -27,23 +27,23 @@ HandSkeleton hand_at(double x, uint64_t t_us, int32_t id = 1, bool is_left = fal
 
 SkeletonSample sample(uint64_t t_us, std::vector<HandSkeleton> hands) { return {t_us, std::move(hands)}; }
 
-bool all_finite(const HandSkeleton& hand) {
+bool all_finite_skeleton_interpolation(const HandSkeleton& hand) {
   bool finite = hand.direction.allFinite() && hand.palm_normal.allFinite() && hand.elbow.allFinite() &&
                 std::isfinite(hand.confidence);
   for (const auto& joint : hand.hand_joints()) finite = finite && joint.allFinite();
   return finite;
 }
 
-void require_close(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double tolerance = 1e-12) {
+void require_close_skeleton_interpolation(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double tolerance = 1e-12) {
   INFO("got " << a.transpose() << ", expected " << b.transpose());
   REQUIRE((a - b).norm() <= tolerance);
 }
 
 void require_same_joints(const HandSkeleton& a, const HandSkeleton& b, double tolerance = 1e-12) {
-  require_close(a.wrist, b.wrist, tolerance);
-  require_close(a.palm, b.palm, tolerance);
+  require_close_skeleton_interpolation(a.wrist, b.wrist, tolerance);
+  require_close_skeleton_interpolation(a.palm, b.palm, tolerance);
   for (size_t d = 0; d < a.digits.size(); ++d)
-    for (size_t j = 0; j < a.digits[d].size(); ++j) require_close(a.digits[d][j], b.digits[d][j], tolerance);
+    for (size_t j = 0; j < a.digits[d].size(); ++j) require_close_skeleton_interpolation(a.digits[d][j], b.digits[d][j], tolerance);
 }
 
 // The hand rigidly moved: rotated by `rotation` about its palm, then shifted.
@@ -63,7 +63,7 @@ HandSkeleton moved(const HandSkeleton& hand, const Eigen::Matrix3d& rotation, co
 }  // namespace
 
 TEST_CASE("skeleton interpolation: one sample holds within the limit, before and after it") {
-  const HandSkeleton hand = hand_at(0.0, 500 * kMs);
+  const HandSkeleton hand = hand_at_skeleton_interpolation(0.0, 500 * kMs);
   const std::vector<SkeletonSample> samples{sample(500 * kMs, {hand})};
   for (const int64_t offset_ms : {0, -40, 40, -100, 100}) {
     INFO("offset " << offset_ms << " ms");
@@ -93,7 +93,7 @@ TEST_CASE("skeleton interpolation: no samples at all is stale, not an error") {
 }
 
 TEST_CASE("skeleton interpolation: a gap over 100 ms gives no hand in its middle, the near sample at its ends") {
-  const HandSkeleton first = hand_at(0.0, 1000 * kMs), second = hand_at(0.3, 1300 * kMs);
+  const HandSkeleton first = hand_at_skeleton_interpolation(0.0, 1000 * kMs), second = hand_at_skeleton_interpolation(0.3, 1300 * kMs);
   const std::vector<SkeletonSample> samples{sample(1000 * kMs, {first}), sample(1300 * kMs, {second})};
   SECTION("the middle: nothing within the limit") {
     const HandsAtTime at = hands_at(samples, 1150 * kMs);
@@ -126,7 +126,7 @@ TEST_CASE("skeleton interpolation: a gap over 100 ms gives no hand in its middle
 
 TEST_CASE("skeleton interpolation: the midpoint of two samples is the hand computed directly") {
   // A hand moving and turning about a fixed axis: positions lerp, the palm's frame turns half-way.
-  const HandSkeleton start = hand_at(0.0, 2000 * kMs);
+  const HandSkeleton start = hand_at_skeleton_interpolation(0.0, 2000 * kMs);
   const Eigen::Vector3d axis = Eigen::Vector3d(0.3, 1.0, -0.4).normalized();
   const double angle = 0.5;  // radians over 20 ms: a fast turn
   const Eigen::Vector3d shift(0.02, -0.01, -0.03);
@@ -143,15 +143,15 @@ TEST_CASE("skeleton interpolation: the midpoint of two samples is the hand compu
   REQUIRE(mid.timestamp_us == 2010 * kMs);
   REQUIRE(mid.confidence == Approx(0.75f));
   REQUIRE(mid.id == start.id);
-  require_close(mid.wrist, (start.wrist + end.wrist) / 2);
-  require_close(mid.palm, (start.palm + end.palm) / 2);
-  require_close(mid.elbow, (start.elbow + end.elbow) / 2);
+  require_close_skeleton_interpolation(mid.wrist, (start.wrist + end.wrist) / 2);
+  require_close_skeleton_interpolation(mid.palm, (start.palm + end.palm) / 2);
+  require_close_skeleton_interpolation(mid.elbow, (start.elbow + end.elbow) / 2);
   for (size_t d = 0; d < mid.digits.size(); ++d)
     for (size_t j = 0; j < mid.digits[d].size(); ++j)
-      require_close(mid.digits[d][j], (start.digits[d][j] + end.digits[d][j]) / 2);
+      require_close_skeleton_interpolation(mid.digits[d][j], (start.digits[d][j] + end.digits[d][j]) / 2);
   const Eigen::Matrix3d half = Eigen::AngleAxisd(angle / 2, axis).toRotationMatrix();
-  require_close(mid.direction, half * start.direction, 1e-9);
-  require_close(mid.palm_normal, half * start.palm_normal, 1e-9);
+  require_close_skeleton_interpolation(mid.direction, half * start.direction, 1e-9);
+  require_close_skeleton_interpolation(mid.palm_normal, half * start.palm_normal, 1e-9);
   REQUIRE(mid.direction.norm() == Approx(1.0));
   REQUIRE(std::abs(mid.direction.dot(mid.palm_normal)) < 1e-12);
 
@@ -163,10 +163,10 @@ TEST_CASE("skeleton interpolation: the midpoint of two samples is the hand compu
     REQUIRE(at_s.hands.size() == 1);
     REQUIRE(at_s.interpolated[0]);
     const HandSkeleton& hand = at_s.hands[0];
-    require_close(hand.palm, start.palm * (1 - s) + end.palm * s);
+    require_close_skeleton_interpolation(hand.palm, start.palm * (1 - s) + end.palm * s);
     const Eigen::Matrix3d turned = Eigen::AngleAxisd(angle * s, axis).toRotationMatrix();
-    require_close(hand.direction, turned * start.direction, 1e-9);
-    require_close(hand.palm_normal, turned * start.palm_normal, 1e-9);
+    require_close_skeleton_interpolation(hand.direction, turned * start.direction, 1e-9);
+    require_close_skeleton_interpolation(hand.palm_normal, turned * start.palm_normal, 1e-9);
     REQUIRE(hand.confidence == Approx(1.0 - 0.5 * s));
   }
   // Exactly at a sample: the sample itself.
@@ -179,11 +179,11 @@ TEST_CASE("skeleton interpolation: the midpoint of two samples is the hand compu
 TEST_CASE("skeleton interpolation: timestamps out of order are kept in time order") {
   SkeletonHistory history(8);
   // Arrivals out of order (a reordering link, a reconnect): 40, 0, 20, 60 ms, and 20 again.
-  history.add(sample(40 * kMs, {hand_at(0.04, 40 * kMs)}));
-  history.add(sample(0, {hand_at(0.0, 0)}));
-  history.add(sample(20 * kMs, {hand_at(0.02, 20 * kMs)}));
-  history.add(sample(60 * kMs, {hand_at(0.06, 60 * kMs)}));
-  history.add(sample(20 * kMs, {hand_at(0.02, 20 * kMs)}));  // a repeat replaces, it does not duplicate
+  history.add(sample(40 * kMs, {hand_at_skeleton_interpolation(0.04, 40 * kMs)}));
+  history.add(sample(0, {hand_at_skeleton_interpolation(0.0, 0)}));
+  history.add(sample(20 * kMs, {hand_at_skeleton_interpolation(0.02, 20 * kMs)}));
+  history.add(sample(60 * kMs, {hand_at_skeleton_interpolation(0.06, 60 * kMs)}));
+  history.add(sample(20 * kMs, {hand_at_skeleton_interpolation(0.02, 20 * kMs)}));  // a repeat replaces, it does not duplicate
   REQUIRE(history.size() == 4);
   for (const uint64_t t : {5 * kMs, 10 * kMs, 30 * kMs, 45 * kMs, 55 * kMs}) {
     INFO("t " << t);
@@ -200,7 +200,7 @@ TEST_CASE("skeleton interpolation: timestamps out of order are kept in time orde
 
 TEST_CASE("skeleton interpolation: a full history drops the oldest, and refuses what is older still") {
   SkeletonHistory history(3);
-  for (uint64_t i = 1; i <= 4; ++i) history.add(sample(i * 20 * kMs, {hand_at(0.0, i * 20 * kMs)}));
+  for (uint64_t i = 1; i <= 4; ++i) history.add(sample(i * 20 * kMs, {hand_at_skeleton_interpolation(0.0, i * 20 * kMs)}));
   REQUIRE(history.size() == 3);
   REQUIRE(history.at(20 * kMs).nearest_sample_gap_us == 20 * kMs);  // the 20 ms sample went
   history.add(sample(10 * kMs, {}));                                  // older than all kept
@@ -209,10 +209,10 @@ TEST_CASE("skeleton interpolation: a full history drops the oldest, and refuses 
 }
 
 TEST_CASE("skeleton interpolation: a hand that appears between samples is never blended with nothing") {
-  const HandSkeleton right = hand_at(0.0, 0, 1, false);
-  const HandSkeleton left = hand_at(-0.2, 20 * kMs, 2, true);
+  const HandSkeleton right = hand_at_skeleton_interpolation(0.0, 0, 1, false);
+  const HandSkeleton left = hand_at_skeleton_interpolation(-0.2, 20 * kMs, 2, true);
   // The right hand is tracked throughout; the left one appears in the later sample.
-  const HandSkeleton right_later = hand_at(0.01, 20 * kMs, 1, false);
+  const HandSkeleton right_later = hand_at_skeleton_interpolation(0.01, 20 * kMs, 1, false);
   const std::vector<SkeletonSample> samples{sample(0, {right}), sample(20 * kMs, {right_later, left})};
   SECTION("nearer the earlier sample: the right hand interpolated, the left one not there yet") {
     const HandsAtTime at = hands_at(samples, 8 * kMs);
@@ -252,13 +252,13 @@ TEST_CASE("skeleton interpolation: a hand that appears between samples is never 
 }
 
 TEST_CASE("skeleton interpolation: a missing elbow stays missing and spoils nothing else") {
-  HandSkeleton start = hand_at(0.0, 0), end = hand_at(0.02, 20 * kMs);
+  HandSkeleton start = hand_at_skeleton_interpolation(0.0, 0), end = hand_at_skeleton_interpolation(0.02, 20 * kMs);
   const double nan = std::nan("");
   SECTION("missing in both samples") {
     start.elbow = end.elbow = Eigen::Vector3d::Constant(nan);
     const HandSkeleton mid = interpolate_hand(start, end, 0.5);
     REQUIRE(mid.elbow.array().isNaN().all());
-    require_close(mid.palm, (start.palm + end.palm) / 2);
+    require_close_skeleton_interpolation(mid.palm, (start.palm + end.palm) / 2);
     for (const auto& joint : mid.hand_joints()) REQUIRE(joint.allFinite());
   }
   SECTION("missing in one sample: the nearer sample's elbow, missing or not") {
@@ -272,7 +272,7 @@ TEST_CASE("skeleton interpolation: a missing elbow stays missing and spoils noth
     const std::vector<SkeletonSample> samples{sample(0, {start}), sample(20 * kMs, {end})};
     const HandsAtTime at = hands_at(samples, 10 * kMs);
     REQUIRE(at.hands[0].elbow.array().isNaN().all());
-    require_close(at.hands[0].wrist, (start.wrist + end.wrist) / 2);
+    require_close_skeleton_interpolation(at.hands[0].wrist, (start.wrist + end.wrist) / 2);
   }
 }
 
@@ -281,7 +281,7 @@ TEST_CASE("skeleton interpolation: finite inputs never give NaN or Inf, even deg
   std::uniform_real_distribution<double> unit(-1.0, 1.0), fraction(0.0, 1.0);
   auto random_vector = [&] { return Eigen::Vector3d(unit(rng), unit(rng), unit(rng)); };
   for (int trial = 0; trial < 2000; ++trial) {
-    HandSkeleton a = hand_at(unit(rng), 0), b = hand_at(unit(rng), 20 * kMs);
+    HandSkeleton a = hand_at_skeleton_interpolation(unit(rng), 0), b = hand_at_skeleton_interpolation(unit(rng), 20 * kMs);
     a.direction = random_vector();
     b.direction = random_vector();
     a.palm_normal = random_vector();
@@ -296,7 +296,7 @@ TEST_CASE("skeleton interpolation: finite inputs never give NaN or Inf, even deg
     const double s = trial % 7 == 0 ? 0.5 : fraction(rng);
     const HandSkeleton mid = interpolate_hand(a, b, s);
     INFO("trial " << trial << " s " << s);
-    REQUIRE(all_finite(mid));
+    REQUIRE(all_finite_skeleton_interpolation(mid));
     if (trial % 5 == 4) {
       REQUIRE(mid.direction.norm() == Approx(1.0));
       REQUIRE(mid.palm_normal.norm() == Approx(1.0));

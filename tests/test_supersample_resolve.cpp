@@ -12,7 +12,7 @@ struct Resolved {
   HostImage color, depth_m, part;
 };
 
-Resolved run_gpu(const HostImage& color, const HostImage& depth, const HostImage& part, uint32_t factor) {
+Resolved run_gpu_supersample_resolve(const HostImage& color, const HostImage& depth, const HostImage& part, uint32_t factor) {
   const passes::SupersampleResolvePass pass(test::gpu(), factor);
   test::PassHarness gpu("supersample_resolve");
   const uint32_t w = color.width / factor, h = color.height / factor;
@@ -37,7 +37,7 @@ TEST_CASE("supersample_resolve on random images of odd sizes", "[supersample_res
       const HostImage color = test::random_image(rng, fw, fh, PixelFormat::RGBA8);
       const HostImage depth = test::random_image(rng, fw, fh, PixelFormat::R32F, 0.0f, 3.0f);
       const HostImage part = test::random_image(rng, fw, fh, PixelFormat::R32F, 0.0f, 2.0f);
-      const Resolved gpu = run_gpu(color, depth, part, factor);
+      const Resolved gpu = run_gpu_supersample_resolve(color, depth, part, factor);
       RT_REQUIRE_MATCHES(gpu.color, passes::supersample_resolve_reference(color, factor), 1.0 / 255 + 1e-6, 0.0);
       RT_REQUIRE_MATCHES(gpu.depth_m, passes::supersample_resolve_reference(depth, factor), 0.0, 0.0);
       RT_REQUIRE_MATCHES(gpu.part, passes::supersample_resolve_reference(part, factor), 0.0, 0.0);
@@ -50,7 +50,7 @@ TEST_CASE("supersample_resolve hard cases", "[supersample_resolve][gpu]") {
     HostImage color(3, 3, PixelFormat::RGBA8, 0.0f);
     for (uint32_t y = 0; y < 3; ++y)
       for (uint32_t c = 0; c < 4; ++c) color.at(0, y, c) = 1.0f;  // one column of three lit
-    const Resolved gpu = run_gpu(color, HostImage(3, 3, PixelFormat::R32F, 1.0f), HostImage(3, 3, PixelFormat::R32F, 2.0f), 3);
+    const Resolved gpu = run_gpu_supersample_resolve(color, HostImage(3, 3, PixelFormat::R32F, 1.0f), HostImage(3, 3, PixelFormat::R32F, 2.0f), 3);
     REQUIRE(gpu.color.at(0, 0, 0) == Approx(1.0f / 3.0f).margin(1.0 / 255));
     REQUIRE(gpu.part.at(0, 0) == 2.0f);
   }

@@ -2,7 +2,7 @@
 // stands as a flat print at a known pose in front of the screen, the site's simulated cameras
 // render it, the cascades find the eyes, and the triangulated midpoint is compared with the
 // print's hand-marked pupils mapped into the site. Prints the error per camera configuration:
-//   build-viewer/tests/test_viewer_renders "[renders]"
+//   build-viewer/tests/remotetouch_cpu_tests "[renders]"
 #include <catch2/catch.hpp>
 
 #include <opencv2/imgcodecs.hpp>

@@ -157,7 +157,7 @@ TEST_CASE("rays holding NaN or a zero direction are invalid input", "[viewer][tr
 
 namespace {
 
-rt::Distortion mild_lens() {
+rt::Distortion mild_lens_viewer_triangulation() {
   // Typical of an RGBD color camera: a little barrel distortion, tiny tangential terms.
   rt::Distortion d;
   d.k1 = -0.08;
@@ -170,7 +170,7 @@ rt::Distortion mild_lens() {
 std::vector<rt::Camera> stand(bool distorted) {
   rt::CameraStandOptions options;
   options.intrinsics = {1280, 720, 640.0, 640.0, 639.5, 359.5, {}};
-  if (distorted) options.intrinsics.distortion = mild_lens();
+  if (distorted) options.intrinsics.distortion = mild_lens_viewer_triangulation();
   return rt::simulated_camera_stand(options);
 }
 
@@ -307,7 +307,7 @@ namespace {
 struct TrueEyes {
   Eigen::Vector3d right, left;
 };
-TrueEyes eyes_at(const Eigen::Vector3d& centre) {
+TrueEyes eyes_at_viewer_triangulation(const Eigen::Vector3d& centre) {
   return {centre + Eigen::Vector3d(0.0315, 0, 0), centre - Eigen::Vector3d(0.0315, 0, 0)};
 }
 
@@ -326,7 +326,7 @@ std::vector<rt::ViewEyes> view_eyes(const std::vector<rt::Camera>& cameras, cons
 
 TEST_CASE("which eye is the viewer's right follows from the camera's pose", "[viewer][eyes]") {
   const auto cameras = stand(true);
-  const TrueEyes eyes = eyes_at({0.05, 0.02, 0.7});
+  const TrueEyes eyes = eyes_at_viewer_triangulation({0.05, 0.02, 0.7});
   for (const rt::Camera& upright : cameras) {
     // The same camera turned upside down on its mount: the image flips, the answer must not.
     rt::Camera upside_down = upright;
@@ -352,7 +352,7 @@ TEST_CASE("which eye is the viewer's right follows from the camera's pose", "[vi
 TEST_CASE("both eyes triangulate and the viewpoint is their midpoint", "[viewer][eyes]") {
   const auto cameras = stand(true);
   const Eigen::Vector3d centre(-0.08, 0.04, 0.66);
-  const TrueEyes eyes = eyes_at(centre);
+  const TrueEyes eyes = eyes_at_viewer_triangulation(centre);
   const rt::EyePair pair = rt::triangulate_eye_pair(cameras, view_eyes(cameras, eyes, {1, 2, 4, 5}));
   INFO(pair.message);
   REQUIRE(pair.ok());

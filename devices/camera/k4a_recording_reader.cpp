@@ -3,8 +3,6 @@
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
-#include <libavutil/opt.h>
-#include <libswscale/swscale.h>
 }
 
 #include <algorithm>
@@ -32,12 +30,6 @@ std::string av_error(int code) {
 
 struct PacketDeleter {
   void operator()(AVPacket* p) const { av_packet_free(&p); }
-};
-struct FrameDeleter {
-  void operator()(AVFrame* f) const { av_frame_free(&f); }
-};
-struct CodecDeleter {
-  void operator()(AVCodecContext* c) const { avcodec_free_context(&c); }
 };
 using Packet = std::unique_ptr<AVPacket, PacketDeleter>;
 
@@ -83,29 +75,6 @@ std::string fourcc_text(uint32_t fourcc) {
   return "'" + text + "'";
 }
 
-HostImage rgba_from(const uint8_t* pixels, uint32_t width, uint32_t height) {
-  // A table of the 256 values (each exactly byte / 255) instead of a division per channel.
-  static const std::array<float, 256> kUnit = [] {
-    std::array<float, 256> unit{};
-    for (size_t i = 0; i < unit.size(); ++i) unit[i] = float(i) / 255.0f;
-    return unit;
-  }();
-  HostImage image;
-  image.width = width;
-  image.height = height;
-  image.format = PixelFormat::RGBA8;
-  const size_t count = size_t(width) * height * 4;
-  image.texels.reserve(count);
-  for (size_t i = 0; i < count; ++i) image.texels.push_back(kUnit[pixels[i]]);
-  return image;
-}
-
-// The decoding thread's own CPU time: stage figures that other processes' load does not inflate.
-double thread_cpu_ms() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return double(now.tv_sec) * 1e3 + double(now.tv_nsec) * 1e-6;
-}
 double ms_since(double start_ms) { return thread_cpu_ms() - start_ms; }
 
 }  // namespace
@@ -114,19 +83,13 @@ struct RecordingReader::Demuxer {
   std::string where;  // the file, quoted, as errors name it
   AVFormatContext* format = nullptr;
   int color_stream = -1, depth_stream = -1;
-  std::unique_ptr<AVCodecContext, CodecDeleter> jpeg;
-  std::unique_ptr<AVFrame, FrameDeleter> frame{av_frame_alloc()};
-  SwsContext* scaler = nullptr;
-  std::vector<uint8_t> rgba;
+  std::unique_ptr<ColorDecoder> color;
   Packet pending;              // read ahead: the first packet of the next capture
   int64_t last_block_us = -1;  // timecode of the latest COLOR or DEPTH block read
   std::string truncation;      // why the file ended early, once it has
   bool ended = false;
 
-  ~Demuxer() {
-    sws_freeContext(scaler);
-    avformat_close_input(&format);
-  }
+  ~Demuxer() { avformat_close_input(&format); }
 
   int64_t timecode_us(const AVPacket& packet) const {
     const AVStream* stream = format->streams[packet.stream_index];
@@ -179,69 +142,13 @@ struct RecordingReader::Demuxer {
     return depth;
   }
 
-  HostImage decode_color(const AVPacket& packet, ColorFormat format, ColorResolution resolution,
-                         const std::string& frame_name, DecodeTimes& times) {
-    double start = thread_cpu_ms();
-    const SensorCut& cut = sensor_cut(resolution);
-    const int w = int(cut.output_width), h = int(cut.output_height);
+  HostImage decode_color(const AVPacket& packet, const std::string& frame_name, DecodeTimes& times) {
     if (packet.flags & AV_PKT_FLAG_CORRUPT) throw RecordingError(frame_name + " is truncated or damaged");
-    AVPixelFormat source_format = AV_PIX_FMT_NONE;
-    const uint8_t* planes[4] = {};
-    int strides[4] = {};
-    size_t expected = 0;
-    switch (format) {
-      case ColorFormat::mjpg: {
-        int error = avcodec_send_packet(jpeg.get(), &packet);
-        if (error >= 0) error = avcodec_receive_frame(jpeg.get(), frame.get());
-        if (error < 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) || frame->decode_error_flags)
-          throw RecordingError(frame_name + " is not a decodable JPEG (" +
-                               (error < 0 ? av_error(error) : std::string("decode errors")) + ")");
-        if (frame->width != w || frame->height != h)
-          throw RecordingError(frame_name + " decodes to " + std::to_string(frame->width) + "x" +
-                               std::to_string(frame->height) + ", the track is " + std::to_string(w) + "x" +
-                               std::to_string(h));
-        source_format = AVPixelFormat(frame->format);
-        times.color_decode_ms += ms_since(start);
-        start = thread_cpu_ms();
-        for (int i = 0; i < 4; ++i) planes[i] = frame->data[i], strides[i] = frame->linesize[i];
-        break;
-      }
-      case ColorFormat::nv12:
-        source_format = AV_PIX_FMT_NV12;
-        expected = size_t(w) * h * 3 / 2;
-        planes[0] = packet.data, strides[0] = w;
-        planes[1] = packet.data + size_t(w) * h, strides[1] = w;
-        break;
-      case ColorFormat::yuy2:
-        source_format = AV_PIX_FMT_YUYV422;
-        expected = size_t(w) * h * 2;
-        planes[0] = packet.data, strides[0] = w * 2;
-        break;
-      case ColorFormat::bgra:
-        source_format = AV_PIX_FMT_BGRA;
-        expected = size_t(w) * h * 4;
-        planes[0] = packet.data, strides[0] = w * 4;
-        break;
+    try {
+      return color->decode(packet.data, size_t(std::max(0, packet.size)), frame_name, times);
+    } catch (const ImageError& error) {
+      throw RecordingError(error.what());
     }
-    if (format != ColorFormat::mjpg && size_t(packet.size) != expected)
-      throw RecordingError(frame_name + " has " + std::to_string(packet.size) + " bytes, " +
-                           std::string(color_format_name(format)) + " " + std::to_string(w) + "x" + std::to_string(h) +
-                           " needs " + std::to_string(expected) + " (truncated or damaged)");
-    // Chroma interpolated at full resolution: without it the colour is biased by more than a level.
-    // The exactly rounded path would cost about three times as long for a fraction of a level.
-    scaler = sws_getCachedContext(scaler, w, h, source_format, w, h, AV_PIX_FMT_RGBA,
-                                  SWS_BILINEAR | SWS_FULL_CHR_H_INT, nullptr,
-                                  nullptr, nullptr);
-    if (!scaler) throw RecordingError(frame_name + ": no conversion from its pixel format to RGBA");
-    rgba.resize(size_t(w) * h * 4);
-    uint8_t* out[4] = {rgba.data(), nullptr, nullptr, nullptr};
-    int out_strides[4] = {w * 4, 0, 0, 0};
-    sws_scale(scaler, planes, strides, 0, h, out, out_strides);
-    times.color_convert_ms += ms_since(start);
-    start = thread_cpu_ms();
-    HostImage image = rgba_from(rgba.data(), uint32_t(w), uint32_t(h));
-    times.to_host_ms += ms_since(start);
-    return image;
   }
 };
 
@@ -358,16 +265,10 @@ RecordingReader::RecordingReader(const std::filesystem::path& path)
     throw RecordingError(e.what());
   }
 
-  if (info_.color_format == ColorFormat::mjpg) {
-    const AVCodec* codec = avcodec_find_decoder(AV_CODEC_ID_MJPEG);
-    if (!codec) throw fail("this FFmpeg has no MJPEG decoder");
-    d.jpeg.reset(avcodec_alloc_context3(codec));
-    const SensorCut& cut = sensor_cut(info_.color_resolution);
-    // A JPEG header claiming more pixels than the track has is refused before anything is allocated.
-    av_opt_set_int(d.jpeg.get(), "max_pixels", int64_t(cut.output_width) * cut.output_height, 0);
-    d.jpeg->err_recognition = AV_EF_EXPLODE;
-    if (const int error = avcodec_open2(d.jpeg.get(), codec, nullptr); error < 0)
-      throw fail("cannot open the MJPEG decoder (" + av_error(error) + ")");
+  try {
+    d.color = std::make_unique<ColorDecoder>(info_.color_format, info_.color_resolution);
+  } catch (const ImageError& error) {
+    throw fail(error.what());
   }
 }
 
@@ -434,8 +335,7 @@ std::optional<Capture> RecordingReader::next_capture() {
   }
   if (color) {
     capture.color_device_us = device_us(*color);
-    capture.color = d.decode_color(*color, info_.color_format, info_.color_resolution,
-                                   frame_name("COLOR", *capture.color_device_us), times_);
+    capture.color = d.decode_color(*color, frame_name("COLOR", *capture.color_device_us), times_);
   }
   return capture;
 }

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "camera/k4a_calibration.h"
+#include "camera/k4a_color_decoder.h"
 #include "camera/k4a_modes.h"
 #include "camera/k4a_recording_writer.h"
 #include "image/host_image.h"
@@ -57,16 +58,6 @@ struct Capture {
 // When a capture's images were taken, without decoding them.
 struct CaptureTimes {
   std::optional<uint64_t> color_device_us, depth_device_us;
-};
-
-// Where a reader's time went, summed over the captures it decoded (a benchmark's figures): CPU
-// time of the decoding thread, so that other work on the machine does not count.
-struct DecodeTimes {
-  size_t captures = 0;
-  double demux_ms = 0;         // reading the blocks of a capture from the file
-  double color_decode_ms = 0;  // MJPG to YUV (libavcodec); nothing for raw formats
-  double color_convert_ms = 0; // to RGBA (libswscale)
-  double to_host_ms = 0;       // into the engine's image: colour bytes to floats, depth byte order
 };
 
 class RecordingReader {

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "camera/k4a_site_writer.h"
+#include "camera/site_camera_sources.h"
 
 namespace rt::camera::k4a {
 
@@ -53,10 +54,24 @@ SiteRecordings::SiteRecordings(const std::filesystem::path& dir, std::FILE* log,
   if (site_.cameras.empty()) throw RecordingError("'" + (dir_ / "site.json").string() + "' lists no cameras");
   if (max_cameras > 0 && site_.cameras.size() > max_cameras) site_.cameras.resize(max_cameras);
 
+  const std::string site_file = "'" + (dir_ / "site.json").string() + "'";
+  std::vector<CameraSource> sources;
+  try {
+    sources = camera_sources(site_, dir_, site_file);
+  } catch (const std::runtime_error& error) {
+    throw RecordingError(error.what());
+  }
   std::vector<int64_t> first_device_us;
-  for (sim::RgbdCamera& described : site_.cameras) {
+  for (size_t index = 0; index < site_.cameras.size(); ++index) {
+    sim::RgbdCamera& described = site_.cameras[index];
+    if (sources[index].kind == CameraSourceKind::k4a_live)
+      throw RecordingError(site_file + ": camera '" + described.name +
+                           "' is a live device (source \"k4a\"), and this site plays recordings: give it "
+                           "\"k4a-recording:PATH\", or play the live site with `remotetouch record`");
     auto camera = std::make_unique<Camera>();
-    camera->file = recording_path(dir_, described.name);
+    // A camera that names no recording plays the one beside site.json under its own name.
+    camera->file = sources[index].kind == CameraSourceKind::k4a_recording ? sources[index].recording
+                                                                           : recording_path(dir_, described.name);
     if (!std::filesystem::is_regular_file(camera->file))
       throw RecordingError("'" + dir_.string() + "': camera '" + described.name + "' of site.json has no recording '" +
                            camera->file.string() + "'");

@@ -21,6 +21,8 @@ namespace rt::app {
   X("", simulate)                          \
   X("", keygen)                            \
   X("", inspect_camera)                    \
+  X("", list_cameras)                      \
+  X("", record)                            \
   X("eval", eval_ibr)                      \
   X("eval", eval_hand)                     \
   X("eval", eval_dual)                     \

@@ -1,7 +1,7 @@
 #pragma once
 // The site description the project ships (assets/sites/*.json) comes from this code, so that a
 // change of layout is made here and the files are regenerated, never edited by hand:
-// the hidden test `test_sim_site "[.regenerate]"` (or `cmake --build <dir> --target
+// the hidden test `remotetouch_cpu_tests "[.regenerate]"` (or `cmake --build <dir> --target
 // regenerate_sim_sites`) rewrites them, and the test "shipped site files match the generator"
 // fails while they differ.
 #include <cstdint>

@@ -43,8 +43,9 @@ RgbdCamera camera_entry_from_json(const nlohmann::json& entry, const std::string
   if (!entry.is_object()) throw JsonError(where + ": must be an object");
   const std::string name = config::require_string(entry, "name", where);
   const std::string camera_where = where + " (camera '" + name + "')";
-  reject_unknown_fields(entry, {"name", "width", "height", "fx", "fy", "cx", "cy", "distortion", "camera_from_site", "depth"},
-                        camera_where);
+  reject_unknown_fields(
+      entry, {"name", "width", "height", "fx", "fy", "cx", "cy", "distortion", "camera_from_site", "depth", "source", "k4a"},
+      camera_where);
   // camera_from_json treats a missing pose as the identity; a site camera must say where it is.
   config::require(entry, "camera_from_site", camera_where);
   Camera color;
@@ -56,6 +57,23 @@ RgbdCamera camera_entry_from_json(const nlohmann::json& entry, const std::string
 
   RgbdCamera camera;
   camera.name = name;
+  if (entry.contains("source")) {
+    camera.source = config::require_string(entry, "source", camera_where);
+    const bool recording = camera.source.starts_with("k4a-recording:");
+    if (camera.source != "simulated" && camera.source != "k4a" && !recording)
+      throw JsonError(camera_where + ": source '" + camera.source +
+                      "' is none of \"simulated\", \"k4a\" (a live device) and \"k4a-recording:PATH\"");
+    if (recording && camera.source.size() == std::string_view("k4a-recording:").size())
+      throw JsonError(camera_where + ": source \"k4a-recording:\" names no file (k4a-recording:PATH)");
+  }
+  if (entry.contains("k4a")) {
+    if (camera.source != "k4a")
+      throw JsonError(camera_where + ": has k4a settings, which only a live camera (source \"k4a\") uses");
+    camera.k4a = require_object(entry, "k4a", camera_where);
+  } else if (camera.source == "k4a") {
+    throw JsonError(camera_where + ": a live camera (source \"k4a\") needs its device's settings in \"k4a\" "
+                    "(at least its \"serial\")");
+  }
   camera.camera_from_site = color.camera_from_site;
   camera.color = color.intrinsics;
   check_principal_point(camera.color, camera_where);
@@ -144,6 +162,8 @@ nlohmann::json site_to_json(const SiteDescription& site) {
     nlohmann::json entry = camera_to_json(camera.color_camera());
     entry["name"] = camera.name;
     entry["depth"] = depth_to_json(camera);
+    if (camera.source != "simulated") entry["source"] = camera.source;
+    if (!camera.k4a.empty()) entry["k4a"] = camera.k4a;
     cameras.push_back(entry);
   }
   return {

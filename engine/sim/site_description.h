@@ -30,6 +30,11 @@ struct RgbdCamera {
   CameraIntrinsics depth;
   double depth_min_m = 0.25;  // WFOV 2x2-binned operating range
   double depth_max_m = 2.88;
+  // Where its frames come from: "simulated" (the simulator renders them), "k4a" (a live Azure
+  // Kinect or Orbbec Femto, its settings in `k4a`, read by devices/camera/site_camera_sources.h)
+  // or "k4a-recording:PATH" (a recording of one; a relative path is from the site file's folder).
+  std::string source = "simulated";
+  nlohmann::json k4a = nlohmann::json::object();
 
   Camera color_camera() const;
   Camera depth_camera() const;
