@@ -5,6 +5,7 @@
 #include <exception>
 #include <thread>
 
+#include "camera/each_camera_in_parallel.h"
 #include "camera/frame_sets.h"
 
 namespace rt::camera::k4a {
@@ -144,24 +145,7 @@ std::optional<sim::RgbdFrame> LiveSite::next_frame() {
   const auto asked = std::chrono::steady_clock::now();
   std::vector<std::vector<uint64_t>> times(count);
   for (;;) {
-    // Each camera's device and decoder are its own, so cameras wait and decode side by side.
-    std::atomic<size_t> next_camera{0};
-    std::vector<std::exception_ptr> failures(count);
-    const auto work = [&] {
-      for (size_t k; (k = next_camera++) < count;) {
-        try {
-          fill(k, wait_ms);
-        } catch (...) {
-          failures[k] = std::current_exception();
-        }
-      }
-    };
-    std::vector<std::thread> helpers;
-    for (unsigned t = 1; t < std::min<size_t>(decode_threads_, count); ++t) helpers.emplace_back(work);
-    work();
-    for (std::thread& helper : helpers) helper.join();
-    for (const std::exception_ptr& failure : failures)
-      if (failure) std::rethrow_exception(failure);
+    for_each_camera_in_parallel(count, decode_threads_, [&](size_t k) { fill(k, wait_ms); });
     bool any = false;
     for (size_t k = 0; k < count; ++k)
       if (cameras_[k]->pending) times[k] = {cameras_[k]->pending_us}, any = true;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <thread>
 
+#include "camera/each_camera_in_parallel.h"
 #include "camera/k4a_site_writer.h"
 #include "camera/site_camera_sources.h"
 
@@ -202,24 +203,9 @@ std::optional<sim::RgbdFrame> SiteRecordings::next_frame() {
   const size_t count = cameras_.size();
   frame.cameras.resize(count);
   std::vector<std::string> problems(count);
-  std::vector<std::exception_ptr> failures(count);
-  // Each camera has its own reader and decoder, so cameras decode side by side.
-  std::atomic<size_t> next_camera{0};
-  const auto work = [&] {
-    for (size_t k; (k = next_camera++) < count;) {
-      try {
-        frame.cameras[k] = read_camera(k, set, problems[k]);
-      } catch (...) {
-        failures[k] = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> helpers;
-  for (unsigned t = 1; t < std::min<size_t>(decode_threads_, count); ++t) helpers.emplace_back(work);
-  work();
-  for (std::thread& helper : helpers) helper.join();
+  for_each_camera_in_parallel(count, decode_threads_,
+                              [&](size_t k) { frame.cameras[k] = read_camera(k, set, problems[k]); });
   for (size_t k = 0; k < count; ++k) {
-    if (failures[k]) std::rethrow_exception(failures[k]);
     if (!problems[k].empty()) {
       ++skipped_;
       report(problems[k]);
