@@ -23,6 +23,7 @@
 #include "camera/site_camera_sources.h"
 #include "config/assets.h"
 #include "config/json.h"
+#include "support/k4a_sites.h"
 #include "support/output_dir.h"
 
 using namespace rt;
@@ -44,17 +45,7 @@ std::string fake_k4a_library() {
 constexpr uint64_t kLiveStartUs = 5'000'000;
 constexpr uint64_t kSubordinateDelayUs = 160;
 
-sim::SiteDescription two_camera_site() {
-  sim::SiteDescription site = sim::load_site(config::assets_dir() / "sites" / "default.json");
-  site.cameras.resize(2);
-  for (sim::RgbdCamera& camera : site.cameras) {
-    camera.color.width = 1280, camera.color.height = 720;
-    camera.color.fx = camera.color.fy = 610, camera.color.cx = 639.5, camera.color.cy = 359.5;
-    camera.depth.width = 320, camera.depth.height = 288;
-    camera.depth.fx = camera.depth.fy = 252, camera.depth.cx = 159.5, camera.depth.cy = 143.5;
-  }
-  return site;
-}
+sim::SiteDescription two_camera_site() { return rt::test::k4a_mode_site(2); }
 
 HostImage gradient(uint32_t camera, uint32_t index) {
   HostImage image(1280, 720, PixelFormat::RGBA8);

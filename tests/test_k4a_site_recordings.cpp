@@ -17,6 +17,7 @@
 #include "camera/k4a_site_writer.h"
 #include "camera/recorded_site.h"
 #include "config/assets.h"
+#include "support/k4a_sites.h"
 #include "support/output_dir.h"
 
 using namespace rt;
@@ -104,18 +105,7 @@ TEST_CASE("frame sets: random jitter and drops keep every capture once, within h
 
 namespace {
 
-// The default site cut to `cameras` cameras at 720p colour and 2x2-binned NFOV depth (k4a modes).
-sim::SiteDescription test_site(size_t cameras) {
-  sim::SiteDescription site = sim::load_site(config::assets_dir() / "sites" / "default.json");
-  site.cameras.resize(cameras);
-  for (sim::RgbdCamera& camera : site.cameras) {
-    camera.color.width = 1280, camera.color.height = 720;
-    camera.color.fx = camera.color.fy = 610, camera.color.cx = 639.5, camera.color.cy = 359.5;
-    camera.depth.width = 320, camera.depth.height = 288;
-    camera.depth.fx = camera.depth.fy = 252, camera.depth.cx = 159.5, camera.depth.cy = 143.5;
-  }
-  return site;
-}
+sim::SiteDescription test_site(size_t cameras) { return rt::test::k4a_mode_site(cameras); }
 
 HostImage flat_color(float level) {
   HostImage image(1280, 720, PixelFormat::RGBA8, level);
