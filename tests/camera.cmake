@@ -74,3 +74,12 @@ add_cli_test(cli_record 0 "record: [0-9.]+ s of 2 cameras into '.*record-cli' [(
              REMOTETOUCH_FAKE_K4A_RECORDINGS=${k4a_live_devices}/top-left.mkv:${k4a_live_devices}/top-centre.mkv
              ${rt} record --site ${k4a_live_devices}/live.json --seconds 5 --out ${CMAKE_BINARY_DIR}/test-out/record-cli)
 set_tests_properties(cli_record PROPERTIES FIXTURES_REQUIRED k4a_live_devices)
+
+# A site whose cameras run live through the fake library (paced as devices are): the demo with
+# a scene whose site A names wave's simulated recordings as devices, and `site --site-file` by
+# hand on test_k4a_live's devices, whose lenses are apart (their depth registered into colour).
+add_test(NAME cli_k4a_site_live
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/k4a_site_live.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/k4a-site-live
+                 $<TARGET_FILE:remotetouch_fake_k4a> ${CMAKE_SOURCE_DIR}/assets/scenes/wave.json
+                 ${CMAKE_SOURCE_DIR}/assets/sites/default.json ${k4a_live_devices})
+set_tests_properties(cli_k4a_site_live PROPERTIES FIXTURES_REQUIRED k4a_live_devices TIMEOUT 600 RUN_SERIAL TRUE)

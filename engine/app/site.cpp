@@ -42,6 +42,10 @@ class SiteCommand : public Command {
         ->capture_default_str();
     command_->add_option("--replay", options_.replay,
                          "Replay a recording (remotetouch simulate's format) as this site's cameras and tracker");
+    command_->add_option("--site-file", options_.site_file,
+                         "This site's description (screen, seat, tracker, cameras) instead of the scene's; cameras "
+                         "with \"source\": \"k4a\" run live")
+        ->check(CLI::ExistingFile);
     command_->add_option("--motor", options_.motor, "simulated, usb (the Arduino; an error without it) or auto")
         ->check(CLI::IsMember({"simulated", "usb", "auto"}))
         ->capture_default_str();
@@ -94,6 +98,7 @@ class SiteCommand : public Command {
       if (given("--frames")) options_.run.frames = flags.run.frames;
       if (given("--site")) options_.site = site_ == "B" ? Site::B : Site::A;
       if (given("--replay")) options_.replay = flags.replay;
+      if (given("--site-file")) options_.site_file = flags.site_file;
       if (given("--motor")) options_.motor = flags.motor;
       if (given("--tracker")) options_.tracker = flags.tracker;
       if (given("--display")) options_.display = flags.display;

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <stdexcept>
 #include <thread>
 
+#include "camera/site_camera_sources.h"
 #include "geometry/target_view.h"
 #include "ibr/camera_selection.h"
 #include "image/image_io.h"
@@ -42,12 +44,12 @@ Sender::Sender(SiteCommon& common, SiteTouchLoop& touch) : common_(common), touc
     common_.scene.fps = replay_->pacing().fps(common_.scene.fps);
     registration_ = std::make_unique<pipeline::RecordedDepthRegistration>(*common_.context, replay_->recorded());
     cameras = registration_->models(replay_->cameras());
-    if (const size_t registered = registration_->registered_count())
-      std::cerr << "site " << common_.name << ": " << registered << " of " << cameras.size()
-                << " cameras have their depth registered into their colour image\n";
     std::cerr << "site " << common_.name << ": replaying " << replay_->frame_count() << " frames of "
               << options.replay.string() << " (" << common_.scene.duration_s() << " s of scene time)"
               << (options.resolution_scale > 0 ? "; --resolution-scale does not apply to a replay" : "") << "\n";
+  } else if (camera::site_source_kind(common_.site(), "'" + common_.scene.at(options.site).site_file.string() + "'") !=
+             camera::CameraSourceKind::simulated) {
+    cameras = open_live_site();
   } else {
     const uint32_t truth_width = options.write_truth ? common_.width : 0;
     const uint32_t truth_height = options.write_truth ? common_.height : 0;
@@ -59,6 +61,9 @@ Sender::Sender(SiteCommon& common, SiteTouchLoop& touch) : common_(common), touc
       truth_regions_ = std::make_unique<TruthRegionWriter>(common_.out / "truth");
     }
   }
+  if (registration_ && registration_->registered_count())
+    std::cerr << "site " << common_.name << ": " << registration_->registered_count() << " of " << cameras.size()
+              << " cameras have their depth registered into their colour image\n";
   if (const std::optional<std::string> url = leap_tracker_url(options.tracker)) {
     devices::LeapServiceTracker::Options leap_options;
     leap_options.url = *url;
@@ -90,6 +95,37 @@ Sender::Sender(SiteCommon& common, SiteTouchLoop& touch) : common_(common), touc
       },
       depth_cameras);
   if (simulator_) look_for_eyes_before_the_call();
+}
+
+std::vector<passes::IbrCameraModel> Sender::open_live_site() {
+  const SiteRunOptions& options = common_.options;
+  sim::SiteSetup& setup = common_.scene.sites[options.site == Site::A ? 0 : 1];
+  const std::string where = "'" + setup.site_file.string() + "'";
+  // A site's recordings are a folder with their tracker: --replay plays them, paced by their
+  // times, which a site file's cameras cannot give.
+  if (camera::site_source_kind(setup.site, where) == camera::CameraSourceKind::k4a_recording)
+    throw std::runtime_error(where + " names k4a recordings as its cameras: play them with --replay FOLDER (the folder "
+                             "of a site.json beside the recordings), or give the cameras \"source\": \"k4a\" to run them live");
+  live_ = std::make_unique<camera::k4a::LiveSite>(setup.site, camera::live_site_settings(setup.site, where));
+  setup.site = live_->site();  // each camera's lenses at its modes, from its factory calibration
+  registration_ = std::make_unique<pipeline::RecordedDepthRegistration>(*common_.context, live_->intrinsics());
+  // A live call lasts until it is stopped (Ctrl-C, Esc, the other site), a day at most.
+  if (!options.frames_given) common_.scene.frame_count = uint32_t(std::lround(common_.scene.fps * 24 * 3600));
+  std::cerr << "site " << common_.name << ": " << live_->infos().size() << " live k4a cameras from " << where << " ("
+            << live_->infos().front().fps << " fps"
+            << (options.frames_given ? ", " + std::to_string(common_.scene.frame_count) + " scene frames" : ", until stopped")
+            << ")" << (options.resolution_scale > 0 ? "; --resolution-scale does not apply to live cameras" : "") << "\n";
+  if (!leap_tracker_url(options.tracker))
+    std::cerr << "site " << common_.name << ": the hands sent are the scene's simulated ones; --tracker leap tracks "
+                 "this site's user\n";
+  return registration_->models(device_camera_models(live_->site(), live_->intrinsics()));
+}
+
+void Sender::register_depth(sim::RgbdFrame& frame) {
+  if (!registration_->registered_count()) return;
+  std::lock_guard turn(common_.gpu_turn);
+  registration_->apply(frame.cameras);
+  ++frames_registered_;
 }
 
 void Sender::look_for_eyes_before_the_call() {
@@ -146,7 +182,11 @@ void Sender::capture_loop() {
     // takes the newest recorded frame whose time has come; either skips the frames it missed.
     std::optional<uint64_t> due;
     double next_s = 0;  // when the frame after `last_index` is due
-    if (replay_) {
+    if (live_) {
+      // The devices pace a live site: each set comes when they give it.
+      if (common_.scene_time_s(now) >= common_.scene.duration_s()) break;
+      due = last_index == UINT64_MAX ? 0 : last_index + 1;
+    } else if (replay_) {
       if (const auto i = replay_->pacing().due_at(common_.scene_time_s(now))) due = *i;
       if (due && *due == last_index && last_index + 1 >= replay_->frame_count()) break;
       next_s = replay_->pacing().time_s(due && *due == last_index ? last_index + 1 : 0);
@@ -164,12 +204,20 @@ void Sender::capture_loop() {
     CapturedFrame captured;
     HostImage truth;
     std::optional<pipeline::LimbTruth> limb;
-    if (replay_) {
-      captured.frame = replay_->read(index);  // files: no GPU turn
-      if (registration_->registered_count()) {
-        std::lock_guard turn(common_.gpu_turn);
-        registration_->apply(captured.frame.cameras);
+    if (live_) {
+      std::optional<sim::RgbdFrame> frame = live_->next_frame();  // waits for the devices: no GPU turn
+      if (!frame) {
+        std::cerr << "site " << common_.name << ": every live camera has stopped giving captures\n";
+        common_.events->write("warning", monotonic_now_us(), {{"message", "every live camera has stopped giving captures"}});
+        break;
       }
+      captured.frame = std::move(*frame);
+      // Taken as the devices gave it, which is when the set is complete.
+      captured.scene_time_s = common_.scene_time_s(monotonic_now_us());
+      register_depth(captured.frame);
+    } else if (replay_) {
+      captured.frame = replay_->read(index);  // files: no GPU turn
+      register_depth(captured.frame);
       captured.scene_time_s = replay_->pacing().time_s(index);
       if (write_truth)
         if (std::optional<HostImage> recorded = ground_truth(index, told_no_truth)) truth = std::move(*recorded);
@@ -203,7 +251,7 @@ void Sender::capture_loop() {
     // The ground truth is for the evaluation, not the call: measured after the frame has gone to
     // the image-based model, so that it does not wait for it. Only this loop renders the
     // simulator, so its target view still holds this frame.
-    if (write_truth && !replay_) {
+    if (write_truth && simulator_) {
       std::lock_guard turn(common_.gpu_turn);
       truth = simulator_->renderer().target_color();
       limb = limb_truth_->measure(simulator_->last_pose(), common_.scene.at(common_.options.site).user, truth,
@@ -319,7 +367,14 @@ void Sender::tracker_loop() {
 
 void Sender::add_metrics(nlohmann::json& m, double wall_s) const {
   const net::NetCounters counters = common_.net->counters();
-  m["inputs"] = replay_ ? "replay of " + replay_->dir().string() : std::string("simulated scene");
+  m["inputs"] = replay_ ? "replay of " + replay_->dir().string()
+                 : live_ ? "live k4a cameras of " + common_.scene.at(common_.options.site).site_file.string()
+                         : std::string("simulated scene");
+  if (live_) m["live_cameras"] = {{"cameras", live_->infos().size()}, {"skipped_captures", live_->skipped_captures()}};
+  if (registration_) {
+    m["depth_registered_cameras"] = registration_->registered_count();
+    m["frames"]["depth_registered"] = frames_registered_.load();
+  }
   m["eye_source"] = eye_finder_->source();
   m["eye"] = {eye_finder_->eye().x(), eye_finder_->eye().y(), eye_finder_->eye().z()};
   m["viewpoint"] = eye_finder_->to_json();

@@ -2,7 +2,8 @@
 // The sender of one site (DESIGN.md section 1, paper section 3.3): renders this site's user for
 // the remote viewer's eye and sends it, with the tracked hands and the local eye.
 //
-//   capture  (scene clock)  simulated or replayed RGBD frame -> mailbox; the ground truth of it
+//   capture  (scene clock)  simulated, replayed or live RGBD frame set -> mailbox; the ground
+//                           truth of it (simulated)
 //   ibr      newest frame + remote eye -> portrait (RGBA + depth) -> network
 //   tracker  (50 Hz)        local skeletons (simulated, replayed, or the Leap service's newest
 //                           frame) -> network, touch loop; local eye -> network
@@ -17,6 +18,7 @@
 #include <optional>
 #include <vector>
 
+#include "camera/k4a_live_site.h"
 #include "pipeline/ibr_renderer.h"
 #include "pipeline/limb_truth.h"
 #include "pipeline/recorded_depth_registration.h"
@@ -47,6 +49,8 @@ class Sender {
   // The remote viewer's eye, in this site's frame (from the network).
   void set_remote_eye(const Eigen::Vector3d& eye);
   uint64_t last_scene_frame() const { return last_scene_frame_; }
+  // Whether the cameras are the simulator's (the scene's truth is then known).
+  bool simulated() const { return simulator_ != nullptr; }
   // The image-based model's graph: its images are the window's debug views.
   const vk::FrameGraph& ibr_graph() const;
   void add_metrics(nlohmann::json& metrics, double wall_s) const;
@@ -59,14 +63,21 @@ class Sender {
     sim::RgbdFrame frame;
   };
   std::optional<HostImage> ground_truth(uint64_t index, bool& told_no_truth);
+  // Opens the site file's live devices; the frame count becomes open-ended unless --frames gave one.
+  std::vector<passes::IbrCameraModel> open_live_site();
+  // A real camera's depth registered into its colour image (recorded or live): the GPU's turn.
+  void register_depth(sim::RgbdFrame& frame);
   void look_for_eyes_before_the_call();
 
   SiteCommon& common_;
   SiteTouchLoop& touch_;
-  // The site's inputs (site_inputs.h): simulated from the scene, or replayed from a recording.
+  // The site's inputs (site_inputs.h): simulated from the scene, replayed from a recording, or
+  // live from the k4a devices its site file names (camera/k4a_live_site.h).
   std::unique_ptr<pipeline::SiteSimulator> simulator_;
   std::unique_ptr<SiteReplay> replay_;
-  std::unique_ptr<pipeline::RecordedDepthRegistration> registration_;  // a replay's depth into colour
+  std::unique_ptr<camera::k4a::LiveSite> live_;
+  // A real device's depth into its colour image, recorded or live alike.
+  std::unique_ptr<pipeline::RecordedDepthRegistration> registration_;
   std::unique_ptr<devices::LeapServiceTracker> leap_;  // --tracker leap: the hands come from it
   // The simulated truth's hand and forearm region, beside the truth (displayed_truth.h).
   std::unique_ptr<pipeline::LimbTruthRenderer> limb_truth_;
@@ -82,7 +93,7 @@ class Sender {
 
   uint64_t portraits_rendered_ = 0;  // by the ibr loop, which alone counts them
   std::atomic<uint64_t> frames_captured_{0}, portraits_sent_{0}, frames_without_eye_{0}, tracker_ticks_{0},
-      last_scene_frame_{0}, truth_frames_{0};
+      last_scene_frame_{0}, truth_frames_{0}, frames_registered_{0};
   session::LatencyStats capture_to_sent_;
   // Wall time of each stage's GPU turn (upload, graph run, download), next to the frame graph's
   // per-pass timestamps.

@@ -50,6 +50,19 @@ std::unique_ptr<sim::RecordedRgbdSource> open_recording(const std::filesystem::p
 
 }  // namespace
 
+std::vector<passes::IbrCameraModel> device_camera_models(const sim::SiteDescription& site,
+                                                         const std::vector<sim::RecordedRgbdSource::RecordedIntrinsics>& lenses) {
+  std::vector<passes::IbrCameraModel> models;
+  for (size_t k = 0; k < site.cameras.size(); ++k) {
+    const sim::RgbdCamera& camera = site.cameras[k];
+    passes::IbrCameraModel model{camera.color_camera(), camera.depth_camera()};
+    model.color.intrinsics = lenses.at(k).color;
+    model.depth.intrinsics = lenses.at(k).depth;
+    models.push_back(model);
+  }
+  return models;
+}
+
 SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size_t cameras_needed)
     : dir_(dir), source_(open_recording(dir)), pacing_(std::vector<uint64_t>{0}) {
   const bool k4a = camera::k4a::is_site_of_recordings(dir_);
@@ -82,13 +95,7 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
   // The first frame read whole (each image checked against the recorded size first).
   source_->seek(0);
   source_->next_frame();
-  for (size_t k = 0; k < site_.cameras.size(); ++k) {
-    const sim::RgbdCamera& camera = site_.cameras[k];
-    passes::IbrCameraModel model{camera.color_camera(), camera.depth_camera()};
-    model.color.intrinsics = source_->recorded_intrinsics()[k].color;
-    model.depth.intrinsics = source_->recorded_intrinsics()[k].depth;
-    cameras_.push_back(model);
-  }
+  cameras_ = device_camera_models(site_, source_->recorded_intrinsics());
   if (!std::filesystem::is_regular_file(dir_ / "tracker.jsonl"))
     throw std::runtime_error("recording '" + dir_.string() + "' has no 'tracker.jsonl'");
   sim::check_tracker_recording(dir_ / "tracker.jsonl");

@@ -39,6 +39,11 @@ class ReplayPacing {
   std::vector<double> offsets_s_;
 };
 
+// The image-based model's cameras of a real site's devices (recorded or live): where each stands
+// from the site file, its lenses as the device reports them at its modes.
+std::vector<passes::IbrCameraModel> device_camera_models(const sim::SiteDescription& site,
+                                                         const std::vector<sim::RecordedRgbdSource::RecordedIntrinsics>& lenses);
+
 // A recording opened for replay at a site, checked before the site connects: its calibration is a
 // valid site description, every frame's images exist, the first frame's images are readable and
 // fit the calibration. Errors name the file.

@@ -30,6 +30,9 @@ struct SiteRunOptions {
   // This site's devices: empty = simulated from the scene; else a recording (sim/recording.h) to
   // replay: its cameras, frames, times and tracker replace the scene's at this site.
   std::filesystem::path replay;
+  // This site's description instead of the scene's (empty: the scene's); cameras whose source is
+  // "k4a" run live (camera/site_camera_sources.h).
+  std::filesystem::path site_file;
   std::string motor = "auto";  // simulated | usb | auto (the Arduino on USB when attached)
   // The hand tracker: "scene" (simulated from the scene, or the replay's tracker.jsonl), or
   // "leap" / "leap:ws://HOST:PORT/PATH", the Leap service live (devices/tracker/leap_service.h).

@@ -160,6 +160,16 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
   }
   common_.remote = other_site(options.site);
   common_.scene = sim::load_scene(sim::resolve_scene(options.scene));
+  if (!options.site_file.empty() && !options.replay.empty())
+    throw std::invalid_argument("--site-file and --replay both say where this site's cameras are: give one (a "
+                                "replay's folder holds its own site.json)");
+  if (!options.site_file.empty()) {
+    // This site as its own site file describes it (its screen, seat, tracker and cameras, which
+    // may be live devices); the scene still gives the other site and the simulated users.
+    sim::SiteSetup& setup = common_.scene.sites[options.site == Site::A ? 0 : 1];
+    setup.site = sim::load_site(options.site_file);
+    setup.site_file = options.site_file;
+  }
   common_.width = options.run.width;
   common_.height = options.run.height;
   common_.out = options.run.out;
@@ -306,7 +316,7 @@ void SiteRun::note_touch_to_motor() {
 nlohmann::json SiteRun::contact_to_vibration() const {
   const auto* simulated = dynamic_cast<const motor::SimulatedMotor*>(motor_.motor.get());
   const SiteRunOptions& options = common_.options;
-  if (!simulated || !options.replay.empty() || options.tracker != "scene") return nullptr;
+  if (!simulated || !sender_->simulated() || options.tracker != "scene") return nullptr;
   std::vector<uint64_t> contacts_us;
   for (const double t : true_contact_times_s(common_.scene))
     if (t <= common_.scene.duration_s()) contacts_us.push_back(common_.wall_us_at_scene_time(t));

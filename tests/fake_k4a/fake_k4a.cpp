@@ -12,6 +12,8 @@
 // sync=1 delay=0"), so that a test sees the order and the modes the backend asked for.
 // REMOTETOUCH_FAKE_K4A_SILENT = SERIAL: that device gives its first capture, then none (each
 // call waits its timeout, up to 3 s, and times out), as a subordinate whose sync cable came loose.
+// REMOTETOUCH_FAKE_K4A_PACED = 1: a device gives a capture no sooner than one frame period after
+// its previous one, as a real device's sensor does (a site that runs live is then paced by it).
 // fake_k4a_open_handles() counts the captures and images not yet released.
 extern "C" {
 #include <libavformat/avformat.h>
@@ -53,6 +55,7 @@ struct FakeDevice {
   std::vector<FakeCaptureData> captures;
   size_t next = 0;
   bool open = false, started = false;
+  std::chrono::steady_clock::time_point last_given{};
 };
 
 struct FakeCapture {
@@ -286,6 +289,16 @@ __attribute__((visibility("default"))) k4a_wait_result_t k4a_device_get_capture(
     std::this_thread::sleep_for(std::chrono::milliseconds(std::clamp(timeout_ms, 0, 3000)));
     return K4A_WAIT_RESULT_TIMEOUT;
   }
+  const char* paced = std::getenv("REMOTETOUCH_FAKE_K4A_PACED");
+  if (paced && std::strcmp(paced, "1") == 0 && device.next > 0) {
+    const auto due = device.last_given + std::chrono::microseconds(1'000'000 / std::max(device.fps, 1));
+    if (timeout_ms >= 0 && due - std::chrono::steady_clock::now() > std::chrono::milliseconds(timeout_ms)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(timeout_ms));
+      return K4A_WAIT_RESULT_TIMEOUT;
+    }
+    std::this_thread::sleep_until(due);
+  }
+  device.last_given = std::chrono::steady_clock::now();
   auto* fake = new FakeCapture{device.captures[device.next]};
   spoil(fake->data, device.next);
   ++device.next;
