@@ -374,8 +374,17 @@ TEST_CASE("a bad recording is refused before the site connects, naming the file"
   write_image(sim::color_path(dir, 1, 0), HostImage(10, 10, PixelFormat::RGBA8));
   CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains(sim::color_path(dir, 1, 0).string()) && Contains("10x10"));
 
+  // No tracker recording (as `record` and the vendor's recorder leave a folder): the cameras play,
+  // and the tracker gives no hands.
   dir = write_recording_site_inputs("no-tracker");
   std::filesystem::remove(dir / "tracker.jsonl");
+  site::SiteReplay no_tracker(dir, 0, 4);
+  CHECK_FALSE(no_tracker.has_tracker());
+  CHECK_FALSE(no_tracker.tracker()->next_frame());
+  CHECK(no_tracker.frame_count() > 0);
+  // One that is there but broken is still refused.
+  dir = write_recording_site_inputs("broken-tracker");
+  std::ofstream(dir / "tracker.jsonl") << "{\"id\": 1}\n";
   CHECK_THROWS_WITH(site::SiteReplay(dir, 0, 4), Contains("tracker.jsonl"));
 }
 

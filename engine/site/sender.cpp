@@ -47,6 +47,13 @@ Sender::Sender(SiteCommon& common, SiteTouchLoop& touch) : common_(common), touc
     std::cerr << "site " << common_.name << ": replaying " << replay_->frame_count() << " frames of "
               << options.replay.string() << " (" << common_.scene.duration_s() << " s of scene time)"
               << (options.resolution_scale > 0 ? "; --resolution-scale does not apply to a replay" : "") << "\n";
+    if (!replay_->has_tracker() && !leap_tracker_url(options.tracker)) {
+      const std::string why = "'" + options.replay.string() + "' has no tracker.jsonl (the hand tracker's recording; "
+                              "`record` and the vendor's recorder write none): no tracked hands are sent, so the other "
+                              "site shows no hand mesh and no touch is detected; --tracker leap tracks the hands live";
+      std::cerr << "site " << common_.name << ": " << why << "\n";
+      common_.events->write("warning", monotonic_now_us(), {{"message", why}});
+    }
   } else if (camera::site_source_kind(common_.site(), "'" + common_.scene.at(options.site).site_file.string() + "'") !=
              camera::CameraSourceKind::simulated) {
     cameras = open_live_site();
@@ -394,7 +401,9 @@ void Sender::add_metrics(nlohmann::json& m, double wall_s) const {
     m["tracker"] = status.to_json();
     m["tracker"]["source"] = "the Leap service at " + leap_->url().text();
   } else {
-    m["tracker"] = {{"source", replay_ ? "the recording's tracker.jsonl" : "simulated from the scene"}};
+    m["tracker"] = {{"source", !replay_                 ? "simulated from the scene"
+                               : replay_->has_tracker() ? "the recording's tracker.jsonl"
+                                                        : "none: the recording has no tracker.jsonl"}};
   }
   const uint64_t scene_frames = common_.scene.frame_count;
   m["frames"]["captured"] = frames_captured_.load();

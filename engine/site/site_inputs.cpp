@@ -96,9 +96,10 @@ SiteReplay::SiteReplay(const std::filesystem::path& dir, size_t max_frames, size
   source_->seek(0);
   source_->next_frame();
   cameras_ = device_camera_models(site_, source_->recorded_intrinsics());
-  if (!std::filesystem::is_regular_file(dir_ / "tracker.jsonl"))
-    throw std::runtime_error("recording '" + dir_.string() + "' has no 'tracker.jsonl'");
-  sim::check_tracker_recording(dir_ / "tracker.jsonl");
+  // Cameras without a tracker still make a call (the portraits, the viewer's eye): a real site's
+  // recordings seldom come with one. A tracker recording that is there must be whole.
+  has_tracker_ = std::filesystem::exists(dir_ / "tracker.jsonl");
+  if (has_tracker_) sim::check_tracker_recording(dir_ / "tracker.jsonl");
 }
 
 sim::RgbdFrame SiteReplay::read(size_t i) {
@@ -112,7 +113,18 @@ std::optional<HostImage> SiteReplay::ground_truth(size_t i) const {
   return read_image(file);
 }
 
+namespace {
+
+// A recording without a tracker: nobody's hands are seen.
+class NoTrackedHands : public sim::HandTracker {
+ public:
+  std::optional<sim::TrackerFrame> next_frame() override { return std::nullopt; }
+};
+
+}  // namespace
+
 std::unique_ptr<sim::HandTracker> SiteReplay::tracker() const {
+  if (!has_tracker_) return std::make_unique<NoTrackedHands>();
   return std::make_unique<sim::ReplayHandTracker>(dir_ / "tracker.jsonl");
 }
 

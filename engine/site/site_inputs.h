@@ -66,7 +66,10 @@ class SiteReplay {
   sim::RgbdFrame read(size_t i);
   // The recorded ground truth of the i-th frame (gt/target_color), when there is one.
   std::optional<HostImage> ground_truth(size_t i) const;
-  // tracker.jsonl, as a device.
+  // Whether the folder holds the hand tracker's recording, tracker.jsonl. The vendor's recorder
+  // and `record` write none: such a replay sends no tracked hands.
+  bool has_tracker() const { return has_tracker_; }
+  // tracker.jsonl, as a device; one that gives no frames where there is none.
   std::unique_ptr<sim::HandTracker> tracker() const;
 
  private:
@@ -76,6 +79,7 @@ class SiteReplay {
   std::vector<passes::IbrCameraModel> cameras_;
   ReplayPacing pacing_;
   uint64_t origin_us_ = 0;
+  bool has_tracker_ = false;
 };
 
 // A hand tracker paced on the scene clock: the newest frame due, in site-frame skeletons

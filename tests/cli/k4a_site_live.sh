@@ -4,6 +4,7 @@
 #   1. `simulate --format k4a` writes wave's site A; a scene names a site file whose cameras are
 #      those devices ("source": "k4a", by serial); `demo` runs it: site A takes its frame sets from
 #      the devices, sends portraits, and site B shows them.
+#      What `record` writes from them replays as a site, without a tracker recording.
 #   2. Two devices whose colour lens is 3 cm from the depth lens (test_k4a_live's), run by hand as
 #      `site --site-file` against a simulated `site`: their depth is registered into colour.
 #   3. Bad live sites: no library, an unknown serial, --site-file with --replay: clear errors.
@@ -63,6 +64,28 @@ assert a["frames"]["portraits_sent"] >= 1, a["frames"]
 assert a["depth_registered_cameras"] == 0  # the simulator's lenses are aligned
 assert a["fps"]["capture"] > 0 and math.isfinite(a["fps"]["capture"])
 assert b["frames"]["displayed"] >= 1, b["frames"]
+PY
+
+# 1b. What `record` writes from those devices replays as site A (`demo --replay-a` runs `site
+#     --replay`): cameras without a tracker recording, which the site says, sending no hands.
+"$binary" record --site "$out/live_site.json" --seconds 20 --out "$out/recorded" > "$out/record.out" 2>&1 ||
+  { cat "$out/record.out"; fail "record failed"; }
+[ ! -e "$out/recorded/tracker.jsonl" ] || fail "record wrote a tracker.jsonl: the replay below tests the folder without one"
+"$binary" demo --scene wave --replay-a "$out/recorded" --frames 10 --width 64 --height 36 --display headless \
+  --out "$out/demo-recorded" > "$out/demo-recorded.out" 2> "$out/demo-recorded.err" ||
+  { cat "$out/demo-recorded.err"; fail "the demo replaying what record wrote failed"; }
+grep -q "has no tracker.jsonl .*no tracked hands are sent" "$out/demo-recorded.err" ||
+  { cat "$out/demo-recorded.err"; fail "the replay did not say that it has no tracked hands"; }
+/usr/bin/python3 - "$out" <<'PY' || fail "metrics of the replay of what record wrote"
+import json, sys
+out = sys.argv[1]
+a = json.load(open(f"{out}/demo-recorded/site_A/metrics.json"))
+b = json.load(open(f"{out}/demo-recorded/site_B/metrics.json"))
+print(f"site A: {a['inputs']}, tracker {a['tracker']['source']}, captured {a['frames']['captured']}, "
+      f"portraits sent {a['frames']['portraits_sent']}; site B displayed {b['frames']['displayed']}")
+assert a["inputs"] == f"replay of {out}/recorded", a["inputs"]
+assert a["tracker"]["source"] == "none: the recording has no tracker.jsonl", a["tracker"]
+assert a["frames"]["portraits_sent"] >= 1 and b["frames"]["displayed"] >= 1
 PY
 
 # 2. Lenses apart, by hand: `site --site-file` (live) against a simulated site.
