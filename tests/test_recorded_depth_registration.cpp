@@ -4,6 +4,7 @@
 // camera is its colour camera; an aligned camera is left untouched.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "passes/depth_in_color.h"
@@ -75,4 +76,34 @@ TEST_CASE("recorded depth registration: an offset camera gets depth in colour, a
 
   std::vector<sim::RgbdImage> wrong(3);
   CHECK_THROWS_WITH(registration.apply(wrong), Catch::Matchers::Contains("3 cameras for 2"));
+}
+
+TEST_CASE("recorded depth registration: a real camera's flying pixels are removed before its depth is registered") {
+  // A wall at 1.2 m, and three pixels floating at half a metre: an L of mixed returns, which the
+  // registration alone draws (they make one triangle of three on one surface) and which have two
+  // neighbours on their surface each, fewer than depth_outliers keeps.
+  sim::RecordedRgbdSource::RecordedIntrinsics offset{intrinsics(61, 37, 48), intrinsics(33, 27, 25)};
+  offset.color_from_depth.translation() = Eigen::Vector3d(-0.032, -0.002, 0.004);
+  HostImage depth(33, 27, PixelFormat::R16U, 1200.0f);
+  depth.at(15, 12) = 500.0f, depth.at(16, 12) = 505.0f, depth.at(15, 13) = 510.0f;
+  auto nearest_mm = [](const HostImage& image) {
+    float nearest = 1e9f;
+    for (const float v : image.texels)
+      if (v > 0.0f) nearest = std::min(nearest, v);
+    return nearest;
+  };
+  // Without the filter the floating pixels reach the colour image: the input bites.
+  pipeline::DepthRegistration unfiltered(test::gpu(), offset.depth, offset.color, offset.color_from_depth);
+  REQUIRE(nearest_mm(unfiltered.run(depth)) < 600.0f);
+
+  pipeline::RecordedDepthRegistration registration(test::gpu(), {offset});
+  std::vector<sim::RgbdImage> cameras(1);
+  cameras[0].depth_mm = depth;
+  registration.apply(cameras);
+  const HostImage& registered = cameras[0].depth_mm;
+  CHECK(nearest_mm(registered) > 1100.0f);
+  // The wall is still there: most of the colour image sees it.
+  size_t covered = 0;
+  for (const float v : registered.texels) covered += v > 0.0f;
+  CHECK(covered > registered.texels.size() / 2);
 }

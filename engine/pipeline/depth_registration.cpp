@@ -8,10 +8,13 @@ namespace rt::pipeline {
 
 DepthRegistration::DepthRegistration(vk::Context& context, const CameraIntrinsics& depth, const CameraIntrinsics& color,
                                      const Eigen::Isometry3d& color_from_depth,
-                                     const passes::DepthInColorSettings& settings)
+                                     const passes::DepthInColorSettings& settings,
+                                     const std::optional<passes::DepthOutliersSettings>& outliers)
     : context_(context),
       pass_(context, settings),
       depth_(context, {.name = "depth mm", .width = depth.width, .height = depth.height, .format = PixelFormat::R16U}),
+      filtered_(context, {.name = "depth mm without outliers", .width = outliers ? depth.width : 1u,
+                          .height = outliers ? depth.height : 1u, .format = PixelFormat::R16U}),
       registered_(context,
                   {.name = "depth in color", .width = color.width, .height = color.height, .format = PixelFormat::R16U}),
       rays_(context, passes::depth_in_color_rays_desc(depth.width, depth.height)),
@@ -20,7 +23,11 @@ DepthRegistration::DepthRegistration(vk::Context& context, const CameraIntrinsic
       graph_(context, "depth registration") {
   const std::vector<float> rays = passes::depth_in_color_rays(depth);
   vk::upload(context, rays_, std::as_bytes(std::span(rays)));
-  pass_.add_to(graph_, depth_, rays_, nearest_, registered_, [this] { return params_; });
+  if (outliers) {
+    outliers_.emplace(context, *outliers);
+    outliers_->add_to(graph_, depth_, filtered_);
+  }
+  pass_.add_to(graph_, outliers ? filtered_ : depth_, rays_, nearest_, registered_, [this] { return params_; });
 }
 
 HostImage DepthRegistration::run(const HostImage& depth_mm) {

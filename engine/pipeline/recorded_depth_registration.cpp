@@ -18,7 +18,9 @@ RecordedDepthRegistration::RecordedDepthRegistration(
   for (const auto& camera : cameras)
     registrations_.push_back(aligned(camera) ? nullptr
                                              : std::make_unique<DepthRegistration>(context, camera.depth, camera.color,
-                                                                                   camera.color_from_depth));
+                                                                                   camera.color_from_depth,
+                                                                                   passes::DepthInColorSettings{},
+                                                                                   passes::DepthOutliersSettings{}));
 }
 
 size_t RecordedDepthRegistration::registered_count() const {

@@ -1,7 +1,9 @@
 #pragma once
 // A recorded site's cameras made fit for the image-based model, which samples colour and depth
 // along the same rays: a camera whose depth lens is apart from its colour lens (every real k4a
-// device) gets its depth registered into its colour image (DepthRegistration), and its model's
+// device) gets its flying pixels and lone outliers removed (passes/depth_outliers.h: a
+// time-of-flight sensor's, which the simulator's aligned cameras do not have) and its depth
+// registered into its colour image (DepthRegistration), and its model's
 // depth camera becomes the colour camera. Cameras recorded already aligned (the simulator's) are
 // left as they are, at no cost.
 #include <memory>
