@@ -83,3 +83,5 @@ add_test(NAME cli_k4a_site_live
                  $<TARGET_FILE:remotetouch_fake_k4a> ${CMAKE_SOURCE_DIR}/assets/scenes/wave.json
                  ${CMAKE_SOURCE_DIR}/assets/sites/default.json ${k4a_live_devices})
 set_tests_properties(cli_k4a_site_live PROPERTIES FIXTURES_REQUIRED k4a_live_devices TIMEOUT 600 RUN_SERIAL TRUE)
+# depth_outliers counts the flying pixels it removes on the simulated k4a recording.
+set_tests_properties(test_depth_outliers PROPERTIES FIXTURES_REQUIRED k4a_simulated)
