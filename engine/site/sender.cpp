@@ -56,7 +56,7 @@ Sender::Sender(SiteCommon& common, SiteTouchLoop& touch) : common_(common), touc
     }
   } else if (camera::site_source_kind(common_.site(), "'" + common_.scene.at(options.site).site_file.string() + "'") !=
              camera::CameraSourceKind::simulated) {
-    cameras = open_live_site();
+    cameras = open_live_site(settings.views);
   } else {
     const uint32_t truth_width = options.write_truth ? common_.width : 0;
     const uint32_t truth_height = options.write_truth ? common_.height : 0;
@@ -104,7 +104,7 @@ Sender::Sender(SiteCommon& common, SiteTouchLoop& touch) : common_(common), touc
   if (simulator_) look_for_eyes_before_the_call();
 }
 
-std::vector<passes::IbrCameraModel> Sender::open_live_site() {
+std::vector<passes::IbrCameraModel> Sender::open_live_site(size_t cameras_needed) {
   const SiteRunOptions& options = common_.options;
   sim::SiteSetup& setup = common_.scene.sites[options.site == Site::A ? 0 : 1];
   const std::string where = "'" + setup.site_file.string() + "'";
@@ -113,6 +113,9 @@ std::vector<passes::IbrCameraModel> Sender::open_live_site() {
   if (camera::site_source_kind(setup.site, where) == camera::CameraSourceKind::k4a_recording)
     throw std::runtime_error(where + " names k4a recordings as its cameras: play them with --replay FOLDER (the folder "
                              "of a site.json beside the recordings), or give the cameras \"source\": \"k4a\" to run them live");
+  if (setup.site.cameras.size() < cameras_needed)
+    throw std::runtime_error(where + " has " + std::to_string(setup.site.cameras.size()) +
+                             " cameras; the image-based model uses " + std::to_string(cameras_needed) + " (--views)");
   live_ = std::make_unique<camera::k4a::LiveSite>(setup.site, camera::live_site_settings(setup.site, where));
   setup.site = live_->site();  // each camera's lenses at its modes, from its factory calibration
   registration_ = std::make_unique<pipeline::RecordedDepthRegistration>(*common_.context, live_->intrinsics());
@@ -413,7 +416,9 @@ void Sender::add_metrics(nlohmann::json& m, double wall_s) const {
   m["frames"]["portraits_stale_on_wire_out"] =
       counters.stale_dropped_out[net::message_type_index(net::MessageType::Portrait)];
   m["frames"]["ground_truth_written"] = truth_frames_.load();
-  m["frames"]["scene_frames_not_captured"] = scene_frames - std::min<uint64_t>(scene_frames, frames_captured_);
+  // Live cameras give what they give: there is no scene frame to miss.
+  m["frames"]["scene_frames_not_captured"] =
+      live_ ? nlohmann::json() : nlohmann::json(scene_frames - std::min<uint64_t>(scene_frames, frames_captured_));
 }
 
 }  // namespace rt::site

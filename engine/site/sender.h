@@ -63,8 +63,9 @@ class Sender {
     sim::RgbdFrame frame;
   };
   std::optional<HostImage> ground_truth(uint64_t index, bool& told_no_truth);
-  // Opens the site file's live devices; the frame count becomes open-ended unless --frames gave one.
-  std::vector<passes::IbrCameraModel> open_live_site();
+  // Opens the site file's live devices (at least `cameras_needed`); the frame count becomes
+  // open-ended unless --frames gave one.
+  std::vector<passes::IbrCameraModel> open_live_site(size_t cameras_needed);
   // A real camera's depth registered into its colour image (recorded or live): the GPU's turn.
   void register_depth(sim::RgbdFrame& frame);
   void look_for_eyes_before_the_call();

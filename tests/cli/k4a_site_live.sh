@@ -7,7 +7,8 @@
 #      What `record` writes from them replays as a site, without a tracker recording.
 #   2. Two devices whose colour lens is 3 cm from the depth lens (test_k4a_live's), run by hand as
 #      `site --site-file` against a simulated `site`: their depth is registered into colour.
-#   3. Bad live sites: no library, an unknown serial, --site-file with --replay: clear errors.
+#   3. Bad live sites: no library, an unknown serial, fewer cameras than --views, --site-file with
+#      --replay: clear errors.
 #   k4a_site_live.sh BINARY OUT FAKE_LIBRARY WAVE_SCENE DEFAULT_SITE LENSES_APART_DIR
 set -euo pipefail
 binary=$1 out=$2 fake=$3 wave=$4 default_site=$5 apart=$6
@@ -135,11 +136,14 @@ expect_error() {  # NAME REGEX ARGS...: exit status not 0, the message on stderr
 alone=(site --site A --frames 2 --width 64 --height 36 --display headless --motor simulated --connect-timeout 5
        --key-file "$out/session.key")
 expect_error no-library "need the k4a library, and '/nonexistent/libk4a.so.1.4' could not be loaded" \
-  env REMOTETOUCH_K4A_LIBRARY=/nonexistent/libk4a.so.1.4 "$binary" "${alone[@]}" --site-file "$apart/live.json" \
+  env REMOTETOUCH_K4A_LIBRARY=/nonexistent/libk4a.so.1.4 "$binary" "${alone[@]}" --views 2 --site-file "$apart/live.json" \
   --out "$out/no-library"
 sed 's/fake-001/fake-999/' "$apart/live.json" > "$out/unknown_serial.json"
-expect_error unknown-serial "k4a device 'fake-999' is not connected: the connected devices are 'fake-001'" "$binary" "${alone[@]}" --site-file "$out/unknown_serial.json" \
+expect_error unknown-serial "k4a device 'fake-999' is not connected: the connected devices are 'fake-001'" \
+  "$binary" "${alone[@]}" --views 2 --site-file "$out/unknown_serial.json" \
   --out "$out/unknown-serial"
+expect_error too-few-cameras "live.json' has 2 cameras; the image-based model uses 4 \(--views\)" \
+  "$binary" "${alone[@]}" --site-file "$apart/live.json" --out "$out/too-few-cameras"
 expect_error with-replay "--site-file and --replay both" \
   "$binary" "${alone[@]}" --site-file "$apart/live.json" --replay "$out/recordings" --out "$out/with-replay"
 echo "live k4a cameras as a site's cameras: ok"
