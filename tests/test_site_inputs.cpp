@@ -394,6 +394,9 @@ TEST_CASE("site config: replay relative to the config's folder, motor checked", 
   site::SiteRunOptions options;
   site::apply_site_config(dir / "site.json", options);
   CHECK(options.replay == dir / "recordings/b");
+  std::ofstream(dir / "live.json") << R"({"site": "A", "site_file": "sites/live.json"})";
+  site::apply_site_config(dir / "live.json", options);
+  CHECK(options.site_file == dir / "sites/live.json");
   CHECK(options.motor == "simulated");
   std::ofstream(dir / "bad.json") << R"({"motor": "serial"})";
   CHECK_THROWS_WITH(site::apply_site_config(dir / "bad.json", options), Contains("bad.json") && Contains("'motor'"));

@@ -56,7 +56,7 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   };
   for (const auto& [key, value] : json.items())
     if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
-        key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" &&
+        key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" && key != "site_file" &&
         key != "motor" &&  key != "tracker" && key != "display" && key != "monitor" &&
         key != "present_mode" && key != "ibr" && key != "hand" && key != "touch")
       throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
@@ -73,6 +73,11 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   string_field("replay", replay);
   if (!replay.empty())
     options.replay = std::filesystem::path(replay).is_absolute() ? std::filesystem::path(replay) : (base / replay).lexically_normal();
+  std::string site_file;
+  string_field("site_file", site_file);
+  if (!site_file.empty())
+    options.site_file = std::filesystem::path(site_file).is_absolute() ? std::filesystem::path(site_file)
+                                                                       : (base / site_file).lexically_normal();
   string_field("motor", options.motor);
   string_field("tracker", options.tracker);
   try {
