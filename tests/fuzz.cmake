@@ -31,6 +31,8 @@ foreach(target ${REMOTETOUCH_FUZZ_TARGETS})
            COMMAND fuzz_corpus_check ${target} ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/corpus/${target})
 endforeach()
 target_include_directories(fuzz_corpus_check PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/fuzz)
+# One compiler run for the targets: each instantiates nlohmann-json's templates again.
+remotetouch_unity_build(fuzz_corpus_check)
 target_compile_definitions(fuzz_corpus_check PRIVATE RT_FUZZ_ASSETS_DIR="${CMAKE_SOURCE_DIR}/assets")
 target_link_libraries(fuzz_corpus_check PRIVATE remotetouch_site remotetouch_cpu remotetouch_tracker)
 

@@ -19,17 +19,10 @@
 #include <nlohmann/json.hpp>
 
 #include "sim/tracker_frame.h"
+#include "tracker/leap_url.h"
 
 namespace rt::devices {
 
-struct LeapUrl {
-  std::string host, port, path;
-  std::string text() const { return "ws://" + host + ":" + port + path; }
-};
-// "ws://HOST[:PORT][/PATH]", the port 6437 and the path /v6.json by default. Throws
-// std::invalid_argument saying what is wrong.
-LeapUrl parse_leap_url(const std::string& url);
-inline constexpr const char* kDefaultLeapUrl = "ws://127.0.0.1:6437/v6.json";
 
 enum class LeapState { Connecting, Connected, Lost };
 const char* leap_state_name(LeapState state);  // "connecting", "connected", "lost"

@@ -1,8 +1,9 @@
 #include "calibration/rigid_alignment.h"
 
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 
 #include "calibration/calibration_error.h"
@@ -29,12 +30,17 @@ double RigidFit::rms() const {
 
 double off_line_spread(const std::vector<Eigen::Vector3d>& points) {
   if (points.size() < 2) return 0.0;
-  const Eigen::Matrix3Xd matrix = as_matrix(points);
-  const Eigen::Matrix3Xd centred = matrix.colwise() - matrix.rowwise().mean();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& point : points) centroid += point;
+  centroid /= double(points.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& point : points) scatter += (point - centroid) * (point - centroid).transpose();
   // The squared distances to the best line through the centroid sum to the two smallest
-  // squared singular values of the centred points.
-  const Eigen::Vector3d singular = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
-  return std::sqrt((singular(1) * singular(1) + singular(2) * singular(2)) / double(points.size()));
+  // eigenvalues of the scatter matrix (the squared singular values of the centred points). The
+  // 3x3 eigensolver compiles in a fraction of the time of an SVD of a 3xN matrix.
+  const Eigen::Vector3d eigenvalues =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter, Eigen::EigenvaluesOnly).eigenvalues();
+  return std::sqrt(std::max(0.0, eigenvalues(0) + eigenvalues(1)) / double(points.size()));
 }
 
 RigidFit fit_rigid(const std::vector<Eigen::Vector3d>& source, const std::vector<Eigen::Vector3d>& target,

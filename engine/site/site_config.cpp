@@ -10,7 +10,7 @@
 #include "pipeline/ibr_settings.h"
 #include "config/json.h"
 #include "site/site_options.h"
-#include "tracker/leap_service.h"
+#include "tracker/leap_url.h"
 
 namespace rt::site {
 
