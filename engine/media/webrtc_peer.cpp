@@ -135,7 +135,7 @@ struct WebRtcPeer::Impl {
   void link_incoming(GstPad* pad);
   void on_sample(GstAppSink* sink);
   void store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes, std::optional<PortraitFrame> frame);
-  void complete_locked(std::map<uint32_t, PendingFrame>::iterator it);
+  static ReceivedPortrait assemble(PendingFrame part);
 };
 
 void WebRtcPeer::Impl::maybe_offer() {
@@ -359,7 +359,7 @@ void WebRtcPeer::Impl::on_sample(GstAppSink* sink) {
 
 void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes,
                                   std::optional<PortraitFrame> frame) {
-  std::lock_guard lock(mutex);
+  std::unique_lock lock(mutex);
   auto [it, inserted] = pending.try_emplace(rtp);
   if (inserted) it->second.order = pending_order++;
   if (rgb) it->second.rgb = std::move(*rgb);
@@ -368,7 +368,21 @@ void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::
     it->second.frame = *frame;
     it->second.has_frame = true;
   }
-  if (!it->second.rgb.empty() && !it->second.codes.empty() && it->second.has_frame) return complete_locked(it);
+  if (!it->second.rgb.empty() && !it->second.codes.empty() && it->second.has_frame) {
+    PendingFrame complete = std::move(it->second);
+    pending.erase(it);
+    // The conversion to float images takes milliseconds at 720p: not under the lock.
+    lock.unlock();
+    ReceivedPortrait received = assemble(std::move(complete));
+    lock.lock();
+    ++counters.portraits_received;
+    portraits.push_back(std::move(received));
+    while (portraits.size() > options.max_queued_portraits) {
+      portraits.pop_front();
+      ++counters.portraits_dropped;
+    }
+    return;
+  }
   while (pending.size() > kMaxPendingFrames) {
     auto oldest = std::min_element(pending.begin(), pending.end(),
                                    [](const auto& a, const auto& b) { return a.second.order < b.second.order; });
@@ -378,13 +392,10 @@ void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::
   }
 }
 
-void WebRtcPeer::Impl::complete_locked(std::map<uint32_t, PendingFrame>::iterator it) {
-  PendingFrame part = std::move(it->second);
-  pending.erase(it);
+ReceivedPortrait WebRtcPeer::Impl::assemble(PendingFrame part) {
   const PortraitFrame& f = part.frame;
   ReceivedPortrait received;
   received.rtp_timestamp = f.rtp_timestamp;
-  received.received_us = monotonic_now_us();
   net::PortraitMessage& p = received.portrait;
   p.frame_index = f.frame_index;
   p.capture_timestamp_us = f.capture_timestamp_us;
@@ -398,14 +409,10 @@ void WebRtcPeer::Impl::complete_locked(std::map<uint32_t, PendingFrame>::iterato
   p.color = HostImage(f.width, f.height, PixelFormat::RGBA32F);
   p.depth = HostImage(f.width, f.height, PixelFormat::R32F);
   for (size_t i = 0, n = size_t(f.width) * f.height; i < n; ++i)
-    for (size_t c = 0; c < 3; ++c) p.color.texels[i * 4 + c] = float(part.rgb[i * 3 + c]) / 255.0f;
+    for (size_t c = 0; c < 3; ++c) p.color.texels[i * 4 + c] = float(part.rgb[i * 3 + c]) * (1.0f / 255.0f);
   decode_depth_alpha_plane(part.codes, f.width, f.depth_range, p.color, p.depth);
-  ++counters.portraits_received;
-  portraits.push_back(std::move(received));
-  while (portraits.size() > options.max_queued_portraits) {
-    portraits.pop_front();
-    ++counters.portraits_dropped;
-  }
+  received.received_us = monotonic_now_us();
+  return received;
 }
 
 WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_(std::make_unique<Impl>()) {
