@@ -65,7 +65,7 @@ struct ByteCount {
 };
 
 struct PendingFrame {
-  uint64_t order = 0;
+  uint64_t order = 0;          // arrival order while pending
   std::vector<uint8_t> rgb;     // colour, width*height*3
   std::vector<uint16_t> codes;  // depth/alpha luma, width*height
   // Not an optional: GCC 12 sees a moved-from optional as maybe uninitialized.
@@ -94,7 +94,7 @@ struct WebRtcPeer::Impl {
   bool sent_any = false;
   uint64_t pending_order = 0;
   std::map<uint32_t, PendingFrame> pending;
-  std::deque<ReceivedPortrait> portraits;
+  std::deque<PendingFrame> paired;  // `order` is when it was paired, µs
   std::vector<net::Message> messages;
   WebRtcCounters counters;
   std::string last_error;
@@ -359,7 +359,7 @@ void WebRtcPeer::Impl::on_sample(GstAppSink* sink) {
 
 void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes,
                                   std::optional<PortraitFrame> frame) {
-  std::unique_lock lock(mutex);
+  std::lock_guard lock(mutex);
   auto [it, inserted] = pending.try_emplace(rtp);
   if (inserted) it->second.order = pending_order++;
   if (rgb) it->second.rgb = std::move(*rgb);
@@ -369,16 +369,14 @@ void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::
     it->second.has_frame = true;
   }
   if (!it->second.rgb.empty() && !it->second.codes.empty() && it->second.has_frame) {
-    PendingFrame complete = std::move(it->second);
-    pending.erase(it);
-    // The conversion to float images takes milliseconds at 720p: not under the lock.
-    lock.unlock();
-    ReceivedPortrait received = assemble(std::move(complete));
-    lock.lock();
+    // Paired. The conversion to float images (milliseconds at 720p) waits for take_portrait, on
+    // the taker's thread: here it would hold up this track's decoding.
+    it->second.order = monotonic_now_us();
     ++counters.portraits_received;
-    portraits.push_back(std::move(received));
-    while (portraits.size() > options.max_queued_portraits) {
-      portraits.pop_front();
+    paired.push_back(std::move(it->second));
+    pending.erase(it);
+    while (paired.size() > options.max_queued_portraits) {
+      paired.pop_front();
       ++counters.portraits_dropped;
     }
     return;
@@ -411,7 +409,7 @@ ReceivedPortrait WebRtcPeer::Impl::assemble(PendingFrame part) {
   for (size_t i = 0, n = size_t(f.width) * f.height; i < n; ++i)
     for (size_t c = 0; c < 3; ++c) p.color.texels[i * 4 + c] = float(part.rgb[i * 3 + c]) * (1.0f / 255.0f);
   decode_depth_alpha_plane(part.codes, f.width, f.depth_range, p.color, p.depth);
-  received.received_us = monotonic_now_us();
+  received.received_us = part.order;
   return received;
 }
 
@@ -458,7 +456,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   };
   const std::string description = "webrtcbin name=webrtc bundle-policy=max-bundle latency=100 " +
                                   track("color", "I420", "high", "ultrafast", o.color_kbps, 96, "") + " " +
-                                  track("depth", "I420_10LE", "high-10", "superfast", o.depth_kbps, 97,
+                                  track("depth", "I420_10LE", "high-10", "ultrafast", o.depth_kbps, 97,
                                         " pass=qual quantizer=" + std::to_string(o.depth_quality));
   GError* error = nullptr;
   m.pipeline = gst_parse_launch(description.c_str(), &error);
@@ -689,7 +687,8 @@ void WebRtcPeer::send_portrait(const net::PortraitMessage& portrait) {
   for (size_t i = 0, n = size_t(w) * h; i < n; ++i)
     for (size_t c = 0; c < 3; ++c) {
       const float v = portrait.color.texels[i * 4 + c];
-      rgb[i * 3 + c] = uint8_t(std::lround(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f) * 255.0f));
+      // Not lround: 2.8 million calls a 720p portrait. NaN (which clamp passes through) is 0.
+      rgb[i * 3 + c] = uint8_t(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f) * 255.0f + 0.5f);
     }
   cv::Mat yuv;
   cv::cvtColor(cv::Mat(int(h), int(w), CV_8UC3, rgb.data()), yuv, cv::COLOR_RGB2YUV_I420);
@@ -771,11 +770,14 @@ void WebRtcPeer::request_keyframe() {
 }
 
 std::optional<ReceivedPortrait> WebRtcPeer::take_portrait() {
-  std::lock_guard lock(impl_->mutex);
-  if (impl_->portraits.empty()) return std::nullopt;
-  ReceivedPortrait p = std::move(impl_->portraits.front());
-  impl_->portraits.pop_front();
-  return p;
+  PendingFrame part;
+  {
+    std::lock_guard lock(impl_->mutex);
+    if (impl_->paired.empty()) return std::nullopt;
+    part = std::move(impl_->paired.front());
+    impl_->paired.pop_front();
+  }
+  return Impl::assemble(std::move(part));
 }
 
 std::vector<net::Message> WebRtcPeer::take_messages() {

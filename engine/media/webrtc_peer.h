@@ -55,6 +55,7 @@ struct ReceivedPortrait {
   net::PortraitMessage portrait;
   uint32_t rtp_timestamp = 0;
   uint64_t received_us = 0;  // this process's monotonic clock, when the last of its parts arrived
+                             // (take_portrait then converts it to float images)
 };
 
 struct WebRtcCounters {
