@@ -272,3 +272,34 @@ TEST_CASE("a WebRTC peer refuses sizes the tracks cannot carry", "[media][webrtc
   options.local_addresses = {"not-an-address"};
   CHECK_THROWS_WITH(WebRtcPeer(options, {}), Catch::Contains("not an IP address"));
 }
+
+TEST_CASE("the answerer's portraits reach the offerer on the same call", "[media][webrtc]") {
+  // One webrtcbin per remote peer carries both directions: the answerer's two tracks take the
+  // offer's two sendrecv transceivers.
+  constexpr uint32_t width = 320, height = 180, frames = 30;
+  LoopbackWebRtcCall call(width, height);
+  REQUIRE(call.connect(width, height));
+  std::set<uint64_t> received;
+  double worst_iou = 1.0;
+  const auto take = [&] {
+    while (auto r = call.offerer->take_portrait()) {
+      received.insert(r->portrait.frame_index);
+      worst_iou = std::min(worst_iou, portrait_quality(synthetic_portrait(width, height, r->portrait.frame_index), r->portrait).silhouette_iou);
+    }
+  };
+  const uint64_t start = monotonic_now_us();
+  for (uint32_t i = 0; i < frames; ++i) {
+    while (monotonic_now_us() < start + uint64_t(i) * 33'333) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    call.answerer->send_portrait(synthetic_portrait(width, height, i));
+    call.pump();
+    take();
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (received.size() < frames && std::chrono::steady_clock::now() < deadline) {
+    take();
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  INFO("A: " << call.offerer->last_error() << "; B: " << call.answerer->last_error());
+  CHECK(received.size() == frames);
+  CHECK(worst_iou >= 0.99);
+}
