@@ -203,7 +203,11 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
     return refuse("a data-channel message of " + std::to_string(size) + " bytes, over the " +
                   std::to_string(kMaxChannelMessage) + " this link accepts");
   const std::span<const uint8_t> view(data, size);
-  const bool on_fast = channel == fast;
+  bool on_fast = false;
+  {
+    std::lock_guard lock(mutex);  // adopt_channel sets `fast` from another thread
+    on_fast = channel == fast;
+  }
   if (is_portrait_frame(view)) {
     std::string why;
     auto frame = decode_portrait_frame(view, options.width, options.height, &why);
