@@ -12,7 +12,7 @@ PortraitQuality portrait_quality(const net::PortraitMessage& sent, const net::Po
   const auto same = [](const HostImage& a, const HostImage& b) {
     return a.width == b.width && a.height == b.height && a.format == b.format;
   };
-  if (!same(sent.color, received.color) || !same(sent.depth, received.depth) || !same(sent.color, sent.color) ||
+  if (!same(sent.color, received.color) || !same(sent.depth, received.depth) ||
       sent.color.format != PixelFormat::RGBA32F || sent.depth.format != PixelFormat::R32F ||
       sent.color.width != sent.depth.width || sent.color.height != sent.depth.height)
     throw std::invalid_argument("portrait quality: the sent and received portraits differ in size or format");
