@@ -17,6 +17,7 @@ namespace rt::app {
   X("bench", bench_ibr)                    \
   X("bench", bench_hand)                   \
   X("bench", bench_net)                    \
+  X("bench", bench_webrtc)                 \
   X("bench", bench_accuracy)               \
   X("", simulate)                          \
   X("", keygen)                            \

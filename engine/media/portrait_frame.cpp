@@ -1,0 +1,93 @@
+#include "media/portrait_frame.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace rt::media {
+namespace {
+
+struct FrameWriter {
+  std::vector<uint8_t> bytes;
+  template <typename T>
+  void put(T value) {
+    uint8_t raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T));  // little-endian hosts only, as the session's codec
+    bytes.insert(bytes.end(), raw, raw + sizeof(T));
+  }
+};
+
+struct FrameReader {
+  std::span<const uint8_t> bytes;
+  size_t at = 0;
+  template <typename T>
+  T get() {
+    T value;
+    std::memcpy(&value, bytes.data() + at, sizeof(T));
+    at += sizeof(T);
+    return value;
+  }
+};
+
+}  // namespace
+
+bool is_portrait_frame(std::span<const uint8_t> bytes) {
+  return bytes.size() >= 4 && std::memcmp(bytes.data(), kPortraitFrameMagic, 4) == 0;
+}
+
+std::vector<uint8_t> encode_portrait_frame(const PortraitFrame& frame) {
+  FrameWriter w;
+  w.bytes.insert(w.bytes.end(), kPortraitFrameMagic, kPortraitFrameMagic + 4);
+  w.put<uint16_t>(kPortraitFrameVersion);
+  w.put<uint16_t>(0);
+  w.put<uint32_t>(frame.rtp_timestamp);
+  w.put<uint64_t>(frame.frame_index);
+  w.put<uint64_t>(frame.capture_timestamp_us);
+  w.put<uint32_t>(frame.width);
+  w.put<uint32_t>(frame.height);
+  for (double v : {frame.fx, frame.fy, frame.cx, frame.cy}) w.put<double>(v);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) w.put<double>(frame.camera_from_site(r, c));
+  w.put<double>(frame.depth_range.near_m);
+  w.put<double>(frame.depth_range.far_m);
+  return std::move(w.bytes);
+}
+
+std::optional<PortraitFrame> decode_portrait_frame(std::span<const uint8_t> bytes, uint32_t width, uint32_t height,
+                                                   std::string* error) {
+  auto fail = [&](std::string why) -> std::optional<PortraitFrame> {
+    if (error) *error = "portrait frame record: " + why;
+    return std::nullopt;
+  };
+  if (bytes.size() != kPortraitFrameSize)
+    return fail(std::to_string(bytes.size()) + " bytes, expected " + std::to_string(kPortraitFrameSize));
+  if (!is_portrait_frame(bytes)) return fail("bad magic");
+  FrameReader r{bytes, 4};
+  const uint16_t version = r.get<uint16_t>();
+  if (version != kPortraitFrameVersion)
+    return fail("version " + std::to_string(version) + ", this build reads " + std::to_string(kPortraitFrameVersion));
+  if (r.get<uint16_t>() != 0) return fail("the reserved field is not 0");
+  PortraitFrame f;
+  f.rtp_timestamp = r.get<uint32_t>();
+  f.frame_index = r.get<uint64_t>();
+  f.capture_timestamp_us = r.get<uint64_t>();
+  f.width = r.get<uint32_t>();
+  f.height = r.get<uint32_t>();
+  if (f.width != width || f.height != height)
+    return fail("size " + std::to_string(f.width) + "x" + std::to_string(f.height) + ", the link carries " +
+                std::to_string(width) + "x" + std::to_string(height));
+  f.fx = r.get<double>();
+  f.fy = r.get<double>();
+  f.cx = r.get<double>();
+  f.cy = r.get<double>();
+  for (int row = 0; row < 4; ++row)
+    for (int c = 0; c < 4; ++c) f.camera_from_site(row, c) = r.get<double>();
+  f.depth_range.near_m = r.get<double>();
+  f.depth_range.far_m = r.get<double>();
+  if (!std::isfinite(f.fx) || !std::isfinite(f.fy) || !std::isfinite(f.cx) || !std::isfinite(f.cy) || f.fx <= 0 ||
+      f.fy <= 0 || !f.camera_from_site.allFinite())
+    return fail("the camera is not finite or has a focal length <= 0");
+  if (const std::string why = check_depth_range(f.depth_range); !why.empty()) return fail(why);
+  return f;
+}
+
+}  // namespace rt::media

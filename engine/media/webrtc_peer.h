@@ -1,0 +1,114 @@
+#pragma once
+// One end of a WebRTC call on GStreamer's webrtcbin: the portrait as two video tracks and the
+// session's small messages on two data channels (docs/webrtc.md). A CPU module: it owns no
+// Vulkan objects; portraits go in and come out as host images.
+//
+//   colour       appsrc I420 -> x264enc (zerolatency, no B-frames) -> rtph264pay pt 96 -> webrtcbin
+//   depth+alpha  appsrc I420_10LE (luma: media/depth_alpha_codec.h) -> x264enc High10 -> pt 97
+//   "rt-fast"    unordered, no retransmits: eye, skeletons, and each portrait's frame record
+//   "rt-reliable" ordered and reliable: touch events, heartbeats
+//
+// Both tracks' payloaders start their RTP time at 0 and are fed the same presentation time, so a
+// portrait's colour and depth frames carry one RTP timestamp; its frame record names it. The
+// receiver pairs the three by it and hands out a portrait only when all three arrived.
+//
+// Signalling is the caller's: the offer, the answer and the ICE candidates come out of the
+// Signalling callbacks (from GStreamer's threads) and go into the other peer's
+// set_remote_description / add_ice_candidate. ICE gathers on the addresses in `local_addresses`
+// only (127.0.0.1 by default: libnice skips loopback unless it is named), with no STUN server.
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "media/depth_alpha_codec.h"
+#include "net/message_codec.h"
+#include "net/messages.h"
+
+namespace rt::media {
+
+struct Signalling {
+  // type is "offer" or "answer".
+  std::function<void(const std::string& type, const std::string& sdp)> on_description;
+  std::function<void(unsigned mline, const std::string& candidate)> on_candidate;
+};
+
+struct WebRtcPeerOptions {
+  std::string name = "peer";
+  bool offerer = false;            // exactly one of the two peers makes the offer
+  uint32_t width = 1280, height = 720;  // even: the tracks are 4:2:0
+  int fps = 30;
+  int color_kbps = 2500;  // the colour encoder's target bitrate
+  int depth_kbps = 1200;  // the depth encoder's ceiling: it codes at constant quality below it
+  int depth_quality = 14; // x264's CRF for depth (lower: finer, more bits)
+  int keyframe_interval = 60;                // frames; a lost picture also asks for one
+  DepthRange depth_range;
+  std::vector<std::string> local_addresses = {"127.0.0.1"};
+  size_t max_queued_portraits = 8;  // received, not yet taken: the oldest is dropped beyond
+};
+
+struct ReceivedPortrait {
+  net::PortraitMessage portrait;
+  uint32_t rtp_timestamp = 0;
+  uint64_t received_us = 0;  // this process's monotonic clock, when the last of its parts arrived
+                             // (take_portrait then converts it to float images)
+};
+
+struct WebRtcCounters {
+  uint64_t portraits_sent = 0, portraits_received = 0, portraits_dropped = 0;
+  uint64_t frames_unpaired = 0;  // a track's frame, or a frame record, that found no partner in time
+  uint64_t messages_sent = 0, messages_received = 0, messages_refused = 0;
+  uint64_t color_bytes_sent = 0, depth_bytes_sent = 0, channel_bytes_sent = 0;  // encoded payload bytes
+};
+
+class WebRtcPeer {
+ public:
+  // Throws std::runtime_error naming the missing GStreamer element (and its Debian package) or a
+  // bad option.
+  WebRtcPeer(WebRtcPeerOptions options, Signalling signalling);
+  ~WebRtcPeer();
+  WebRtcPeer(const WebRtcPeer&) = delete;
+  WebRtcPeer& operator=(const WebRtcPeer&) = delete;
+
+  // The remote peer's description. Returns an error (a malformed SDP, an offer given to the
+  // offerer, a description webrtcbin refuses) or empty.
+  std::string set_remote_description(const std::string& type, const std::string& sdp);
+  void add_ice_candidate(unsigned mline, const std::string& candidate);
+
+  // Until ICE is connected and both data channels are open; false on timeout or failure.
+  bool wait_connected(std::chrono::milliseconds timeout);
+  bool connected() const;
+
+  // Throws std::invalid_argument for a portrait of another size or format. Frames sent before
+  // the call is connected are dropped by webrtcbin (the offer needs the tracks' caps, so the first
+  // one must be sent before it can be made).
+  void send_portrait(const net::PortraitMessage& portrait);
+  // Eye and skeletons on the unordered channel, touch events and heartbeats on the reliable one,
+  // each as the session's encoded message (net/message_codec.h). A portrait is refused
+  // (std::invalid_argument): portraits travel as video. False when the channel is not open.
+  bool send_message(const net::Message& message);
+  // Raw bytes on one channel, for what the session's codec would not make: the tests of the
+  // receiver's checks. False when the channel is not open, or for more than 64 KiB (webrtcbin's
+  // SCTP would drop it unannounced).
+  enum class Channel { Fast, Reliable };
+  bool send_raw(Channel channel, std::span<const uint8_t> bytes);
+  // Both encoders' next frame is a keyframe.
+  void request_keyframe();
+
+  std::optional<ReceivedPortrait> take_portrait();
+  std::vector<net::Message> take_messages();
+  WebRtcCounters counters() const;
+  // The last error seen (refused message, bus error, ...), empty if none.
+  std::string last_error() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rt::media
