@@ -3,40 +3,19 @@
 #include <cmath>
 #include <cstring>
 
+#include "net/byte_io.h"
+
 namespace rt::media {
-namespace {
-
-struct FrameWriter {
-  std::vector<uint8_t> bytes;
-  template <typename T>
-  void put(T value) {
-    uint8_t raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T));  // little-endian hosts only, as the session's codec
-    bytes.insert(bytes.end(), raw, raw + sizeof(T));
-  }
-};
-
-struct FrameReader {
-  std::span<const uint8_t> bytes;
-  size_t at = 0;
-  template <typename T>
-  T get() {
-    T value;
-    std::memcpy(&value, bytes.data() + at, sizeof(T));
-    at += sizeof(T);
-    return value;
-  }
-};
-
-}  // namespace
 
 bool is_portrait_frame(std::span<const uint8_t> bytes) {
   return bytes.size() >= 4 && std::memcmp(bytes.data(), kPortraitFrameMagic, 4) == 0;
 }
 
 std::vector<uint8_t> encode_portrait_frame(const PortraitFrame& frame) {
-  FrameWriter w;
-  w.bytes.insert(w.bytes.end(), kPortraitFrameMagic, kPortraitFrameMagic + 4);
+  std::vector<uint8_t> bytes;
+  bytes.reserve(kPortraitFrameSize);
+  net::ByteWriter w(bytes);
+  w.put_bytes(kPortraitFrameMagic);
   w.put<uint16_t>(kPortraitFrameVersion);
   w.put<uint16_t>(0);
   w.put<uint32_t>(frame.rtp_timestamp);
@@ -49,7 +28,7 @@ std::vector<uint8_t> encode_portrait_frame(const PortraitFrame& frame) {
     for (int c = 0; c < 4; ++c) w.put<double>(frame.camera_from_site(r, c));
   w.put<double>(frame.depth_range.near_m);
   w.put<double>(frame.depth_range.far_m);
-  return std::move(w.bytes);
+  return bytes;
 }
 
 std::optional<PortraitFrame> decode_portrait_frame(std::span<const uint8_t> bytes, uint32_t width, uint32_t height,
@@ -61,7 +40,8 @@ std::optional<PortraitFrame> decode_portrait_frame(std::span<const uint8_t> byte
   if (bytes.size() != kPortraitFrameSize)
     return fail(std::to_string(bytes.size()) + " bytes, expected " + std::to_string(kPortraitFrameSize));
   if (!is_portrait_frame(bytes)) return fail("bad magic");
-  FrameReader r{bytes, 4};
+  // The size was checked above: every read below is within the record.
+  net::ByteReader r(bytes.subspan(4));
   const uint16_t version = r.get<uint16_t>();
   if (version != kPortraitFrameVersion)
     return fail("version " + std::to_string(version) + ", this build reads " + std::to_string(kPortraitFrameVersion));
