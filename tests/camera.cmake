@@ -85,3 +85,9 @@ add_test(NAME cli_k4a_site_live
 set_tests_properties(cli_k4a_site_live PROPERTIES FIXTURES_REQUIRED k4a_live_devices TIMEOUT 600 RUN_SERIAL TRUE)
 # depth_outliers counts the flying pixels it removes on the simulated k4a recording.
 set_tests_properties(test_depth_outliers PROPERTIES FIXTURES_REQUIRED k4a_simulated)
+
+# The site calibrated from recordings of its own cameras (calibrate extrinsics --views-from).
+add_test(NAME cli_calibrate_from_recording
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/calibrate_from_recording.sh ${rt}
+                 ${CMAKE_BINARY_DIR}/test-out/calibrate-from-recording ${CMAKE_SOURCE_DIR}/assets)
+set_tests_properties(cli_calibrate_from_recording PROPERTIES TIMEOUT 300)

@@ -28,6 +28,8 @@ struct ExtrinsicsCommandOptions {
   double max_distance_residual_mm = 0;
   double max_link_rms_px = 0;
   double max_alignment_residual_mm = 0;
+  std::filesystem::path views_from;  // a recording of the site's cameras; empty: the input's views
+  double view_every_s = 0;
 };
 
 struct TrackerCommandOptions {
@@ -43,6 +45,8 @@ struct SynthesizeCommandOptions {
   double tip_noise_mm = 0;
   size_t tip_outliers = 0;
   uint32_t seed = 0;
+  bool board_recording = false;
+  int jpeg_quality = 0;
 };
 
 int run_calibrate_intrinsics(const IntrinsicsCommandOptions& options);

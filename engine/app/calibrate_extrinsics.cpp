@@ -9,6 +9,8 @@
 #include "calibration/extrinsics_calibration.h"
 #include "calibration/screen_trilateration.h"
 #include "calibration/site_update.h"
+#include "camera/recorded_board_views.h"
+#include "camera/recorded_site.h"
 
 namespace rt::app {
 namespace {
@@ -40,10 +42,25 @@ void print_report(const calibration::ExtrinsicsInput& input, const calibration::
               result.alignment_rms_m * 1000.0);
 }
 
+calibration::ExtrinsicsInput extrinsics_input_for(const ExtrinsicsCommandOptions& options) {
+  if (options.views_from.empty()) return calibration::read_extrinsics_input(options.input);
+  calibration::ExtrinsicsInput input =
+      calibration::read_extrinsics_input(options.input, calibration::ViewsFrom::Recording);
+  const std::unique_ptr<sim::RecordedRgbdSource> recording = camera::open_recorded_site(options.views_from);
+  std::printf("searching the board in %s (%s, %zu frame sets), a frame set every %.2f s\n",
+              options.views_from.c_str(), camera::recorded_site_kind(options.views_from).c_str(),
+              recording->frame_count(), options.view_every_s);
+  const camera::RecordedBoardViews found = camera::add_recorded_board_views(
+      input, *recording, options.view_every_s, "recording '" + options.views_from.string() + "'");
+  std::printf("the board was found in %zu of %zu frame sets searched\n", found.views_added,
+              found.frame_sets_searched);
+  return input;
+}
+
 }  // namespace
 
 int run_calibrate_extrinsics(const ExtrinsicsCommandOptions& options) {
-  const calibration::ExtrinsicsInput input = calibration::read_extrinsics_input(options.input);
+  const calibration::ExtrinsicsInput input = extrinsics_input_for(options);
   const calibration::ExtrinsicsLimits limits{options.max_distance_residual_mm / 1000.0, options.max_link_rms_px,
                                              options.max_alignment_residual_mm / 1000.0};
   // Checked before calibrating so that a wrong --site fails at once, not after the solve.
@@ -82,6 +99,17 @@ class CalibrateExtrinsicsCommand : public Command {
                             "Site file to update in place (start from a copy of assets/sites/default.json): "
                             "each calibrated camera's color intrinsics and pose, by name; the rest is kept")
         ->required();
+    command->add_option("--views-from", ex.views_from,
+                            "A recording of the site's cameras (what `record` writes, or k4a recordings beside a "
+                            "site.json) to take the chessboard views from, and each camera's factory intrinsics "
+                            "unless the input gives them; the input may then leave out its views")
+        ->check(CLI::ExistingDirectory);
+    ex.view_every_s = 0.5;
+    command->add_option("--view-every-s", ex.view_every_s,
+                            "With --views-from: search one frame set every this many seconds of the recording "
+                            "(0: every set)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     add_unused_device_option(*command, unused_device_);
     command->add_option("--max-distance-residual-mm", ex.max_distance_residual_mm,
                             "Largest disagreement between a camera's four corner distances")

@@ -4,6 +4,8 @@
 
 #include "app/calibrate.h"
 #include "calibration/synthetic_site.h"
+#include "camera/synthetic_board_recording.h"
+#include "config/json.h"
 
 namespace rt::app {
 
@@ -24,6 +26,19 @@ int run_calibrate_synthesize(const SynthesizeCommandOptions& options) {
               (options.out / "extrinsics_input.json").c_str());
   std::printf("  remotetouch calibrate tracker --input %s --site SITE.json\n",
               (options.out / "tracker_touches.json").c_str());
+  if (options.board_recording) {
+    // The same views as the cameras record them, and an input that takes them from there.
+    const std::filesystem::path recording = options.out / "board_recording";
+    camera::write_board_recording(site, recording, options.jpeg_quality);
+    nlohmann::json input = config::read_json_file(options.out / "extrinsics_input.json");
+    input.erase("views");
+    for (nlohmann::json& camera : input["cameras"]) camera.erase("intrinsics");
+    config::write_json_file(options.out / "extrinsics_from_recording.json", input);
+    std::printf("wrote the board views as k4a recordings of the cameras to %s; calibrate from them:\n",
+                recording.c_str());
+    std::printf("  remotetouch calibrate extrinsics --input %s --views-from %s --site SITE.json\n",
+                (options.out / "extrinsics_from_recording.json").c_str(), recording.c_str());
+  }
   std::printf("the truth: %s, %s\n", (options.out / "truth_site.json").c_str(),
               (options.out / "truth_touch_outliers.json").c_str());
   return 0;
@@ -60,6 +75,13 @@ class CalibrateSynthesizeCommand : public Command {
         ->check(CLI::Range(0, 20))
         ->capture_default_str();
     command->add_option("--seed", sy.seed, "Random seed")->capture_default_str();
+    command->add_flag("--board-recording", sy.board_recording,
+                      "Also write the chessboard views as k4a recordings of the cameras (board_recording/) and an "
+                      "input that takes its views and intrinsics from them (extrinsics_from_recording.json)");
+    sy.jpeg_quality = 90;
+    command->add_option("--jpeg-quality", sy.jpeg_quality, "With --board-recording: the colour's MJPG quality")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
     return command;
   }
   int run() override { return run_calibrate_synthesize(options_); }

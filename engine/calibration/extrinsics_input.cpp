@@ -70,7 +70,8 @@ std::vector<cv::Point2f> corners_of(const nlohmann::json& list, const std::strin
 }  // namespace
 
 ExtrinsicsInput extrinsics_input_from_json(const nlohmann::json& json, const std::filesystem::path& base_folder,
-                                           const std::string& where) {
+                                           const std::string& where, ViewsFrom views_from) {
+  const bool from_recording = views_from == ViewsFrom::Recording;
   ExtrinsicsInput input;
   input.board = board_from_json(config::require(json, "board", where), where + " board");
   if (json.contains("screen")) {
@@ -82,14 +83,18 @@ ExtrinsicsInput extrinsics_input_from_json(const nlohmann::json& json, const std
     camera.name = config::require_string(entry, "name", where + " camera");
     const std::string camera_where = where + " camera '" + camera.name + "'";
     if (camera.name.empty()) throw JsonError(where + ": a camera has an empty name");
-    camera.intrinsics = intrinsics_of(entry, base_folder, camera_where);
+    camera.intrinsics_given = !from_recording || entry.contains("intrinsics");
+    if (camera.intrinsics_given) camera.intrinsics = intrinsics_of(entry, base_folder, camera_where);
     camera.corner_distances_m = distances_of(entry, camera_where);
     input.cameras.push_back(std::move(camera));
   }
   input.reference_camera =
       json.contains("reference_camera") ? config::require_string(json, "reference_camera", where) : input.cameras[0].name;
 
-  for (const nlohmann::json& view : config::require_array(json, "views", where, 1)) {
+  static const nlohmann::json no_views = nlohmann::json::array();
+  const nlohmann::json& views =
+      from_recording && !json.contains("views") ? no_views : config::require_array(json, "views", where, from_recording ? 0 : 1);
+  for (const nlohmann::json& view : views) {
     BoardSnapshot snapshot;
     snapshot.name = view.contains("name") ? config::require_string(view, "name", where + " view")
                                           : "view " + std::to_string(input.snapshots.size());
@@ -107,6 +112,8 @@ ExtrinsicsInput extrinsics_input_from_json(const nlohmann::json& json, const std
       }
       const std::filesystem::path image_path =
           base_folder / config::require_string(observation, "image", observation_where + " (or 'corners_px')");
+      if (!setup->intrinsics_given)
+        throw JsonError(observation_where + ": an image needs the camera's 'intrinsics' in the input");
       const cv::Mat image = read_gray_image(image_path);
       const CameraIntrinsics& k = setup->intrinsics;
       if (image.cols != int(k.width) || image.rows != int(k.height))
@@ -125,9 +132,9 @@ ExtrinsicsInput extrinsics_input_from_json(const nlohmann::json& json, const std
   return input;
 }
 
-ExtrinsicsInput read_extrinsics_input(const std::filesystem::path& path) {
+ExtrinsicsInput read_extrinsics_input(const std::filesystem::path& path, ViewsFrom views_from) {
   return extrinsics_input_from_json(config::read_json_file(path), path.parent_path(),
-                                    "extrinsics input '" + path.string() + "'");
+                                    "extrinsics input '" + path.string() + "'", views_from);
 }
 
 nlohmann::json extrinsics_input_to_json(const ExtrinsicsInput& input) {

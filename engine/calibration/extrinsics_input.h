@@ -13,6 +13,10 @@
 //             "cameras": {"top-left": {"image": "views/00/top-left.png"},
 //                         "top-centre": {"corners_px": [[x, y], ...]}}}, ...]}
 //
+// With `calibrate extrinsics --views-from REC` the views come from a recording of the site's
+// cameras instead (devices/camera/recorded_board_views.h): "views" may then be left out, and so
+// may a camera's "intrinsics", for which its device's factory calibration is taken.
+//
 // Relative paths are relative to the input file's folder. A distance is from the camera's
 // optical centre (the lens) to the corner of the screen's active area, in metres; corners are
 // named as the seated user sees the screen.
@@ -33,6 +37,7 @@ namespace rt::calibration {
 struct CameraSetup {
   std::string name;
   CameraIntrinsics intrinsics;
+  bool intrinsics_given = true;  // false: to be taken from the recording of the views
   CornerDistances corner_distances_m{};
 };
 
@@ -45,11 +50,13 @@ struct ExtrinsicsInput {
   std::vector<std::string> board_not_found;  // "view 'v', camera 'c': path" for each image without the board
 };
 
+enum class ViewsFrom { Input, Recording };
+
 // Reads the file, the intrinsics files it names and its images (finding the board in each).
 // Errors name the file and the field.
-ExtrinsicsInput read_extrinsics_input(const std::filesystem::path& path);
+ExtrinsicsInput read_extrinsics_input(const std::filesystem::path& path, ViewsFrom views_from = ViewsFrom::Input);
 ExtrinsicsInput extrinsics_input_from_json(const nlohmann::json& json, const std::filesystem::path& base_folder,
-                                           const std::string& where);
+                                           const std::string& where, ViewsFrom views_from = ViewsFrom::Input);
 // Writes every camera's intrinsics inline and every view as corners_px.
 nlohmann::json extrinsics_input_to_json(const ExtrinsicsInput& input);
 

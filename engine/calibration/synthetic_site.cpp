@@ -109,7 +109,10 @@ void add_board_views(SyntheticSite& site, const SyntheticSiteOptions& options, s
         snapshot.observations.push_back({site.truth.cameras[c].name, std::move(*corners)});
         ++views_per_camera[c];
       }
-    if (snapshot.observations.size() >= 2) input.snapshots.push_back(std::move(snapshot));
+    if (snapshot.observations.size() >= 2) {
+      input.snapshots.push_back(std::move(snapshot));
+      site.site_from_board.push_back(site_from_board);
+    }
   }
   for (size_t c = 0; c < views_per_camera.size(); ++c)
     if (views_per_camera[c] < std::min(kMinViewsPerCamera, options.board_poses))

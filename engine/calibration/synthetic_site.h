@@ -30,6 +30,7 @@ struct SyntheticSiteOptions {
 struct SyntheticSite {
   sim::SiteDescription truth;        // a valid site file: what a perfect calibration would write
   ExtrinsicsInput extrinsics_input;  // views as corners_px, noisy distances
+  std::vector<Eigen::Isometry3d> site_from_board;  // where the board was held in each view
   std::vector<TrackerTouch> touches;
   std::vector<bool> touch_is_outlier;
 };
