@@ -91,3 +91,10 @@ add_test(NAME cli_calibrate_from_recording
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/calibrate_from_recording.sh ${rt}
                  ${CMAKE_BINARY_DIR}/test-out/calibrate-from-recording ${CMAKE_SOURCE_DIR}/assets)
 set_tests_properties(cli_calibrate_from_recording PROPERTIES TIMEOUT 300)
+
+# record --tracker leap: the hands written beside the cameras, on their clock, and replayed.
+add_test(NAME cli_record_with_hands
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/record_with_hands.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/record-with-hands
+                 $<TARGET_FILE:remotetouch_fake_k4a> $<TARGET_FILE:fake_leap_service>
+                 ${CMAKE_SOURCE_DIR}/assets/scenes/clap.json ${k4a_live_devices})
+set_tests_properties(cli_record_with_hands PROPERTIES FIXTURES_REQUIRED k4a_live_devices TIMEOUT 300)

@@ -7,6 +7,7 @@
 #include "camera/k4a_recording_writer.h"
 #include "camera/k4a_site_writer.h"
 #include "camera/site_camera_sources.h"
+#include "time/monotonic_clock.h"
 
 namespace rt::camera::k4a {
 
@@ -91,6 +92,13 @@ RecordSummary record_live_site(const sim::SiteDescription& site, const std::stri
         report("camera '" + site.cameras[k].name + "': a capture at device time " + std::to_string(time) +
                " us is not after the one before it: left out");
         continue;
+      }
+      if (k == 0) {
+        const RecordingInfo& info = cameras[0]->info();
+        const uint64_t delay_us = info.wired_sync == WiredSyncMode::subordinate ? info.subordinate_delay_ns / 1000 : 0;
+        const int64_t host_minus_device = int64_t(monotonic_now_us()) - int64_t(time - std::min(time, delay_us));
+        if (summary.captures[0] == 0 || host_minus_device < summary.host_minus_device_us)
+          summary.host_minus_device_us = host_minus_device;
       }
       writers[k]->write_capture(time, result.color_bytes, result.capture->depth_mm);
       last_us[k] = time;

@@ -18,6 +18,10 @@ struct RecordSummary {
   std::vector<size_t> captures;  // written, per camera
   size_t skipped = 0;            // bad captures, and ones whose time did not increase
   double seconds = 0;            // wall time recorded
+  // This machine's monotonic clock minus the frame sets' clock (the first camera's device time,
+  // a subordinate's delay taken off), from the capture that arrived soonest after it was taken:
+  // how another device's frames, stamped when they arrive, are put on the recording's clock.
+  int64_t host_minus_device_us = 0;
 };
 
 // Records every camera of `site` (all live: source "k4a") for `seconds` of wall time, or until

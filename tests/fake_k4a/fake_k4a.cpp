@@ -12,6 +12,9 @@
 // sync=1 delay=0"), so that a test sees the order and the modes the backend asked for.
 // REMOTETOUCH_FAKE_K4A_SILENT = SERIAL: that device gives its first capture, then none (each
 // call waits its timeout, up to 3 s, and times out), as a subordinate whose sync cable came loose.
+// REMOTETOUCH_FAKE_K4A_LOOPS = N: each device serves its recording N times over, its device
+// clock running on (each pass a frame period after the last), so that a short recording lasts as
+// long as a test needs another device beside it to run.
 // REMOTETOUCH_FAKE_K4A_PACED = 1: a device gives a capture no sooner than one frame period after
 // its previous one, as a real device's sensor does (a site that runs live is then paced by it).
 // fake_k4a_open_handles() counts the captures and images not yet released.
@@ -283,7 +286,10 @@ __attribute__((visibility("default"))) k4a_result_t k4a_device_start_cameras(k4a
 __attribute__((visibility("default"))) k4a_wait_result_t k4a_device_get_capture(k4a_device_t handle,
                                                                                 k4a_capture_t* capture, int32_t timeout_ms) {
   FakeDevice& device = *device_of(handle);
-  if (!device.started || device.next >= device.captures.size()) return K4A_WAIT_RESULT_FAILED;
+  const char* loops = std::getenv("REMOTETOUCH_FAKE_K4A_LOOPS");
+  const size_t passes = loops ? size_t(std::clamp(std::atoi(loops), 1, 1000)) : 1;
+  if (!device.started || device.captures.empty() || device.next >= device.captures.size() * passes)
+    return K4A_WAIT_RESULT_FAILED;
   const char* silent = std::getenv("REMOTETOUCH_FAKE_K4A_SILENT");
   if (silent && device.serial == silent && device.next > 0) {
     std::this_thread::sleep_for(std::chrono::milliseconds(std::clamp(timeout_ms, 0, 3000)));
@@ -299,7 +305,18 @@ __attribute__((visibility("default"))) k4a_wait_result_t k4a_device_get_capture(
     std::this_thread::sleep_until(due);
   }
   device.last_given = std::chrono::steady_clock::now();
-  auto* fake = new FakeCapture{device.captures[device.next]};
+  auto* fake = new FakeCapture{device.captures[device.next % device.captures.size()]};
+  if (const size_t pass = device.next / device.captures.size(); pass > 0) {
+    // One span for every device, so that devices in wired sync stay together pass after pass.
+    uint64_t first_us = UINT64_MAX, last_us = 0;
+    for (const auto& each : g_devices)
+      for (const FakeCaptureData& data : each->captures)
+        for (const std::optional<FakeImage>& image : {data.color, data.depth})
+          if (image) first_us = std::min(first_us, image->device_us), last_us = std::max(last_us, image->device_us);
+    const uint64_t span_us = last_us - first_us + 1'000'000 / uint64_t(std::max(device.fps, 1));
+    for (std::optional<FakeImage>* image : {&fake->data.color, &fake->data.depth})
+      if (*image) (*image)->device_us += pass * span_us;
+  }
   spoil(fake->data, device.next);
   ++device.next;
   ++g_open_handles;
