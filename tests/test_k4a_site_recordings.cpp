@@ -17,6 +17,7 @@
 #include "camera/k4a_site_writer.h"
 #include "camera/recorded_site.h"
 #include "config/assets.h"
+#include "config/json.h"
 #include "support/k4a_sites.h"
 #include "support/output_dir.h"
 
@@ -226,6 +227,33 @@ TEST_CASE("k4a site: a device whose colour lens is apart from its depth lens say
   SiteRecordings site(write_site("offset", {CameraPlan{}, offset}), nullptr);
   CHECK(site.recorded_intrinsics()[0].color_from_depth.isApprox(Eigen::Isometry3d::Identity()));
   CHECK(site.recorded_intrinsics()[1].color_from_depth.translation().isApprox(Eigen::Vector3d(-0.032, 0, 0)));
+}
+
+TEST_CASE("k4a site: a colour lens calibrated by hand replaces the factory's where the site file says so") {
+  const std::filesystem::path dir = write_site("lens", {CameraPlan{}, CameraPlan{}});
+  sim::SiteDescription described = sim::load_site(dir / "site.json");
+  described.cameras[1].color.fx = described.cameras[1].color.fy = 700.0;
+  described.cameras[1].color.distortion.p1 = 0.001;
+  described.cameras[1].color_lens_from_site_file = true;
+  described.cameras[0].color.fx = 800.0;  // not asked for: the factory's stays
+  sim::write_site(dir / "site.json", described);
+  REQUIRE(sim::load_site(dir / "site.json").cameras[1].color_lens_from_site_file);
+  {
+    SiteRecordings site(dir, nullptr);
+    CHECK(site.recorded_intrinsics()[0].color.fx == Approx(610.0).epsilon(1e-6));
+    CHECK(site.site().cameras[0].color.fx == Approx(610.0).epsilon(1e-6));
+    CHECK(site.recorded_intrinsics()[1].color.fx == 700.0);
+    CHECK(site.recorded_intrinsics()[1].color.distortion.p1 == 0.001);
+    CHECK(site.site().cameras[1].color.fx == 700.0);
+  }
+  described.cameras[1].color = scaled_intrinsics(described.cameras[1].color, 0.5);
+  sim::write_site(dir / "site.json", described);
+  CHECK_THROWS_WITH(SiteRecordings(dir, nullptr), Contains("site-file") && Contains("640x360") && Contains("1280x720"));
+
+  nlohmann::json json = config::read_json_file(dir / "site.json");
+  json["cameras"][0]["color_lens"] = "calibrated";
+  config::write_json_file(dir / "site.json", json);
+  CHECK_THROWS_WITH(sim::load_site(dir / "site.json"), Contains("color_lens 'calibrated'"));
 }
 
 TEST_CASE("k4a site: depth taken after colour is reported, once per camera") {

@@ -48,7 +48,7 @@ RecordSummary record_live_site(const sim::SiteDescription& site, const std::stri
     sim::RgbdCamera& camera = recorded.cameras[k];
     camera.source = "simulated";
     camera.k4a = nlohmann::json::object();
-    camera.color = info.color;
+    camera.color = color_lens_for(site.cameras[k], info.color, site_where);
     camera.depth = info.depth;
   }
 

@@ -7,6 +7,7 @@
 
 #include "camera/each_camera_in_parallel.h"
 #include "camera/frame_sets.h"
+#include "camera/site_camera_sources.h"
 
 namespace rt::camera::k4a {
 
@@ -83,9 +84,10 @@ LiveSite::LiveSite(const sim::SiteDescription& site, const std::vector<LiveCamer
   period_us_ = frame_period_ns(settings.front().fps) / 1000;
   for (size_t k = 0; k < devices_.size(); ++k) {
     const RecordingInfo& info = devices_[k]->info();
-    site_.cameras[k].color = info.color;
+    const CameraIntrinsics color_lens = color_lens_for(site.cameras[k], info.color, "site file");
+    site_.cameras[k].color = color_lens;
     site_.cameras[k].depth = info.depth;
-    intrinsics_.push_back({info.color, info.depth, info.color_from_depth()});
+    intrinsics_.push_back({color_lens, info.depth, info.color_from_depth()});
     infos_.push_back(info);
     cameras_.push_back(std::make_unique<Camera>());
   }

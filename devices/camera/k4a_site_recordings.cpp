@@ -88,9 +88,15 @@ SiteRecordings::SiteRecordings(const std::filesystem::path& dir, std::FILE* log,
     if (info.depth_delay_ns != 0 && log_)
       std::fprintf(log_, "k4a replay: %s: depth is taken %lld us %s colour (K4A_DEPTH_DELAY_NS)\n", where.c_str(),
                    static_cast<long long>(std::llabs(info.depth_delay_ns) / 1000), info.depth_delay_ns > 0 ? "after" : "before");
-    described.color = info.color;
+    CameraIntrinsics color_lens;
+    try {
+      color_lens = color_lens_for(described, info.color, site_file);
+    } catch (const std::runtime_error& error) {
+      throw RecordingError(error.what());
+    }
+    described.color = color_lens;
     described.depth = info.depth;
-    recorded_.push_back({info.color, info.depth, info.color_from_depth()});
+    recorded_.push_back({color_lens, info.depth, info.color_from_depth()});
     infos_.push_back(info);
     cameras_.push_back(std::move(camera));
   }

@@ -114,4 +114,15 @@ std::vector<k4a::LiveCameraSettings> live_site_settings(const sim::SiteDescripti
   return settings;
 }
 
+CameraIntrinsics color_lens_for(const sim::RgbdCamera& described, const CameraIntrinsics& factory,
+                                const std::string& where) {
+  if (!described.color_lens_from_site_file) return factory;
+  if (described.color.width != factory.width || described.color.height != factory.height)
+    throw JsonError(where + ": camera '" + described.name + "' takes its colour lens from the site file (\"color_lens\": " +
+                    "\"site-file\"), which is for " + std::to_string(described.color.width) + "x" +
+                    std::to_string(described.color.height) + "; its device records " + std::to_string(factory.width) +
+                    "x" + std::to_string(factory.height));
+  return described.color;
+}
+
 }  // namespace rt::camera

@@ -33,6 +33,13 @@ CameraSourceKind site_source_kind(const sim::SiteDescription& site, const std::s
 // and the cameras that are not.
 std::vector<k4a::LiveCameraSettings> live_site_settings(const sim::SiteDescription& site, const std::string& where);
 
+// The colour lens a real camera (live or recorded) is used with: `factory`, its device's
+// calibration at the recorded mode, unless the site file says "color_lens": "site-file", when
+// the site file's colour intrinsics are used. Throws config::JsonError naming `where` and the
+// camera when those are for another image size than the device's.
+CameraIntrinsics color_lens_for(const sim::RgbdCamera& described, const CameraIntrinsics& factory,
+                                const std::string& where);
+
 // A live camera's "k4a" object: "serial" (required), "color_mode" ("MJPG_720P"), "depth_mode"
 // ("NFOV_UNBINNED"), "fps" (30), "wired_sync" ("STANDALONE", "MASTER", "SUBORDINATE"),
 // "subordinate_delay_us" (0), "depth_delay_us" (0); defaults in brackets.

@@ -44,7 +44,8 @@ RgbdCamera camera_entry_from_json(const nlohmann::json& entry, const std::string
   const std::string name = config::require_string(entry, "name", where);
   const std::string camera_where = where + " (camera '" + name + "')";
   reject_unknown_fields(
-      entry, {"name", "width", "height", "fx", "fy", "cx", "cy", "distortion", "camera_from_site", "depth", "source", "k4a"},
+      entry, {"name", "width", "height", "fx", "fy", "cx", "cy", "distortion", "camera_from_site", "depth", "source", "k4a",
+              "color_lens"},
       camera_where);
   // camera_from_json treats a missing pose as the identity; a site camera must say where it is.
   config::require(entry, "camera_from_site", camera_where);
@@ -73,6 +74,13 @@ RgbdCamera camera_entry_from_json(const nlohmann::json& entry, const std::string
   } else if (camera.source == "k4a") {
     throw JsonError(camera_where + ": a live camera (source \"k4a\") needs its device's settings in \"k4a\" "
                     "(at least its \"serial\")");
+  }
+  if (entry.contains("color_lens")) {
+    const std::string lens = config::require_string(entry, "color_lens", camera_where);
+    if (lens != "factory" && lens != "site-file")
+      throw JsonError(camera_where + ": color_lens '" + lens +
+                      "' is neither \"factory\" (the device's calibration) nor \"site-file\" (the intrinsics here)");
+    camera.color_lens_from_site_file = lens == "site-file";
   }
   camera.camera_from_site = color.camera_from_site;
   camera.color = color.intrinsics;
@@ -164,6 +172,7 @@ nlohmann::json site_to_json(const SiteDescription& site) {
     entry["depth"] = depth_to_json(camera);
     if (camera.source != "simulated") entry["source"] = camera.source;
     if (!camera.k4a.empty()) entry["k4a"] = camera.k4a;
+    if (camera.color_lens_from_site_file) entry["color_lens"] = "site-file";
     cameras.push_back(entry);
   }
   return {

@@ -35,6 +35,10 @@ struct RgbdCamera {
   // or "k4a-recording:PATH" (a recording of one; a relative path is from the site file's folder).
   std::string source = "simulated";
   nlohmann::json k4a = nlohmann::json::object();
+  // A real camera's colour lens is its device's factory calibration at the recorded mode, unless
+  // the site file says "color_lens": "site-file" (a lens calibrated by hand with `calibrate
+  // intrinsics`): then the colour intrinsics above are used, for the same image size.
+  bool color_lens_from_site_file = false;
 
   Camera color_camera() const;
   Camera depth_camera() const;
