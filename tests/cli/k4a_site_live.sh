@@ -11,6 +11,7 @@
 #      --replay: clear errors.
 #   k4a_site_live.sh BINARY OUT FAKE_LIBRARY WAVE_SCENE DEFAULT_SITE LENSES_APART_DIR
 set -euo pipefail
+source "$(dirname "$0")/listening.sh"
 binary=$1 out=$2 fake=$3 wave=$4 default_site=$5 apart=$6
 rm -rf "$out"
 mkdir -p "$out"
@@ -97,14 +98,8 @@ export REMOTETOUCH_FAKE_K4A_RECORDINGS=$apart/top-left.mkv:$apart/top-centre.mkv
 "$binary" site --site A --site-file "$apart/live.json" "${common[@]}" --listen 127.0.0.1:0 --out "$out/site_A" \
   > "$out/site_A.out" 2> "$out/site_A.err" &
 a_pid=$!
-port=
-for _ in $(seq 600); do
-  port=$(sed -n 's/^listening on //p' "$out/site_A.out" 2>/dev/null || true)
-  [ -n "$port" ] && break
-  kill -0 "$a_pid" 2>/dev/null || { cat "$out/site_A.err"; fail "site A ended before listening"; }
-  sleep 0.1
-done
-[ -n "$port" ] || fail "site A never listened"
+port=$(listening_port "$out/site_A.out" "$a_pid")
+[ -n "$port" ] || { cat "$out/site_A.err"; fail "site A never listened"; }
 "$binary" site --site B "${common[@]}" --peer "127.0.0.1:$port" --resolution-scale 0.1 --out "$out/site_B" \
   > "$out/site_B.out" 2> "$out/site_B.err" || { cat "$out/site_B.err"; fail "site B failed"; }
 wait "$a_pid" || { cat "$out/site_A.err"; fail "site A (live) failed"; }

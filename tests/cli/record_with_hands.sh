@@ -6,6 +6,7 @@
 # answer is refused before any camera starts, and leaves no folder behind.
 #   record_with_hands.sh BINARY OUT FAKE_LIBRARY FAKE_SERVICE SCENE DEVICES_DIR
 set -euo pipefail
+source "$(dirname "$0")/listening.sh"
 binary=$1 out=$2 fake=$3 service=$4 scene=$5 devices=$6
 rm -rf "$out"
 mkdir -p "$out"
@@ -16,8 +17,7 @@ export REMOTETOUCH_FAKE_K4A_RECORDINGS=$devices/top-left.mkv:$devices/top-centre
 "$service" "$scene" A 60 > "$out/service.out" 2> "$out/service.err" &
 service_pid=$!
 trap 'kill $service_pid 2> /dev/null || true' EXIT
-for _ in $(seq 1 100); do grep -q "listening on" "$out/service.out" && break; sleep 0.1; done
-leap_port=$(sed -n 's/^listening on //p' "$out/service.out")
+leap_port=$(listening_port "$out/service.out" "$service_pid")
 [ -n "$leap_port" ] || fail "the fake Leap service never listened"
 
 "$binary" record --site "$devices/live.json" --seconds 20 --tracker "leap:ws://127.0.0.1:$leap_port/v6.json" \

@@ -6,6 +6,7 @@
 # reason, within the connect timeout counted from the start.
 #   session_by_hand.sh BINARY OUT
 set -euo pipefail
+source "$(dirname "$0")/listening.sh"
 binary=$1 out=$2
 rm -rf "$out"
 mkdir -p "$out"
@@ -16,10 +17,6 @@ fail() {
   exit 1
 }
 small=(--scene clap --width 64 --height 36 --resolution-scale 0.05 --motor simulated --display headless)
-listening_port() {  # FILE: waits for "listening on PORT" in it, prints PORT
-  for _ in $(seq 1 600); do grep -q "^listening on" "$1" && break; sleep 0.1; done
-  sed -n 's/^listening on //p' "$1"
-}
 "$binary" keygen session.key > /dev/null
 
 # 1. Both sites on their defaults.

@@ -5,6 +5,7 @@
 # frame (the touch loop and the peer get them as skeletons).
 #   session_leap.sh BINARY FAKE_SERVICE SCENE_FILE OUT
 set -euo pipefail
+source "$(dirname "$0")/listening.sh"
 binary=$1 service=$2 scene=$3 out=$4
 rm -rf "$out"
 mkdir -p "$out"
@@ -17,15 +18,13 @@ common=(--width 96 --height 54 --resolution-scale 0.1 --time-scale 1 --connect-t
 "$service" "$scene" A 120 > "$out/service.out" 2> "$out/service.err" &
 service_pid=$!
 trap 'kill $service_pid 2> /dev/null || true' EXIT
-for _ in $(seq 1 100); do grep -q "listening on" "$out/service.out" && break; sleep 0.1; done
-leap_port=$(sed -n 's/^listening on //p' "$out/service.out")
+leap_port=$(listening_port "$out/service.out" "$service_pid")
 [ -n "$leap_port" ] || fail "the fake Leap service never listened"
 
 "$binary" site --site A --scene clap --frames 60 --listen 127.0.0.1:0 --tracker "leap:ws://127.0.0.1:$leap_port/v6.json" \
   "${common[@]}" --out "$out/A" > "$out/a.out" 2> "$out/a.err" &
 a=$!
-for _ in $(seq 1 600); do grep -q "listening on" "$out/a.out" && break; sleep 0.1; done
-port=$(sed -n 's/^listening on //p' "$out/a.out")
+port=$(listening_port "$out/a.out" "$a")
 [ -n "$port" ] || { cat "$out/a.err" >&2; kill "$a"; fail "site A never listened"; }
 set +e
 "$binary" site --site B --scene clap --frames 60 --peer "127.0.0.1:$port" "${common[@]}" --out "$out/B" > "$out/b.out" 2> "$out/b.err"

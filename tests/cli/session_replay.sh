@@ -12,6 +12,7 @@
 #                                                       a board: clear errors; the demo with site
 #                                                       B's recording missing names B at once
 set -euo pipefail
+source "$(dirname "$0")/listening.sh"
 binary=$1 out=$2 recording=$3 mode=$4
 rm -rf "$out"
 mkdir -p "$out"
@@ -85,8 +86,7 @@ fi
 "$binary" site --site A --scene clap --frames 115 --resolution-scale 0.1 --listen 127.0.0.1:0 "${common[@]}" \
   --out "$out/A" > "$out/a.out" 2> "$out/a.err" &
 a=$!
-for _ in $(seq 1 600); do grep -q "listening on" "$out/a.out" && break; sleep 0.1; done
-port=$(sed -n 's/^listening on //p' "$out/a.out")
+port=$(listening_port "$out/a.out" "$a")
 [ -n "$port" ] || { cat "$out/a.err" >&2; kill "$a"; fail "site A never listened"; }
 echo "{\"site\": \"B\", \"replay\": \"$(realpath --relative-to="$out" "$replay")\", \"motor\": \"auto\"}" > "$out/b.json"
 set +e

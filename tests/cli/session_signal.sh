@@ -4,6 +4,7 @@
 # connection end and finishes; SIGINT while it waits for its peer ends the wait at once (130).
 #   session_signal.sh BINARY OUT
 set -euo pipefail
+source "$(dirname "$0")/listening.sh"
 binary=$1 out=$2
 rm -rf "$out"
 mkdir -p "$out"
@@ -16,8 +17,7 @@ common=(--scene clap --frames 115 --width 96 --height 54 --resolution-scale 0.1 
 
 "$binary" site --site A --listen 127.0.0.1:0 "${common[@]}" --out "$out/A" > "$out/a.out" 2> "$out/a.err" &
 a=$!
-for _ in $(seq 1 600); do grep -q "listening on" "$out/a.out" && break; sleep 0.1; done
-port=$(sed -n 's/^listening on //p' "$out/a.out")
+port=$(listening_port "$out/a.out" "$a")
 [ -n "$port" ] || { kill "$a"; fail "site A never listened"; }
 "$binary" site --site B --peer "127.0.0.1:$port" "${common[@]}" --out "$out/B" > "$out/b.out" 2> "$out/b.err" &
 b=$!
@@ -49,7 +49,7 @@ PY
 # SIGINT while waiting for a peer that never comes: at once, not after --connect-timeout (60 s).
 "$binary" site --site A --listen 127.0.0.1:0 "${common[@]}" --out "$out/alone" > "$out/alone.out" 2> "$out/alone.err" &
 alone=$!
-for _ in $(seq 1 600); do grep -q "listening on" "$out/alone.out" && break; sleep 0.1; done
+[ -n "$(listening_port "$out/alone.out" "$alone")" ] || fail "the lone site never listened"
 start=$(date +%s%N)
 kill -INT "$alone"
 set +e

@@ -7,6 +7,7 @@
 # the validation layer saw no error.
 #   session_window.sh BINARY OUT
 set -euo pipefail
+source "$(dirname "$0")/listening.sh"
 binary=$1 out=$2
 rm -rf "$out"
 mkdir -p "$out"
@@ -41,8 +42,8 @@ export DISPLAY=":$(head -n1 "$out/display")"
   > "$out/a.out" 2> "$out/a.err" &
 a=$!
 pids+=($a)
-wait_for 60 grep -q "listening on" "$out/a.out" || { cat "$out/a.err" >&2; fail "site A never listened"; }
-port=$(sed -n 's/^listening on //p' "$out/a.out")
+port=$(listening_port "$out/a.out" "$a")
+[ -n "$port" ] || { cat "$out/a.err" >&2; fail "site A never listened"; }
 env -u DISPLAY "$binary" site --site B --peer "127.0.0.1:$port" --time-scale 0.25 "${common[@]}" --out "$out/B" \
   > "$out/b.out" 2> "$out/b.err" &
 b=$!

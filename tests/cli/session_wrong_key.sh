@@ -6,6 +6,7 @@
 # key being replaced) and gives up at its connect timeout with the reason. A waits out its own
 # for the right peer. Both end with exit status 2 and the reason.
 set -euo pipefail
+source "$(dirname "$0")/listening.sh"
 binary=$1 out=$2
 rm -rf "$out"
 mkdir -p "$out"
@@ -22,8 +23,7 @@ cat > "$out/a.json" <<JSON
 JSON
 "$binary" site --config "$out/a.json" --connect-timeout 12 --out "$out/A" > "$out/a.out" 2> "$out/a.err" &
 a=$!
-for _ in $(seq 1 600); do grep -q "listening on" "$out/a.out" && break; sleep 0.1; done
-port=$(sed -n 's/^listening on //p' "$out/a.out")
+port=$(listening_port "$out/a.out" "$a")
 [ -n "$port" ] || { echo "site A never listened" >&2; cat "$out/a.err" >&2; exit 1; }
 set +e
 SECONDS=0
