@@ -303,3 +303,16 @@ TEST_CASE("skeleton interpolation: finite inputs never give NaN or Inf, even deg
     }
   }
 }
+
+TEST_CASE("the hand nearest the screen: in front of its own glass or mapped behind the other's") {
+  HandSkeleton far_hand, near_hand, lost_hand;
+  far_hand.palm = {0.0, 0.0, 0.30};
+  near_hand.palm = {0.1, 0.0, 0.02};
+  lost_hand.palm = {0.0, 0.0, std::nan("")};
+  std::vector<HandSkeleton> hands = {far_hand, lost_hand, near_hand};
+  CHECK(hand_nearest_screen(hands) == &hands[2]);
+  // The same hands in the other site's frame: behind its glass, z negated.
+  for (HandSkeleton& hand : hands) hand.palm.z() = -hand.palm.z();
+  CHECK(hand_nearest_screen(hands) == &hands[2]);
+  CHECK(hand_nearest_screen(std::vector<HandSkeleton>{lost_hand}) == nullptr);
+}

@@ -17,7 +17,7 @@ std::vector<Eigen::Vector3d> HandSkeleton::hand_joints() const {
 const HandSkeleton* hand_nearest_screen(const std::vector<HandSkeleton>& hands) {
   const HandSkeleton* best = nullptr;
   for (const auto& hand : hands)
-    if (std::isfinite(hand.palm.z()) && (!best || hand.palm.z() < best->palm.z())) best = &hand;
+    if (std::isfinite(hand.palm.z()) && (!best || std::abs(hand.palm.z()) < std::abs(best->palm.z()))) best = &hand;
   return best;
 }
 

@@ -42,8 +42,9 @@ struct HandSkeleton {
   std::vector<Eigen::Vector3d> hand_joints() const;
 };
 
-// The hand nearest the screen (smallest palm z): the one reaching for the glass, which the
-// receiver draws; null when no hand has a finite palm.
+// The hand nearest the screen (smallest |palm z|, so that hands mapped into the other site's
+// frame, behind its glass, are judged alike): the one reaching for the glass, which the receiver
+// draws; null when no hand has a finite palm.
 const HandSkeleton* hand_nearest_screen(const std::vector<HandSkeleton>& hands);
 
 }  // namespace rt
