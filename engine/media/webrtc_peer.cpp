@@ -132,6 +132,9 @@ struct WebRtcPeer::Impl {
   // ---- receiving ----
   void adopt_channel(GstWebRTCDataChannel* channel);
   void on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* bytes);
+  // The bytes as they are, on an open channel; false if it is not open.
+  bool send_on_channel(bool on_fast, std::span<const uint8_t> bytes);
+  bool channels_open() const;
   void link_incoming(GstPad* pad);
   void on_sample(GstAppSink* sink);
   void store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes, std::optional<PortraitFrame> frame);
@@ -202,11 +205,24 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   if (size > kMaxChannelMessage)
     return refuse("a data-channel message of " + std::to_string(size) + " bytes, over the " +
                   std::to_string(kMaxChannelMessage) + " this link accepts");
-  const std::span<const uint8_t> view(data, size);
+  std::span<const uint8_t> view(data, size);
   bool on_fast = false;
   {
     std::lock_guard lock(mutex);  // adopt_channel sets `fast` from another thread
     on_fast = channel == fast;
+  }
+  ChannelGuard::Received opened;
+  if (options.guard) {
+    opened = options.guard->receive(on_fast ? GuardedChannel::Fast : GuardedChannel::Reliable, view);
+    if (opened.kind == ChannelGuard::Received::Kind::Refused) {
+      if (!opened.reply.empty()) send_on_channel(false, opened.reply);
+      return refuse(options.name + ": " + opened.reason);
+    }
+    if (opened.kind == ChannelGuard::Received::Kind::Handshake) {
+      if (!opened.reply.empty()) send_on_channel(false, opened.reply);
+      return;
+    }
+    view = opened.message;
   }
   if (is_portrait_frame(view)) {
     std::string why;
@@ -218,6 +234,7 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   if (!result.ok()) return refuse("a data-channel message refused: " + result.error.message);
   const net::MessageType type = net::message_type(*result.message);
   if (type == net::MessageType::Portrait) return refuse("a portrait on a data channel: portraits travel as video");
+  if (type == net::MessageType::Signal) return refuse("a signal on a data channel: signals set the call up beside it");
   if (travels_fast(type) != on_fast)
     return refuse(std::string("a ") + net::message_type_name(type) + " message on the wrong data channel");
   std::lock_guard lock(mutex);
@@ -625,19 +642,28 @@ void WebRtcPeer::add_ice_candidate(unsigned mline, const std::string& candidate)
   g_signal_emit_by_name(impl_->webrtc, "add-ice-candidate", mline, candidate.c_str());
 }
 
-bool WebRtcPeer::connected() const {
-  const Impl& m = *impl_;
+bool WebRtcPeer::Impl::channels_open() const {
   GstWebRTCICEConnectionState ice = GST_WEBRTC_ICE_CONNECTION_STATE_NEW;
-  g_object_get(m.webrtc, "ice-connection-state", &ice, nullptr);
+  g_object_get(webrtc, "ice-connection-state", &ice, nullptr);
   if (ice != GST_WEBRTC_ICE_CONNECTION_STATE_CONNECTED && ice != GST_WEBRTC_ICE_CONNECTION_STATE_COMPLETED) return false;
-  std::lock_guard lock(m.mutex);
-  for (GstWebRTCDataChannel* channel : {m.fast, m.reliable}) {
+  std::lock_guard lock(mutex);
+  for (GstWebRTCDataChannel* channel : {fast, reliable}) {
     if (!channel) return false;
     GstWebRTCDataChannelState state = GST_WEBRTC_DATA_CHANNEL_STATE_CLOSED;
     g_object_get(channel, "ready-state", &state, nullptr);
     if (state != GST_WEBRTC_DATA_CHANNEL_STATE_OPEN) return false;
   }
   return true;
+}
+
+bool WebRtcPeer::connected() const {
+  const Impl& m = *impl_;
+  if (!m.channels_open()) return false;
+  if (!m.options.guard) return true;
+  // The connector's hello goes once both channels are open; the guard sends it only once.
+  if (const std::vector<uint8_t> hello = m.options.guard->start(); !hello.empty())
+    const_cast<Impl&>(m).send_on_channel(false, hello);
+  return m.options.guard->ready();
 }
 
 bool WebRtcPeer::wait_connected(std::chrono::milliseconds timeout) {
@@ -744,6 +770,8 @@ bool WebRtcPeer::send_message(const net::Message& message) {
   const net::MessageType type = net::message_type(message);
   if (type == net::MessageType::Portrait)
     throw std::invalid_argument("a portrait goes through send_portrait: it travels as video");
+  if (type == net::MessageType::Signal)
+    throw std::invalid_argument("a signal goes to the other site beside the call, not on its data channels");
   const std::vector<uint8_t> bytes = net::encode_message(message);
   if (bytes.size() > kMaxChannelMessage) throw std::invalid_argument("a message over the data channels' limit");
   if (!send_raw(travels_fast(type) ? Channel::Fast : Channel::Reliable, bytes)) return false;
@@ -755,8 +783,16 @@ bool WebRtcPeer::send_message(const net::Message& message) {
 bool WebRtcPeer::send_raw(Channel which, std::span<const uint8_t> bytes) {
   Impl& m = *impl_;
   if (bytes.size() > kMaxChannelMessage) return false;
-  std::lock_guard lock(m.mutex);
-  GstWebRTCDataChannel* channel = which == Channel::Fast ? m.fast : m.reliable;
+  if (!m.options.guard) return m.send_on_channel(which == Channel::Fast, bytes);
+  const auto sealed =
+      m.options.guard->seal(which == Channel::Fast ? GuardedChannel::Fast : GuardedChannel::Reliable, bytes);
+  if (!sealed || sealed->size() > kMaxChannelMessage) return false;
+  return m.send_on_channel(which == Channel::Fast, *sealed);
+}
+
+bool WebRtcPeer::Impl::send_on_channel(bool on_fast, std::span<const uint8_t> bytes) {
+  std::lock_guard lock(mutex);
+  GstWebRTCDataChannel* channel = on_fast ? fast : reliable;
   if (!channel) return false;
   // Sending on a channel that is not open yet crashes webrtcbin 1.22: ask first.
   GstWebRTCDataChannelState state = GST_WEBRTC_DATA_CHANNEL_STATE_CLOSED;
@@ -765,7 +801,7 @@ bool WebRtcPeer::send_raw(Channel which, std::span<const uint8_t> bytes) {
   GBytes* data = g_bytes_new(bytes.data(), bytes.size());
   gst_webrtc_data_channel_send_data(channel, data);
   g_bytes_unref(data);
-  m.counters.channel_bytes_sent += bytes.size();
+  counters.channel_bytes_sent += bytes.size();
   return true;
 }
 

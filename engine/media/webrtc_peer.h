@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "media/channel_guard.h"
 #include "media/depth_alpha_codec.h"
 #include "net/message_codec.h"
 #include "net/messages.h"
@@ -49,6 +50,10 @@ struct WebRtcPeerOptions {
   DepthRange depth_range;
   std::vector<std::string> local_addresses = {"127.0.0.1"};
   size_t max_queued_portraits = 8;  // received, not yet taken: the oldest is dropped beyond
+  // The site key on the data channels (media/channel_guard.h): with one, everything they carry
+  // is sealed, nothing is sent before its handshake completes, and connected() waits for it.
+  // Without one, DTLS alone protects them (the tests of the channels' own checks).
+  std::shared_ptr<ChannelGuard> guard;
 };
 
 struct ReceivedPortrait {
@@ -92,8 +97,9 @@ class WebRtcPeer {
   // (std::invalid_argument): portraits travel as video. False when the channel is not open.
   bool send_message(const net::Message& message);
   // Raw bytes on one channel, for what the session's codec would not make: the tests of the
-  // receiver's checks. False when the channel is not open, or for more than 64 KiB (webrtcbin's
-  // SCTP would drop it unannounced).
+  // receiver's checks (sealed first when there is a guard). False when the channel is not open,
+  // before the guard's handshake completed, or for more than 64 KiB (webrtcbin's SCTP would drop
+  // it unannounced).
   enum class Channel { Fast, Reliable };
   bool send_raw(Channel channel, std::span<const uint8_t> bytes);
   // Both encoders' next frame is a keyframe.
