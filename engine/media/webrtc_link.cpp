@@ -204,7 +204,7 @@ net::ConnectionStatus WebRtcLink::status() const {
     status.peer += " (WebRTC)";
   } else if (status.state == net::ConnectionState::Connected) {
     status.state = net::ConnectionState::Connecting;
-    status.reason = "the session is up; the WebRTC call is being set up";
+    status.reason = "the session is up; the WebRTC call is being set up (the other site needs --transport webrtc too)";
   }
   return status;
 }

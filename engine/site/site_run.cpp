@@ -141,6 +141,7 @@ class SiteRun {
   std::optional<uint64_t> unpaired_pulse_us_;
   uint64_t started_us_ = 0;
   std::string stopped_by_;  // SIGINT, SIGTERM, window or peer; empty: the scene ended
+  std::atomic<bool> told_transport_mismatch_{false};
 };
 
 SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
@@ -258,6 +259,11 @@ void SiteRun::on_message(const net::Message& message) {
   } else if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
     events_.write(touch->kind == net::TouchEventMessage::Kind::Start ? "remote_touch_start" : "remote_touch_end", now,
                   {{"detected_by", touch->site == 0 ? "A" : "B"}});
+  } else if (std::holds_alternative<net::SignalMessage>(message) && !told_transport_mismatch_.exchange(true)) {
+    // Only a direct session hands signals up: the other site is calling over WebRTC.
+    std::cerr << "site " << common_.name << ": the other site runs --transport webrtc and this one "
+              << common_.options.transport << ": give both the same\n";
+    events_.write("transport_mismatch", now, {{"here", common_.options.transport}});
   }
 }
 
