@@ -23,6 +23,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "media/codec_probes.h"
 #include "media/portrait_frame.h"
 #include "time/monotonic_clock.h"
 
@@ -57,6 +58,9 @@ struct IncomingChain {
   std::array<std::pair<GstClockTime, uint32_t>, 64> pts_to_rtp{};
   size_t next = 0;
   uint32_t last_rtp = 0;
+  bool color = false;  // payload type 96; 97 is depth and alpha
+  CodecClock decode;
+  KeyframeRequests asked;  // by its depayloader, of the other peer's encoder
 };
 
 struct ByteCount {
@@ -85,6 +89,8 @@ struct WebRtcPeer::Impl {
   GstWebRTCDataChannel* fast = nullptr;
   GstWebRTCDataChannel* reliable = nullptr;
   GstVideoInfo color_info{}, depth_info{};
+  CodecClock color_encode, depth_encode;
+  KeyframeRequests asked_of_us;
   std::vector<std::unique_ptr<IncomingChain>> chains;
   std::deque<ByteCount> byte_counts;  // a deque: the probes hold pointers into it
 
@@ -248,6 +254,8 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   const GstStructure* s = caps ? gst_caps_get_structure(caps, 0) : nullptr;
   const char* encoding = s ? gst_structure_get_string(s, "encoding-name") : nullptr;
   const bool h264 = encoding && std::string(encoding) == "H264";
+  int payload = 0;
+  if (s) gst_structure_get_int(s, "payload", &payload);
   if (caps) gst_caps_unref(caps);
   // Every incoming pad gets linked: an unlinked one tears the whole bundle down.
   if (!h264) {
@@ -261,6 +269,7 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   }
   auto chain = std::make_unique<IncomingChain>();
   chain->impl = this;
+  chain->color = payload == 96;
   GstElement* depay = gst_element_factory_make("rtph264depay", nullptr);
   GstElement* decoder = gst_element_factory_make("avdec_h264", nullptr);
   GstElement* sink = gst_element_factory_make("appsink", nullptr);
@@ -314,6 +323,10 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
                     },
                     chain.get(), nullptr);
   gst_object_unref(depay_src);
+  chain->decode.attach(decoder);
+  GstPad* asking = gst_element_get_static_pad(depay, "sink");
+  chain->asked.attach(asking);
+  gst_object_unref(asking);
   for (GstElement* e : {depay, decoder, sink}) gst_element_sync_state_with_parent(e);
   GstPad* depay_pad = gst_element_get_static_pad(depay, "sink");
   const GstPadLinkReturn linked = gst_pad_link(pad, depay_pad);
@@ -494,6 +507,15 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   m.depth_src = gst_bin_get_by_name(GST_BIN(m.pipeline), "depthsrc");
   m.color_enc = gst_bin_get_by_name(GST_BIN(m.pipeline), "colorenc");
   m.depth_enc = gst_bin_get_by_name(GST_BIN(m.pipeline), "depthenc");
+  if (m.color_enc && m.depth_enc) {
+    m.color_encode.attach(m.color_enc);
+    m.depth_encode.attach(m.depth_enc);
+    for (GstElement* encoder : {m.color_enc, m.depth_enc}) {
+      GstPad* src = gst_element_get_static_pad(encoder, "src");
+      m.asked_of_us.attach(src);
+      gst_object_unref(src);
+    }
+  }
   gst_video_info_set_format(&m.color_info, GST_VIDEO_FORMAT_I420, o.width, o.height);
   gst_video_info_set_format(&m.depth_info, GST_VIDEO_FORMAT_I420_10LE, o.width, o.height);
 
@@ -827,8 +849,17 @@ std::vector<net::Message> WebRtcPeer::take_messages() {
 }
 
 WebRtcCounters WebRtcPeer::counters() const {
-  std::lock_guard lock(impl_->mutex);
-  return impl_->counters;
+  const Impl& m = *impl_;
+  std::lock_guard lock(m.mutex);
+  WebRtcCounters out = m.counters;
+  out.color_encode_ms = m.color_encode.median_ms();
+  out.depth_encode_ms = m.depth_encode.median_ms();
+  out.keyframes_asked_of_us = m.asked_of_us.count();
+  for (const auto& chain : m.chains) {
+    (chain->color ? out.color_decode_ms : out.depth_decode_ms) = chain->decode.median_ms();
+    out.keyframes_asked += chain->asked.count();
+  }
+  return out;
 }
 
 std::string WebRtcPeer::last_error() const {

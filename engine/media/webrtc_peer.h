@@ -68,6 +68,11 @@ struct WebRtcCounters {
   uint64_t frames_unpaired = 0;  // a track's frame, or a frame record, that found no partner in time
   uint64_t messages_sent = 0, messages_received = 0, messages_refused = 0;
   uint64_t color_bytes_sent = 0, depth_bytes_sent = 0, channel_bytes_sent = 0;  // encoded payload bytes
+  // The codecs (media/codec_probes.h): median ms a picture spends in each encoder and decoder
+  // (0 before any), and the keyframes asked: by this peer's depayloaders of the other peer after a
+  // lost picture, and of this peer's encoders (RTCP PLI or FIR from the other side).
+  double color_encode_ms = 0, depth_encode_ms = 0, color_decode_ms = 0, depth_decode_ms = 0;
+  uint64_t keyframes_asked = 0, keyframes_asked_of_us = 0;
 };
 
 class WebRtcPeer {

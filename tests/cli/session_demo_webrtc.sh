@@ -19,6 +19,8 @@ for site in "AB":
     print(f"site {site}: webrtc {call}")
     assert call["kind"] == "webrtc" and call["data_channels_sealed"], call
     assert call["portraits"]["received"] > 0 and call["messages"]["refused"] == 0, call
+    codec = call["codec_ms_median"]
+    assert codec["color_encode"] > 0 and codec["color_decode"] > 0 and codec["depth_alpha_decode"] > 0, codec
     assert direct["sites"][site]["transport"]["kind"] == "direct"
     for m in (webrtc, direct):
         t = m["sites"][site]["touch"]
