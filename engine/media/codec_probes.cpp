@@ -43,8 +43,9 @@ void CodecClock::left(GstClockTime pts) {
   // A picture leaving in several buffers counts once, at its first.
   if (count_ > 0 && pts == last_left_pts_) return;
   last_left_pts_ = pts;
-  // A decoder keeps the presentation time; an encoder moves it (GstVideoEncoder shifts it by 1000
-  // hours) but keeps the order, so the oldest picture still inside is the one leaving.
+  // A decoder keeps the presentation time; an encoder moves it (GstVideoEncoder shifts it far
+  // ahead, so that decoding times stay positive) but keeps the order (no B-frames), so the oldest
+  // picture still inside is the one leaving.
   std::pair<GstClockTime, uint64_t>* match = nullptr;
   for (auto& entry : pending_)
     if (entry.second && entry.first == pts) match = &entry;

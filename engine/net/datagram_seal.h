@@ -1,7 +1,7 @@
 #pragma once
 // Sealed records for a link that keeps message boundaries but may lose, repeat and reorder
 // messages: the WebRTC data channels, whose bytes a relay (Janus, TURN) forwards. One message per
-// record, no fragments (a data-channel message is at most 64 KiB):
+// record, no fragments (a data-channel message is small and arrives whole or not at all):
 //   magic "RTDS" | counter u64 | XChaCha20-Poly1305(message), the 12-byte header as associated
 //   data, nonce = the counter.
 // Keys come from the traffic keys of secure_channel.h's Handshake, one per channel and direction
