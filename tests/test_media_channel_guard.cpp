@@ -20,6 +20,7 @@ void run_guard_handshake(ChannelGuard& connector, ChannelGuard& listener) {
   std::vector<uint8_t> frame = connector.start();
   REQUIRE_FALSE(frame.empty());
   CHECK(listener.start().empty());  // the listener answers, it does not begin
+  CHECK(connector.start().empty());  // not again within a quarter second
   bool to_listener = true;
   for (int step = 0; step < 4 && !frame.empty(); ++step) {
     ChannelGuard::Received got = (to_listener ? listener : connector).receive(GuardedChannel::Reliable, frame);
@@ -91,7 +92,12 @@ TEST_CASE("the guards' handshake refuses frames out of place") {
     ChannelGuard connector(key, net::Role::Connector, kGuardTestLimit), listener(key, net::Role::Listener, kGuardTestLimit);
     const auto hello = connector.start();
     REQUIRE(listener.receive(GuardedChannel::Reliable, hello).kind == ChannelGuard::Received::Kind::Handshake);
-    CHECK(listener.receive(GuardedChannel::Reliable, hello).reason == "a second hello");
+    // The same hello again (sent before the answer came) is ignored; another connector's is refused.
+    const auto again = listener.receive(GuardedChannel::Reliable, hello);
+    CHECK(again.kind == ChannelGuard::Received::Kind::Handshake);
+    CHECK(again.reply.empty());
+    ChannelGuard other(key, net::Role::Connector, kGuardTestLimit);
+    CHECK(listener.receive(GuardedChannel::Reliable, other.start()).reason == "a second hello");
   }
   {
     // A connector's hello sent to a connector (a reflection) is refused by its role byte.

@@ -2,6 +2,8 @@
 
 #include <sodium.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <stdexcept>
 
@@ -32,8 +34,13 @@ ChannelGuard::~ChannelGuard() = default;
 
 std::vector<uint8_t> ChannelGuard::start() {
   std::lock_guard lock(mutex_);
-  if (role_ != net::Role::Connector || started_) return {};
+  if (role_ != net::Role::Connector || hello_seen_ || !failure_.empty()) return {};
+  // Again until the listener answers: a hello that reached the other side before its end of the
+  // channel had a reader is gone, and nothing else would start the handshake again.
+  const auto now = std::chrono::steady_clock::now();
+  if (started_ && now - last_start_ < std::chrono::milliseconds(250)) return {};
   started_ = true;
+  last_start_ = now;
   return guard_frame(kGuardStepHello, handshake_->hello());
 }
 
@@ -74,6 +81,9 @@ ChannelGuard::Received ChannelGuard::handshake_frame(uint8_t step, std::span<con
   if (seal_fast_) return refuse("a handshake frame after the handshake completed");
   if (step == kGuardStepHello) {
     if (payload.size() != net::kHelloSize) return refuse("a hello of " + std::to_string(payload.size()) + " bytes");
+    // The connector's hello sent again, before it saw our answer: already answered.
+    if (hello_seen_ && role_ == net::Role::Listener && std::equal(payload.begin(), payload.end(), peer_hello_.begin()))
+      return out;
     if (hello_seen_) return refuse("a second hello");
     if (auto bad = net::Handshake::check_hello_prefix(payload.first(net::kHelloPrefixSize), role_)) return refuse(*bad);
     if (role_ == net::Role::Connector && !started_) return refuse("the listener's hello before ours");
@@ -85,6 +95,7 @@ ChannelGuard::Received ChannelGuard::handshake_frame(uint8_t step, std::span<con
                           : "the other site's hello does not prove the site key: the two sites hold different keys");
     }
     hello_seen_ = true;
+    std::copy(payload.begin(), payload.end(), peer_hello_.begin());
     if (auto bad = handshake_->receive_hello(payload)) return refuse(*bad);
     out.reply = role_ == net::Role::Listener ? guard_frame(kGuardStepHello, handshake_->hello())
                                              : guard_frame(kGuardStepProof, handshake_->proof());

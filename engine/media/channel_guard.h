@@ -12,6 +12,8 @@
 // Then every data-channel message is a sealed record of net/datagram_seal.h: the reliable channel
 // opened in strict order, the fast one (unordered, lossy) through the replay window. A CPU module;
 // thread-safe (GStreamer calls it from its threads, the sender from its own).
+#include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -32,8 +34,9 @@ class ChannelGuard {
   ChannelGuard(const net::SessionKey& key, net::Role role, size_t max_message);
   ~ChannelGuard();
 
-  // The connector's first frame (its hello), to send on the reliable channel once it is open;
-  // empty for the listener, which answers.
+  // The connector's hello, to send on the reliable channel once it is open, and again every
+  // quarter second until the listener's hello arrives (empty in between, and always for the
+  // listener, which answers; the listener ignores a repeat of the hello it answered).
   std::vector<uint8_t> start();
 
   struct Received {
@@ -61,6 +64,8 @@ class ChannelGuard {
   net::HelloGate gate_;
   std::unique_ptr<net::Handshake> handshake_;
   bool started_ = false, hello_seen_ = false;
+  std::chrono::steady_clock::time_point last_start_{};
+  std::array<uint8_t, net::kHelloSize> peer_hello_{};
   std::string failure_;
   std::unique_ptr<net::DatagramSealer> seal_fast_, seal_reliable_;
   std::unique_ptr<net::DatagramOpener> open_fast_, open_reliable_;

@@ -682,7 +682,7 @@ bool WebRtcPeer::connected() const {
   const Impl& m = *impl_;
   if (!m.channels_open()) return false;
   if (!m.options.guard) return true;
-  // The connector's hello goes once both channels are open; the guard sends it only once.
+  // The connector's hello goes once both channels are open, again until answered (the guard says when).
   if (const std::vector<uint8_t> hello = m.options.guard->start(); !hello.empty())
     const_cast<Impl&>(m).send_on_channel(false, hello);
   return m.options.guard->ready();
