@@ -23,6 +23,12 @@ add_test(NAME session_demo_outage
 # would give it): still one touch per site.
 add_test(NAME session_demo_lossy
          COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-lossy clap 115 1 --delay-ms 40 --jitter-ms 20 --loss 0.02)
+# The same scene over a WebRTC call set up through the session, then over the direct session: the
+# same touches, and the hand at the glass within 1 dB (the two sites' mean).
+add_test(NAME session_demo_webrtc
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_demo_webrtc.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-webrtc clap 115 1)
+add_test(NAME session_demo_webrtc_miss
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_demo_webrtc.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-webrtc-miss miss 115 0)
 # A site stopped by SIGTERM mid-run writes its metrics; SIGINT while waiting for a peer ends the wait.
 add_test(NAME session_site_signal
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_signal.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-signal)
@@ -39,6 +45,7 @@ add_test(NAME session_site_refused_then_listener
 add_cli_test(session_site_bad_config 1 "remotetouch: error: .*site_config_bad\\.json: unknown field 'peers'"
              ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
 set_tests_properties(session_demo_clap session_demo_miss session_demo_seat session_demo_wave session_demo_disconnect session_demo_outage session_demo_lossy
+                     session_demo_webrtc session_demo_webrtc_miss
                      session_site_wrong_key session_site_refused_then_listener
                      PROPERTIES TIMEOUT 300
                      # Two site processes each on a real-time scene clock, sharing the CPU with a CPU

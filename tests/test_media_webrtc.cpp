@@ -28,7 +28,8 @@ namespace {
 // one peer says; pump() hands it to the other on the test's thread.
 class LoopbackWebRtcCall {
  public:
-  LoopbackWebRtcCall(uint32_t width, uint32_t height) {
+  LoopbackWebRtcCall(uint32_t width, uint32_t height, std::shared_ptr<ChannelGuard> offerer_guard = nullptr,
+                     std::shared_ptr<ChannelGuard> answerer_guard = nullptr) {
     WebRtcPeerOptions a;
     a.name = "A";
     a.offerer = true;
@@ -40,6 +41,8 @@ class LoopbackWebRtcCall {
     b.name = "B";
     b.offerer = false;
     b.max_queued_portraits = 64;
+    a.guard = std::move(offerer_guard);
+    b.guard = std::move(answerer_guard);
     offerer = std::make_unique<WebRtcPeer>(a, signalling_to(true));
     answerer = std::make_unique<WebRtcPeer>(b, signalling_to(false));
   }
@@ -65,9 +68,9 @@ class LoopbackWebRtcCall {
   }
 
   // The offer needs the tracks' caps, which come with the first portrait.
-  bool connect(uint32_t width, uint32_t height) {
+  bool connect(uint32_t width, uint32_t height, std::chrono::seconds timeout = std::chrono::seconds(15)) {
     offerer->send_portrait(synthetic_portrait(width, height, 1000));
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(15);
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < deadline) {
       pump();
       if (offerer->connected() && answerer->connected()) return true;
@@ -302,4 +305,57 @@ TEST_CASE("the answerer's portraits reach the offerer on the same call", "[media
   INFO("A: " << call.offerer->last_error() << "; B: " << call.answerer->last_error());
   CHECK(received.size() == frames);
   CHECK(worst_iou >= 0.99);
+}
+
+TEST_CASE("with the site key on the data channels, sealed messages and portraits cross; clear bytes do not",
+          "[media][webrtc]") {
+  constexpr uint32_t width = 160, height = 90;
+  const net::SessionKey key = net::random_session_key();
+  constexpr size_t limit = 64 * 1024 - net::kDatagramOverhead;
+  auto guard_a = std::make_shared<ChannelGuard>(key, net::Role::Connector, limit);
+  auto guard_b = std::make_shared<ChannelGuard>(key, net::Role::Listener, limit);
+  LoopbackWebRtcCall call(width, height, guard_a, guard_b);
+  REQUIRE(call.connect(width, height));
+  REQUIRE(guard_a->ready());
+  REQUIRE(guard_b->ready());
+  net::TouchEventMessage touch;
+  touch.timestamp_us = 5;
+  touch.sequence = 1;
+  REQUIRE(call.offerer->send_message(touch));
+  REQUIRE(call.answerer->send_message(net::EyeMessage{7, Eigen::Vector3d(0, 0.1, 0.7), true}));
+  for (uint32_t i = 0; i < 6; ++i) {
+    call.offerer->send_portrait(synthetic_portrait(width, height, 2000 + i));
+    std::this_thread::sleep_for(std::chrono::milliseconds(34));
+  }
+  // Bytes in the clear, even a well-formed message, are refused: only the key's records open.
+  const std::vector<uint8_t> clear = net::encode_message(net::HeartbeatMessage{1, 2});
+  const uint64_t refused_before = call.answerer->counters().messages_refused;
+  REQUIRE(call.offerer->send_raw(WebRtcPeer::Channel::Reliable, clear));  // sealed by the guard: accepted
+  std::vector<net::Message> at_b, at_a;
+  size_t portraits = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < deadline && (at_b.size() < 2 || at_a.empty() || portraits < 3)) {
+    call.pump();
+    for (auto& m : call.answerer->take_messages()) at_b.push_back(std::move(m));
+    for (auto& m : call.offerer->take_messages()) at_a.push_back(std::move(m));
+    while (call.answerer->take_portrait()) ++portraits;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  CHECK(messages_of<net::TouchEventMessage>(at_b).size() == 1);
+  CHECK(messages_of<net::HeartbeatMessage>(at_b).size() == 1);
+  CHECK(messages_of<net::EyeMessage>(at_a).size() == 1);
+  CHECK(portraits >= 3);  // the frame records were sealed and opened too
+  CHECK(call.answerer->counters().messages_refused == refused_before);
+}
+
+TEST_CASE("two sites with different keys never open their data channels to each other", "[media][webrtc]") {
+  constexpr uint32_t width = 160, height = 90;
+  constexpr size_t limit = 64 * 1024 - net::kDatagramOverhead;
+  auto guard_a = std::make_shared<ChannelGuard>(net::random_session_key(), net::Role::Connector, limit);
+  auto guard_b = std::make_shared<ChannelGuard>(net::random_session_key(), net::Role::Listener, limit);
+  LoopbackWebRtcCall call(width, height, guard_a, guard_b);
+  CHECK_FALSE(call.connect(width, height, std::chrono::seconds(4)));
+  CHECK(guard_b->failure().find("different keys") != std::string::npos);
+  CHECK_FALSE(guard_a->ready());
+  CHECK_FALSE(call.offerer->send_message(net::EyeMessage{7, Eigen::Vector3d(0, 0.1, 0.7), true}));
 }

@@ -119,6 +119,42 @@ TEST_CASE("small messages round-trip exactly") {
   CHECK(round_trip<SkeletonMessage>(SkeletonMessage{3, {}}).hands.empty());
 }
 
+TEST_CASE("signals round-trip, and bad ones are refused on both sides") {
+  const std::string sdp = "v=0\r\no=- 1 0 IN IP4 0.0.0.0\r\ns=-\r\nt=0 0\r\n";
+  const auto offer = round_trip<SignalMessage>(SignalMessage{SignalMessage::Kind::Offer, 0, sdp});
+  CHECK(offer.kind == SignalMessage::Kind::Offer);
+  CHECK(offer.text == sdp);
+  const auto candidate = round_trip<SignalMessage>(
+      SignalMessage{SignalMessage::Kind::Candidate, 2, "candidate:1 1 UDP 2015363327 127.0.0.1 40000 typ host"});
+  CHECK(candidate.mline == 2);
+  CHECK(round_trip<SignalMessage>(SignalMessage{SignalMessage::Kind::Answer, 0, sdp}).kind == SignalMessage::Kind::Answer);
+  // The encoder refuses what the decoder would.
+  CHECK_THROWS_WITH(encode_message(SignalMessage{SignalMessage::Kind::Offer, 0, ""}), Catch::Contains("must be 1.."));
+  CHECK_THROWS_WITH(encode_message(SignalMessage{SignalMessage::Kind::Offer, 0, std::string(kMaxSignalText + 1, 'a')}),
+                    Catch::Contains("must be 1.."));
+  CHECK_THROWS_WITH(encode_message(SignalMessage{SignalMessage::Kind::Candidate, 0, std::string(kMaxCandidateText + 1, 'a')}),
+                    Catch::Contains("must be 1.."));
+  CHECK_THROWS_WITH(encode_message(SignalMessage{SignalMessage::Kind::Offer, 3, sdp}), Catch::Contains("on a description"));
+  CHECK_THROWS_WITH(encode_message(SignalMessage{SignalMessage::Kind::Candidate, kMaxSignalMline, "c"}),
+                    Catch::Contains("too large"));
+  CHECK_THROWS_WITH(encode_message(SignalMessage{SignalMessage::Kind::Offer, 0, std::string("v=0\0x", 5)}),
+                    Catch::Contains("not printable"));
+  // The decoder: a bad kind, a length that disagrees, bytes that are not text.
+  const auto good = encode_message(SignalMessage{SignalMessage::Kind::Offer, 0, "v=0"});
+  auto bad_kind = good;
+  bad_kind[kHeaderSize] = 7;
+  expect_rejected(bad_kind, DecodeErrorKind::BadValue, "signal kind 7");
+  auto bad_length = good;
+  bad_length[kHeaderSize + 5] = 9;
+  expect_rejected(bad_length, DecodeErrorKind::BadLength, "declares 9 bytes");
+  auto control = good;
+  control.back() = 0x01;
+  expect_rejected(control, DecodeErrorKind::BadValue, "not printable");
+  auto truncated = std::vector<uint8_t>(good.begin(), good.begin() + kHeaderSize + 3);
+  truncated[8] = 3;
+  expect_rejected(truncated, DecodeErrorKind::Truncated, "fixed fields");
+}
+
 TEST_CASE("portrait: depth and alpha bit-exact, color within PSNR, camera exact") {
   for (auto [w, h] : {std::pair{37u, 23u}, {1u, 1u}, {64u, 9u}}) {
     const PortraitMessage sent = test::test_portrait(w, h, 42);

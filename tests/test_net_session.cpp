@@ -106,9 +106,10 @@ TEST_CASE("a session delivers all five message types both ways") {
     s->send(portrait);
     s->send(test::test_skeleton(monotonic_now_us()));
     s->send(TouchEventMessage{monotonic_now_us(), TouchEventMessage::Kind::Start, s == &link.listener ? uint8_t(1) : uint8_t(0)});
+    s->send(SignalMessage{SignalMessage::Kind::Candidate, 1, "candidate:1 1 UDP 2015363327 127.0.0.1 40000 typ host"});
   }
   const std::set<MessageType> all = {MessageType::Eye, MessageType::Portrait, MessageType::Skeleton,
-                                     MessageType::TouchEvent, MessageType::Heartbeat};
+                                     MessageType::TouchEvent, MessageType::Heartbeat, MessageType::Signal};
   REQUIRE(eventually_net_session([&] { return at_listener.types() == all && at_connector.types() == all; }));
 
   // The mailboxes hold the same: the newest of each stream, touch events all.

@@ -195,6 +195,10 @@ int run_bench_webrtc(const RunOptions& options) {
               webrtc_percentile(latency_ms, 0.5), webrtc_percentile(latency_ms, 0.9), webrtc_percentile(latency_ms, 1.0),
               (unsigned long long)measured_received, options.frames, (unsigned long long)received.frames_unpaired,
               webrtc_percentile(take_ms, 0.5), cpu_ms_per_portrait, cpu_ms_per_portrait * 30.0 / 1e3);
+  std::printf("  codecs, median ms a picture spends in each: colour encode %.2f, depth+alpha encode %.2f, colour decode "
+              "%.2f, depth+alpha decode %.2f; keyframes asked by the receiver %llu\n",
+              after.color_encode_ms, after.depth_encode_ms, received.color_decode_ms, received.depth_decode_ms,
+              (unsigned long long)received.keyframes_asked);
   nlohmann::json report = {{"width", width},
                            {"height", height},
                            {"portraits", options.frames},
@@ -212,7 +216,10 @@ int run_bench_webrtc(const RunOptions& options) {
                            {"latency_ms_median", webrtc_percentile(latency_ms, 0.5)},
                            {"latency_ms_p90", webrtc_percentile(latency_ms, 0.9)},
                            {"take_ms_median", webrtc_percentile(take_ms, 0.5)},
-                           {"cpu_ms_per_portrait", cpu_ms_per_portrait}};
+                           {"cpu_ms_per_portrait", cpu_ms_per_portrait},
+                           {"encode_ms_median", {{"colour", after.color_encode_ms}, {"depth_alpha", after.depth_encode_ms}}},
+                           {"decode_ms_median", {{"colour", received.color_decode_ms}, {"depth_alpha", received.depth_decode_ms}}},
+                           {"keyframes_asked", received.keyframes_asked}};
   std::filesystem::create_directories(options.out);
   std::ofstream(options.out / "bench_webrtc.json") << report.dump(2) << "\n";
   if (measured_received == 0) throw std::runtime_error("bench webrtc: no portrait came through: " + receiver.last_error());

@@ -36,6 +36,11 @@ class DemoCommand : public Command {
     command_->add_option("--jitter-ms", options_.jitter_ms, "Fault injection: extra random delay per record")
         ->check(CLI::Range(0, 10000));
     command_->add_option("--loss", options_.loss, "Fault injection: probability that a record is lost, which cuts the link there (as a TCP connection that loses data dies)")->check(CLI::Range(0.0, 0.9));
+    command_->add_option("--transport", options_.transport,
+                         "direct: everything over the session; webrtc: the session sets up a WebRTC call that carries "
+                         "the portraits as H.264 video and the rest on sealed data channels (site --transport)")
+        ->check(CLI::IsMember({"direct", "webrtc"}))
+        ->capture_default_str();
     command_->add_option("--replay-a", options_.replay_a, "Site A plays this recording instead of the scene (site --replay)");
     command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
     command_->add_option("--display", options_.display,
@@ -57,6 +62,14 @@ class DemoCommand : public Command {
   void check() override {
     options_.frames_given = frames_->count() > 0;
     if (disconnect_after_ms_ >= 0) options_.disconnect_after_ms = disconnect_after_ms_;
+    // The fault proxy sits on the session's TCP connection, which a WebRTC call only sets up.
+    if (options_.transport == "webrtc" &&
+        (disconnect_after_ms_ >= 0 || options_.delay_ms > 0 || options_.jitter_ms > 0 || options_.loss > 0))
+      throw CLI::ValidationError("--transport webrtc",
+                                 "the fault options act on the direct session's TCP connection, not on a WebRTC call");
+    // The video tracks are 4:2:0: both sides even.
+    if (options_.transport == "webrtc" && (options_.run.width % 2 || options_.run.height % 2))
+      throw CLI::ValidationError("--transport webrtc", "--width and --height must be even (the video is 4:2:0)");
     options_.ibr.width = options_.run.width;
     options_.ibr.height = options_.run.height;
     options_.quality = quality_.apply(options_.ibr, options_.resolution_scale, command_->count("--resolution-scale") > 0);

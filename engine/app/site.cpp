@@ -20,6 +20,11 @@ class SiteCommand : public Command {
     command_->add_option("--peer", options_.peer, "Connect to the other site at HOST:PORT (else listen)");
     command_->add_option("--listen", options_.listen, "Listen on HOST:PORT (port 0: any, printed)")->capture_default_str();
     command_->add_option("--key-file", options_.key_file, "Session key: 64 hex digits, the same at both sites");
+    command_->add_option("--transport", options_.transport,
+                         "direct: everything over the session; webrtc: the session sets up a WebRTC call that carries "
+                         "the portraits as H.264 video and the rest on sealed data channels (the same at both sites)")
+        ->check(CLI::IsMember({"direct", "webrtc"}))
+        ->capture_default_str();
     command_->add_option("--site", site_, "Which site this is")->check(CLI::IsMember({"A", "B"}))->capture_default_str();
     command_->add_option("--scene", options_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
     add_run_options(*command_, options_.run, "");
@@ -90,6 +95,7 @@ class SiteCommand : public Command {
       if (given("--peer")) options_.peer = flags.peer;
       if (given("--listen")) options_.listen = flags.listen;
       if (given("--key-file")) options_.key_file = flags.key_file;
+      if (given("--transport")) options_.transport = flags.transport;
       if (given("--scene")) options_.scene = flags.scene;
       if (given("--time-scale")) options_.time_scale = flags.time_scale;
       if (given("--resolution-scale")) options_.resolution_scale = flags.resolution_scale;

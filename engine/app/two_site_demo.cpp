@@ -201,7 +201,7 @@ int run_two_site_demo(const DemoOptions& options) {
                                      "--out", (out / ("site_" + site)).string(), "--width", std::to_string(options.run.width),
                                      "--height", std::to_string(options.run.height),
                                      // Two sites on one machine cannot share one motor board.
-                                     "--motor", "simulated", "--progress-lines"};
+                                     "--motor", "simulated", "--progress-lines", "--transport", options.transport};
     if (options.frames_given) args.insert(args.end(), {"--frames", std::to_string(options.run.frames)});
     if (options.time_scale > 0) args.insert(args.end(), {"--time-scale", std::to_string(options.time_scale)});
     if (options.resolution_scale > 0) args.insert(args.end(), {"--resolution-scale", std::to_string(options.resolution_scale)});
@@ -224,7 +224,8 @@ int run_two_site_demo(const DemoOptions& options) {
     return args;
   };
 
-  std::cerr << "demo: scene " << options.scene << ", two sites as two processes over loopback, " << options.run.width << "x"
+  std::cerr << "demo: scene " << options.scene << ", two sites as two processes over loopback ("
+            << (options.transport == "webrtc" ? "WebRTC call" : "direct session") << "), " << options.run.width << "x"
             << options.run.height << ", time scale "
             << (options.time_scale > 0 ? std::to_string(options.time_scale) : std::string("by the device")) << "\n";
   std::vector<std::string> args_a = site_args("A");
@@ -352,6 +353,7 @@ int run_two_site_demo(const DemoOptions& options) {
 
   nlohmann::json metrics;
   metrics["scene"] = options.scene;
+  metrics["transport"] = options.transport;
   metrics["width"] = options.run.width;
   metrics["height"] = options.run.height;
   metrics["quality"] = options.quality;

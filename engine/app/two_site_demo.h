@@ -22,6 +22,8 @@ struct DemoOptions {
   int outage_ms = 0;  // after the cut, the link stays silent this long (reconnects fail meanwhile)
   int delay_ms = 0, jitter_ms = 0;
   double loss = 0.0;
+  // direct: everything over the session; webrtc: a WebRTC call set up over it (site --transport).
+  std::string transport = "direct";
   std::filesystem::path replay_a, replay_b;  // a site that plays a recording (site --replay)
   // Each site's window (site --display): the demo's report reads the frames, so a window always
   // comes with them (both); auto is a window where a display is present.

@@ -23,6 +23,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "media/codec_probes.h"
 #include "media/portrait_frame.h"
 #include "time/monotonic_clock.h"
 
@@ -57,6 +58,9 @@ struct IncomingChain {
   std::array<std::pair<GstClockTime, uint32_t>, 64> pts_to_rtp{};
   size_t next = 0;
   uint32_t last_rtp = 0;
+  bool color = false;  // payload type 96; 97 is depth and alpha
+  CodecClock decode;
+  KeyframeRequests asked;  // by its depayloader, of the other peer's encoder
 };
 
 struct ByteCount {
@@ -85,6 +89,8 @@ struct WebRtcPeer::Impl {
   GstWebRTCDataChannel* fast = nullptr;
   GstWebRTCDataChannel* reliable = nullptr;
   GstVideoInfo color_info{}, depth_info{};
+  CodecClock color_encode, depth_encode;
+  KeyframeRequests asked_of_us;
   std::vector<std::unique_ptr<IncomingChain>> chains;
   std::deque<ByteCount> byte_counts;  // a deque: the probes hold pointers into it
 
@@ -132,6 +138,9 @@ struct WebRtcPeer::Impl {
   // ---- receiving ----
   void adopt_channel(GstWebRTCDataChannel* channel);
   void on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* bytes);
+  // The bytes as they are, on an open channel; false if it is not open.
+  bool send_on_channel(bool on_fast, std::span<const uint8_t> bytes);
+  bool channels_open() const;
   void link_incoming(GstPad* pad);
   void on_sample(GstAppSink* sink);
   void store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes, std::optional<PortraitFrame> frame);
@@ -202,11 +211,24 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   if (size > kMaxChannelMessage)
     return refuse("a data-channel message of " + std::to_string(size) + " bytes, over the " +
                   std::to_string(kMaxChannelMessage) + " this link accepts");
-  const std::span<const uint8_t> view(data, size);
+  std::span<const uint8_t> view(data, size);
   bool on_fast = false;
   {
     std::lock_guard lock(mutex);  // adopt_channel sets `fast` from another thread
     on_fast = channel == fast;
+  }
+  ChannelGuard::Received opened;
+  if (options.guard) {
+    opened = options.guard->receive(on_fast ? GuardedChannel::Fast : GuardedChannel::Reliable, view);
+    if (opened.kind == ChannelGuard::Received::Kind::Refused) {
+      if (!opened.reply.empty()) send_on_channel(false, opened.reply);
+      return refuse(options.name + ": " + opened.reason);
+    }
+    if (opened.kind == ChannelGuard::Received::Kind::Handshake) {
+      if (!opened.reply.empty()) send_on_channel(false, opened.reply);
+      return;
+    }
+    view = opened.message;
   }
   if (is_portrait_frame(view)) {
     std::string why;
@@ -218,6 +240,7 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   if (!result.ok()) return refuse("a data-channel message refused: " + result.error.message);
   const net::MessageType type = net::message_type(*result.message);
   if (type == net::MessageType::Portrait) return refuse("a portrait on a data channel: portraits travel as video");
+  if (type == net::MessageType::Signal) return refuse("a signal on a data channel: signals set the call up beside it");
   if (travels_fast(type) != on_fast)
     return refuse(std::string("a ") + net::message_type_name(type) + " message on the wrong data channel");
   std::lock_guard lock(mutex);
@@ -231,6 +254,8 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   const GstStructure* s = caps ? gst_caps_get_structure(caps, 0) : nullptr;
   const char* encoding = s ? gst_structure_get_string(s, "encoding-name") : nullptr;
   const bool h264 = encoding && std::string(encoding) == "H264";
+  int payload = 0;
+  if (s) gst_structure_get_int(s, "payload", &payload);
   if (caps) gst_caps_unref(caps);
   // Every incoming pad gets linked: an unlinked one tears the whole bundle down.
   if (!h264) {
@@ -244,6 +269,7 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   }
   auto chain = std::make_unique<IncomingChain>();
   chain->impl = this;
+  chain->color = payload == 96;
   GstElement* depay = gst_element_factory_make("rtph264depay", nullptr);
   GstElement* decoder = gst_element_factory_make("avdec_h264", nullptr);
   GstElement* sink = gst_element_factory_make("appsink", nullptr);
@@ -297,6 +323,10 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
                     },
                     chain.get(), nullptr);
   gst_object_unref(depay_src);
+  chain->decode.attach(decoder);
+  GstPad* asking = gst_element_get_static_pad(depay, "sink");
+  chain->asked.attach(asking);
+  gst_object_unref(asking);
   for (GstElement* e : {depay, decoder, sink}) gst_element_sync_state_with_parent(e);
   GstPad* depay_pad = gst_element_get_static_pad(depay, "sink");
   const GstPadLinkReturn linked = gst_pad_link(pad, depay_pad);
@@ -477,6 +507,15 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   m.depth_src = gst_bin_get_by_name(GST_BIN(m.pipeline), "depthsrc");
   m.color_enc = gst_bin_get_by_name(GST_BIN(m.pipeline), "colorenc");
   m.depth_enc = gst_bin_get_by_name(GST_BIN(m.pipeline), "depthenc");
+  if (m.color_enc && m.depth_enc) {
+    m.color_encode.attach(m.color_enc);
+    m.depth_encode.attach(m.depth_enc);
+    for (GstElement* encoder : {m.color_enc, m.depth_enc}) {
+      GstPad* src = gst_element_get_static_pad(encoder, "src");
+      m.asked_of_us.attach(src);
+      gst_object_unref(src);
+    }
+  }
   gst_video_info_set_format(&m.color_info, GST_VIDEO_FORMAT_I420, o.width, o.height);
   gst_video_info_set_format(&m.depth_info, GST_VIDEO_FORMAT_I420_10LE, o.width, o.height);
 
@@ -625,19 +664,28 @@ void WebRtcPeer::add_ice_candidate(unsigned mline, const std::string& candidate)
   g_signal_emit_by_name(impl_->webrtc, "add-ice-candidate", mline, candidate.c_str());
 }
 
-bool WebRtcPeer::connected() const {
-  const Impl& m = *impl_;
+bool WebRtcPeer::Impl::channels_open() const {
   GstWebRTCICEConnectionState ice = GST_WEBRTC_ICE_CONNECTION_STATE_NEW;
-  g_object_get(m.webrtc, "ice-connection-state", &ice, nullptr);
+  g_object_get(webrtc, "ice-connection-state", &ice, nullptr);
   if (ice != GST_WEBRTC_ICE_CONNECTION_STATE_CONNECTED && ice != GST_WEBRTC_ICE_CONNECTION_STATE_COMPLETED) return false;
-  std::lock_guard lock(m.mutex);
-  for (GstWebRTCDataChannel* channel : {m.fast, m.reliable}) {
+  std::lock_guard lock(mutex);
+  for (GstWebRTCDataChannel* channel : {fast, reliable}) {
     if (!channel) return false;
     GstWebRTCDataChannelState state = GST_WEBRTC_DATA_CHANNEL_STATE_CLOSED;
     g_object_get(channel, "ready-state", &state, nullptr);
     if (state != GST_WEBRTC_DATA_CHANNEL_STATE_OPEN) return false;
   }
   return true;
+}
+
+bool WebRtcPeer::connected() const {
+  const Impl& m = *impl_;
+  if (!m.channels_open()) return false;
+  if (!m.options.guard) return true;
+  // The connector's hello goes once both channels are open, again until answered (the guard says when).
+  if (const std::vector<uint8_t> hello = m.options.guard->start(); !hello.empty())
+    const_cast<Impl&>(m).send_on_channel(false, hello);
+  return m.options.guard->ready();
 }
 
 bool WebRtcPeer::wait_connected(std::chrono::milliseconds timeout) {
@@ -744,6 +792,8 @@ bool WebRtcPeer::send_message(const net::Message& message) {
   const net::MessageType type = net::message_type(message);
   if (type == net::MessageType::Portrait)
     throw std::invalid_argument("a portrait goes through send_portrait: it travels as video");
+  if (type == net::MessageType::Signal)
+    throw std::invalid_argument("a signal goes to the other site beside the call, not on its data channels");
   const std::vector<uint8_t> bytes = net::encode_message(message);
   if (bytes.size() > kMaxChannelMessage) throw std::invalid_argument("a message over the data channels' limit");
   if (!send_raw(travels_fast(type) ? Channel::Fast : Channel::Reliable, bytes)) return false;
@@ -755,8 +805,16 @@ bool WebRtcPeer::send_message(const net::Message& message) {
 bool WebRtcPeer::send_raw(Channel which, std::span<const uint8_t> bytes) {
   Impl& m = *impl_;
   if (bytes.size() > kMaxChannelMessage) return false;
-  std::lock_guard lock(m.mutex);
-  GstWebRTCDataChannel* channel = which == Channel::Fast ? m.fast : m.reliable;
+  if (!m.options.guard) return m.send_on_channel(which == Channel::Fast, bytes);
+  const auto sealed =
+      m.options.guard->seal(which == Channel::Fast ? GuardedChannel::Fast : GuardedChannel::Reliable, bytes);
+  if (!sealed || sealed->size() > kMaxChannelMessage) return false;
+  return m.send_on_channel(which == Channel::Fast, *sealed);
+}
+
+bool WebRtcPeer::Impl::send_on_channel(bool on_fast, std::span<const uint8_t> bytes) {
+  std::lock_guard lock(mutex);
+  GstWebRTCDataChannel* channel = on_fast ? fast : reliable;
   if (!channel) return false;
   // Sending on a channel that is not open yet crashes webrtcbin 1.22: ask first.
   GstWebRTCDataChannelState state = GST_WEBRTC_DATA_CHANNEL_STATE_CLOSED;
@@ -765,7 +823,7 @@ bool WebRtcPeer::send_raw(Channel which, std::span<const uint8_t> bytes) {
   GBytes* data = g_bytes_new(bytes.data(), bytes.size());
   gst_webrtc_data_channel_send_data(channel, data);
   g_bytes_unref(data);
-  m.counters.channel_bytes_sent += bytes.size();
+  counters.channel_bytes_sent += bytes.size();
   return true;
 }
 
@@ -791,8 +849,17 @@ std::vector<net::Message> WebRtcPeer::take_messages() {
 }
 
 WebRtcCounters WebRtcPeer::counters() const {
-  std::lock_guard lock(impl_->mutex);
-  return impl_->counters;
+  const Impl& m = *impl_;
+  std::lock_guard lock(m.mutex);
+  WebRtcCounters out = m.counters;
+  out.color_encode_ms = m.color_encode.median_ms();
+  out.depth_encode_ms = m.depth_encode.median_ms();
+  out.keyframes_asked_of_us = m.asked_of_us.count();
+  for (const auto& chain : m.chains) {
+    (chain->color ? out.color_decode_ms : out.depth_decode_ms) = chain->decode.median_ms();
+    out.keyframes_asked += chain->asked.count();
+  }
+  return out;
 }
 
 std::string WebRtcPeer::last_error() const {

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "media/channel_guard.h"
 #include "media/depth_alpha_codec.h"
 #include "net/message_codec.h"
 #include "net/messages.h"
@@ -49,6 +50,10 @@ struct WebRtcPeerOptions {
   DepthRange depth_range;
   std::vector<std::string> local_addresses = {"127.0.0.1"};
   size_t max_queued_portraits = 8;  // received, not yet taken: the oldest is dropped beyond
+  // The site key on the data channels (media/channel_guard.h): with one, everything they carry
+  // is sealed, nothing is sent before its handshake completes, and connected() waits for it.
+  // Without one, DTLS alone protects them (the tests of the channels' own checks).
+  std::shared_ptr<ChannelGuard> guard;
 };
 
 struct ReceivedPortrait {
@@ -63,6 +68,11 @@ struct WebRtcCounters {
   uint64_t frames_unpaired = 0;  // a track's frame, or a frame record, that found no partner in time
   uint64_t messages_sent = 0, messages_received = 0, messages_refused = 0;
   uint64_t color_bytes_sent = 0, depth_bytes_sent = 0, channel_bytes_sent = 0;  // encoded payload bytes
+  // The codecs (media/codec_probes.h): median ms a picture spends in each encoder and decoder
+  // (0 before any), and the keyframes asked: by this peer's depayloaders of the other peer after a
+  // lost picture, and of this peer's encoders (RTCP PLI or FIR from the other side).
+  double color_encode_ms = 0, depth_encode_ms = 0, color_decode_ms = 0, depth_decode_ms = 0;
+  uint64_t keyframes_asked = 0, keyframes_asked_of_us = 0;
 };
 
 class WebRtcPeer {
@@ -92,8 +102,9 @@ class WebRtcPeer {
   // (std::invalid_argument): portraits travel as video. False when the channel is not open.
   bool send_message(const net::Message& message);
   // Raw bytes on one channel, for what the session's codec would not make: the tests of the
-  // receiver's checks. False when the channel is not open, or for more than 64 KiB (webrtcbin's
-  // SCTP would drop it unannounced).
+  // receiver's checks (sealed first when there is a guard). False when the channel is not open,
+  // before the guard's handshake completed, or for more than 64 KiB (webrtcbin's SCTP would drop
+  // it unannounced).
   enum class Channel { Fast, Reliable };
   bool send_raw(Channel channel, std::span<const uint8_t> bytes);
   // Both encoders' next frame is a keyframe.

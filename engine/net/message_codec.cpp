@@ -20,6 +20,7 @@ constexpr double kMaxHandWidth = 1.0;  // metres: wider is not a hand or a forea
 // and the ending flag to heartbeats.
 constexpr uint32_t kTouchPayload = 8 + 1 + 1 + 8 + 8;
 constexpr uint32_t kHeartbeatPayload = 8 + 8 + 8 + 8 + 1;
+constexpr uint32_t kSignalFixed = 1 + 4 + 4;
 constexpr uint32_t kPortraitFixed = 8 + 8 + 4 + 4 + 4 * 8 + 16 * 8;
 
 // Thrown inside the decoder only, caught at its top: one place turns a failed check into a result.
@@ -58,6 +59,21 @@ std::string check_hand(const HandSkeleton& hand) {
   for (const auto& digit : hand.digits)
     for (const auto& joint : digit)
       if (auto e = check_point(joint, "digit joint"); !e.empty()) return e;
+  return {};
+}
+
+std::string check_signal(const SignalMessage& m) {
+  if (uint8_t(m.kind) > uint8_t(SignalMessage::Kind::Candidate))
+    return "signal kind " + std::to_string(int(m.kind)) + " is not offer (0), answer (1) or candidate (2)";
+  const bool candidate = m.kind == SignalMessage::Kind::Candidate;
+  const uint32_t limit = candidate ? kMaxCandidateText : kMaxSignalText;
+  if (m.text.empty() || m.text.size() > limit)
+    return "signal text of " + std::to_string(m.text.size()) + " bytes, must be 1.." + std::to_string(limit);
+  if (candidate ? m.mline >= kMaxSignalMline : m.mline != 0)
+    return "signal media line " + std::to_string(m.mline) + (candidate ? " is too large" : " on a description (must be 0)");
+  for (const char c : m.text)
+    if (!(c == '\r' || c == '\n' || c == '\t' || (uint8_t(c) >= 0x20 && uint8_t(c) < 0x7F)))
+      return "signal text holds a byte " + std::to_string(int(uint8_t(c))) + " that is not printable ASCII";
   return {};
 }
 
@@ -168,7 +184,14 @@ void encode_payload(ByteWriter& w, const Message& message, const EncodeOptions& 
           w.put<uint8_t>(m.site);
           w.put<uint64_t>(m.sender_session);
           w.put<uint64_t>(m.sequence);
+        } else if constexpr (std::is_same_v<T, SignalMessage>) {
+          invalid(check_signal(m));
+          w.put<uint8_t>(uint8_t(m.kind));
+          w.put<uint32_t>(m.mline);
+          w.put<uint32_t>(uint32_t(m.text.size()));
+          w.put_bytes(std::span(reinterpret_cast<const uint8_t*>(m.text.data()), m.text.size()));
         } else {
+          static_assert(std::is_same_v<T, HeartbeatMessage>);
           w.put<uint64_t>(m.timestamp_us);
           w.put<uint64_t>(m.sequence);
           w.put<uint64_t>(m.touches_acked_session);
@@ -202,6 +225,23 @@ Message decode_payload(MessageType type, ByteReader& r, const DecodeOptions& opt
       m.touches_acked_session = r.get<uint64_t>();
       m.touches_acked_sequence = r.get<uint64_t>();
       m.ending = get_flag(r, "heartbeat ending flag");
+      return m;
+    }
+    case MessageType::Signal: {
+      SignalMessage m;
+      const uint8_t kind = r.get<uint8_t>();
+      m.mline = r.get<uint32_t>();
+      const uint32_t length = r.get<uint32_t>();
+      if (!r.ok()) reject(DecodeErrorKind::Truncated, "signal shorter than its fixed fields");
+      if (length != r.left())
+        reject(DecodeErrorKind::BadLength, "signal text declares " + std::to_string(length) + " bytes, " +
+                                               std::to_string(r.left()) + " follow");
+      if (kind > uint8_t(SignalMessage::Kind::Candidate))
+        reject(DecodeErrorKind::BadValue, "signal kind " + std::to_string(kind) + " is not offer (0), answer (1) or candidate (2)");
+      m.kind = SignalMessage::Kind(kind);
+      const auto text = r.get_bytes(length);
+      m.text.assign(reinterpret_cast<const char*>(text.data()), text.size());
+      if (auto e = check_signal(m); !e.empty()) reject(DecodeErrorKind::BadValue, e);
       return m;
     }
     case MessageType::TouchEvent: {
@@ -303,13 +343,14 @@ const char* message_type_name(MessageType type) {
     case MessageType::Skeleton: return "skeleton";
     case MessageType::TouchEvent: return "touch";
     case MessageType::Heartbeat: return "heartbeat";
+    case MessageType::Signal: return "signal";
   }
   return "unknown";
 }
 
 MessageType message_type(const Message& message) {
   static constexpr MessageType types[] = {MessageType::Eye, MessageType::Portrait, MessageType::Skeleton,
-                                          MessageType::TouchEvent, MessageType::Heartbeat};
+                                          MessageType::TouchEvent, MessageType::Heartbeat, MessageType::Signal};
   return types[message.index()];
 }
 
@@ -334,6 +375,7 @@ uint32_t max_payload_size(MessageType type) {
     case MessageType::Skeleton: return kSkeletonFixed + kMaxHands * kHandSize;
     case MessageType::TouchEvent: return kTouchPayload;
     case MessageType::Heartbeat: return kHeartbeatPayload;
+    case MessageType::Signal: return kSignalFixed + kMaxSignalText;
   }
   return 0;
 }

@@ -29,6 +29,11 @@ inline constexpr uint32_t kMaxPortraitSide = 4096;          // pixels, either si
 inline constexpr size_t kMaxHands = 2;
 // Coordinates beyond this many metres from the site origin are rejected as nonsense.
 inline constexpr double kMaxCoordinate = 100.0;
+// A signal's text: an SDP within kMaxSignalText (webrtcbin's for the call is far smaller), a
+// candidate within kMaxCandidateText; a candidate's media line below kMaxSignalMline.
+inline constexpr uint32_t kMaxSignalText = 256 * 1024;
+inline constexpr uint32_t kMaxCandidateText = 1024;
+inline constexpr uint32_t kMaxSignalMline = 64;
 // The largest encoded message of any type (header included): the record layer's limit.
 inline constexpr size_t kMaxMessageSize = kHeaderSize + kMaxPortraitPayload;
 

@@ -16,10 +16,10 @@
 namespace rt::net {
 
 // Wire values: never renumber, only append (and bump kProtocolVersion if the meaning changes).
-enum class MessageType : uint16_t { Eye = 1, Portrait = 2, Skeleton = 3, TouchEvent = 4, Heartbeat = 5 };
-inline constexpr int kMessageTypeCount = 5;
+enum class MessageType : uint16_t { Eye = 1, Portrait = 2, Skeleton = 3, TouchEvent = 4, Heartbeat = 5, Signal = 6 };
+inline constexpr int kMessageTypeCount = 6;
 const char* message_type_name(MessageType type);
-// 0..4 for counters indexed by type.
+// 0..kMessageTypeCount-1 for counters indexed by type.
 inline int message_type_index(MessageType type) { return int(type) - 1; }
 
 // The remote viewer's eye: the sender renders its portrait for it.
@@ -69,7 +69,16 @@ struct HeartbeatMessage {
   bool ending = false;
 };
 
-using Message = std::variant<EyeMessage, PortraitMessage, SkeletonMessage, TouchEventMessage, HeartbeatMessage>;
+// WebRTC signalling over the session, where the two sites set up their WebRTC call without a
+// rendezvous server: the offer, the answer, or one ICE candidate, as webrtcbin gives them.
+struct SignalMessage {
+  enum class Kind : uint8_t { Offer = 0, Answer = 1, Candidate = 2 };
+  Kind kind = Kind::Offer;
+  uint32_t mline = 0;  // a candidate's media line; 0 for a description
+  std::string text;    // the SDP, or the candidate line: printable text, no NUL
+};
+
+using Message = std::variant<EyeMessage, PortraitMessage, SkeletonMessage, TouchEventMessage, HeartbeatMessage, SignalMessage>;
 
 MessageType message_type(const Message& message);
 

@@ -80,6 +80,8 @@ constexpr std::chrono::milliseconds kGoodbyeWait{300};
 // Unacknowledged touch events a session keeps for sending again; touches are a few a second, so
 // only a peer that never acknowledges fills it.
 constexpr size_t kMaxUnackedTouches = 256;
+// A WebRTC call's set-up is an offer, an answer and a few dozen candidates at most.
+constexpr size_t kMaxQueuedSignals = 256;
 
 }  // namespace
 
@@ -132,6 +134,9 @@ struct Session::Impl {
   std::optional<std::vector<uint8_t>> out_eye, out_skeleton, out_portrait, out_heartbeat;
   // Touch events sent and not yet acknowledged by the peer, by sequence, oldest first.
   std::deque<std::pair<uint64_t, std::vector<uint8_t>>> out_touch;
+  // WebRTC signals, each needed (an offer, an answer, every candidate): queued, not newest-wins,
+  // on the current connection only (a call set up over a connection that died is set up again).
+  std::deque<std::vector<uint8_t>> out_signal;
   uint64_t touch_session = 0;  // random: tells this run's touch sequence from an earlier run's
   uint64_t next_touch_sequence = 1;
   uint64_t touches_written_any = 0;  // the newest touch event written on any connection
@@ -559,6 +564,7 @@ struct Session::Impl {
             if constexpr (std::is_same_v<T, PortraitMessage>) put(in_portrait, m);
             if constexpr (std::is_same_v<T, SkeletonMessage>) put(in_skeleton, m);
             if constexpr (std::is_same_v<T, HeartbeatMessage>) put(in_heartbeat, m);
+            // Signals have no mailbox: the handler (the WebRTC link's) takes each.
             if constexpr (std::is_same_v<T, TouchEventMessage>) {
               if (in_touch.size() >= options.incoming_touch_capacity) {
                 ++counters.stale_dropped_in[size_t(index)];
@@ -578,6 +584,11 @@ struct Session::Impl {
     std::lock_guard lock(mutex);
     for (const auto& [sequence, bytes] : out_touch)
       if (sequence > c.touches_written) return Outgoing{MessageType::TouchEvent, bytes, sequence};
+    if (!out_signal.empty()) {
+      Outgoing o{MessageType::Signal, std::move(out_signal.front()), 0, false};
+      out_signal.pop_front();
+      return o;
+    }
     for (auto [slot, type] : {std::pair{&out_heartbeat, MessageType::Heartbeat}, {&out_eye, MessageType::Eye},
                               {&out_skeleton, MessageType::Skeleton}, {&out_portrait, MessageType::Portrait}})
       if (*slot) {
@@ -925,6 +936,13 @@ void Session::send_encoded(MessageType stream, std::vector<uint8_t> bytes) {
       case MessageType::Skeleton: replace(s.out_skeleton); break;
       case MessageType::Portrait: replace(s.out_portrait); break;
       case MessageType::Heartbeat: replace(s.out_heartbeat); break;
+      case MessageType::Signal:
+        if (s.out_signal.size() >= kMaxQueuedSignals) {
+          s.out_signal.pop_front();
+          ++s.counters.stale_dropped_out[size_t(message_type_index(stream))];
+        }
+        s.out_signal.push_back(std::move(bytes));
+        break;
       case MessageType::TouchEvent:  // as encoded: send() is what numbers a touch event
         s.out_touch.emplace_back(s.next_touch_sequence++, std::move(bytes));
         break;

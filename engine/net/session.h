@@ -25,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "net/transport.h"
 #include "net/message_codec.h"
 #include "net/messages.h"
 #include "net/net_counters.h"
@@ -51,35 +52,22 @@ struct SessionOptions {
 // "HOST:PORT" ("[::1]:7000" for IPv6). Throws std::invalid_argument saying what is wrong.
 std::pair<std::string, uint16_t> parse_host_port(const std::string& text);
 
-// Ended: the peer said goodbye and closed, so the session is over (a connector does not try
-// again); Lost: the link failed without a goodbye.
-enum class ConnectionState { Idle, Connecting, Connected, Lost, Refused, Ended };
-const char* connection_state_name(ConnectionState state);
-
-struct ConnectionStatus {
-  ConnectionState state = ConnectionState::Idle;
-  uint64_t since_us = 0;  // monotonic clock: when this state began
-  std::string reason;     // why lost or refused
-  std::string peer;       // address of the current or last peer
-  bool connected() const { return state == ConnectionState::Connected; }
-};
-
-class Session {
+class Session : public Transport {
  public:
   explicit Session(SessionOptions options);
-  ~Session();  // stops
+  ~Session() override;  // stops
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
   // Binds (listener; throws if it cannot) or starts connecting, and starts the network thread.
   // A session starts once; after stop(), make a new one.
-  void start();
-  void stop();
-  uint16_t local_port() const;
+  void start() override;
+  void stop() override;
+  uint16_t local_port() const override;
 
   // Thread-safe. Encodes on the calling thread (a portrait's JPEG too); throws
   // std::invalid_argument for a message the peer would reject.
-  void send(const Message& message);
+  void send(const Message& message) override;
   // Bytes already encoded (the benchmark times encoding apart), sent as they are on `stream`'s
   // queue (a touch event with the number and session it carries): tests use it to play a peer
   // that holds the key but sends malformed messages.
@@ -93,12 +81,14 @@ class Session {
 
   // Set before start(). Called for every accepted message, heartbeats too: on the network thread,
   // portraits on the session's portrait-decoding thread (so a 720p decode never delays a touch).
-  void set_handler(std::function<void(const Message&)> handler);
+  // Signals reach the handler only (no mailbox).
+  void set_handler(std::function<void(const Message&)> handler) override;
 
-  ConnectionStatus status() const;
-  NetCounters counters() const;
+  ConnectionStatus status() const override;
+  NetCounters counters() const override;
   // Polls status() until connected or the timeout passes.
-  bool wait_connected(std::chrono::milliseconds timeout) const;
+  bool wait_connected(std::chrono::milliseconds timeout) const override;
+  nlohmann::json transport_json() const override { return {{"kind", "direct"}}; }
 
  private:
   struct Impl;

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "image/host_image.h"
-#include "net/session.h"
+#include "net/transport.h"
 #include "session/event_log.h"
 #include "session/fair_mutex.h"
 #include "sim/scene.h"
@@ -40,7 +40,7 @@ struct SiteCommon {
   vk::Context* context = nullptr;
   session::FairMutex gpu_turn;  // lavapipe is one queue on the CPU: GPU work from all threads takes turns
   session::EventLog* events = nullptr;
-  net::Session* net = nullptr;
+  net::Transport* net = nullptr;  // the direct session or the WebRTC call (options.transport)
   SiteCapture* capture = nullptr;  // --capture-frame: the sender's and the receiver's iteration
   HostImage background;  // what the display shows behind the remote user
   display::GlfwWindow* window = nullptr;       // --display window or both; polled by the run's main thread

@@ -55,7 +55,7 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
     value = static_cast<std::remove_reference_t<decltype(value)>>(json[name].get<double>());
   };
   for (const auto& [key, value] : json.items())
-    if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "time_scale" &&
+    if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "transport" && key != "time_scale" &&
         key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" && key != "site_file" &&
         key != "motor" &&  key != "tracker" && key != "display" && key != "monitor" &&
         key != "present_mode" && key != "ibr" && key != "hand" && key != "touch")
@@ -68,6 +68,9 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   string_field("listen", options.listen);
   string_field("peer", options.peer);
   string_field("key_file", key_file);
+  string_field("transport", options.transport);
+  if (options.transport != "direct" && options.transport != "webrtc")
+    throw std::runtime_error(config.string() + ": 'transport' must be \"direct\" or \"webrtc\"");
   if (!key_file.empty()) options.key_file = std::filesystem::path(key_file).is_absolute() ? std::filesystem::path(key_file) : base / key_file;
   std::string replay;
   string_field("replay", replay);

@@ -51,6 +51,7 @@ nlohmann::json site_metrics(const SiteCommon& common, double elapsed_s) {
   const double wall = std::max(elapsed_s, 1e-6);
   m["bytes_per_s"] = {{"out", double(counters.bytes_out) / wall}, {"in", double(counters.bytes_in) / wall}};
   m["net"] = counters.to_json();
+  m["transport"] = common.net->transport_json();
   m["touch"] = {{"starts", common.events->count("touch_start")},
                 {"ends", common.events->count("touch_end")},
                 {"motor_pulses", common.events->count("motor_pulse")}};

@@ -20,6 +20,9 @@ struct SiteRunOptions {
   std::string listen = "127.0.0.1:0";  // listener: where to listen (port 0: any; printed as "listening on PORT")
   std::string peer;                    // connector: the listener's HOST:PORT; empty = be the listener
   std::filesystem::path key_file;      // 64 hex digits; both sites need the same
+  // How portraits and messages travel: "direct" (everything over the session) or "webrtc" (the
+  // session sets up a WebRTC call, media/webrtc_link.h). Both sites need the same.
+  std::string transport = "direct";
   double time_scale = 0.0;             // scene seconds per wall-clock second; 0 = by the device (site_run.cpp)
   double resolution_scale = 0.0;       // of the cameras; 0 = the scene's own
   bool write_truth = true;             // this site's user seen from the remote eye, over the background
@@ -48,7 +51,7 @@ struct SiteRunOptions {
   TouchSettings touch;                  // contact prediction and the motor's latency
 };
 
-// Fills the fields a --config JSON names (scene, site, listen, peer, key_file, time_scale,
+// Fills the fields a --config JSON names (scene, site, listen, peer, key_file, transport, time_scale,
 // resolution_scale, width, height, frames, replay, site_file, motor, tracker, and the objects "ibr", "hand" and
 // "touch" of the knobs in pipeline/ibr_settings.h, hand_settings.h and touch/touch_settings.h,
 // e.g. "ibr": {"refine": 9, "best_views": 4}); a file path (key_file, replay, site_file) is relative to the config's folder.

@@ -12,6 +12,8 @@
 #include <thread>
 
 #include "display/glfw_window.h"
+#include "media/webrtc_link.h"
+#include "net/session.h"
 #include "pipeline/demo_layers.h"
 #include "pipeline/gpu_session.h"
 #include "site/closing_table.h"
@@ -129,7 +131,7 @@ class SiteRun {
   std::unique_ptr<Sender> sender_;
   std::unique_ptr<Receiver> receiver_;
   // Declared after the sender and the receiver, so destroyed before them: its thread calls them.
-  std::unique_ptr<net::Session> net_;
+  std::unique_ptr<net::Transport> net_;
   std::mutex skeleton_mutex_;
   std::deque<std::pair<uint64_t, uint64_t>> remote_capture_of_stamp_;  // (stamp here, sender's capture) µs
   session::LatencyStats touch_to_motor_, detect_to_motor_;
@@ -139,6 +141,7 @@ class SiteRun {
   std::optional<uint64_t> unpaired_pulse_us_;
   uint64_t started_us_ = 0;
   std::string stopped_by_;  // SIGINT, SIGTERM, window or peer; empty: the scene ended
+  std::atomic<bool> told_transport_mismatch_{false};
 };
 
 SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
@@ -211,7 +214,17 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
     std::cerr << line << "\n";
     events_.write("net_log", monotonic_now_us(), {{"line", line}});
   };
-  net_ = std::make_unique<net::Session>(net_options);
+  if (options.transport == "webrtc") {
+    media::WebRtcPeerOptions call;
+    call.width = options.run.width;
+    call.height = options.run.height;
+    net_ = std::make_unique<media::WebRtcLink>(net_options, call);
+    std::cerr << "site " << common_.name << ": transport webrtc (the session sets up the call; portraits as H.264 video)\n";
+  } else if (options.transport == "direct") {
+    net_ = std::make_unique<net::Session>(net_options);
+  } else {
+    throw std::invalid_argument("--transport must be direct or webrtc, not '" + options.transport + "'");
+  }
   common_.net = net_.get();
   common_.eye_search_deadline_us = started_us_ + uint64_t(options.connect_timeout_s * 1e6);
   // The sender first: a replay replaces the scene's site, which the receiver then shows.
@@ -246,6 +259,11 @@ void SiteRun::on_message(const net::Message& message) {
   } else if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
     events_.write(touch->kind == net::TouchEventMessage::Kind::Start ? "remote_touch_start" : "remote_touch_end", now,
                   {{"detected_by", touch->site == 0 ? "A" : "B"}});
+  } else if (std::holds_alternative<net::SignalMessage>(message) && !told_transport_mismatch_.exchange(true)) {
+    // Only a direct session hands signals up: the other site is calling over WebRTC.
+    std::cerr << "site " << common_.name << ": the other site runs --transport webrtc and this one "
+              << common_.options.transport << ": give both the same\n";
+    events_.write("transport_mismatch", now, {{"here", common_.options.transport}});
   }
 }
 

@@ -82,7 +82,7 @@ for site in "AB":
 PY
 grep -q '"capture_to_portrait_on_screen"' "$out/metrics.json" || fail "no portrait latency in metrics.json"
 grep -q "touch_to_motor_command median ms" "$out.log" || fail "no summary table"
-if [ $# -gt 0 ]; then
+if [[ " $* " =~ " --"(loss|delay-ms|jitter-ms|disconnect-after-ms)" " ]]; then
   grep -q '"fault_proxy"' "$out/metrics.json" || fail "fault options given, but no fault proxy counts in metrics.json"
 fi
 if [[ " $* " == *" --loss "* ]]; then

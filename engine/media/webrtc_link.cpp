@@ -1,0 +1,262 @@
+#include "media/webrtc_link.h"
+
+#include <stdexcept>
+
+#include "time/monotonic_clock.h"
+
+namespace rt::media {
+namespace {
+
+constexpr size_t kMaxTouchesWaiting = 64;  // touches are a few a second; a call that never opens holds no more
+constexpr auto kLinkPumpPeriod = std::chrono::milliseconds(2);
+
+// libnice skips loopback unless it is named: a call between two sites on one machine gathers on
+// it alone, and a call between machines on every interface (there is no STUN server yet).
+std::vector<std::string> ice_addresses_for(const std::string& session_host) {
+  if (session_host == "127.0.0.1" || session_host == "localhost") return {"127.0.0.1"};
+  if (session_host == "::1" || session_host == "[::1]") return {"::1"};
+  return {};
+}
+
+// A blank portrait: the offer needs the tracks' caps, which only a first picture gives them. It
+// goes before the call is up, so webrtcbin drops it.
+net::PortraitMessage blank_portrait(uint32_t width, uint32_t height) {
+  net::PortraitMessage p;
+  p.width = width;
+  p.height = height;
+  p.fx = p.fy = double(width);
+  p.cx = width / 2.0;
+  p.cy = height / 2.0;
+  p.color = HostImage(width, height, PixelFormat::RGBA32F);
+  p.depth = HostImage(width, height, PixelFormat::R32F);
+  return p;
+}
+
+const char* signal_kind_name(net::SignalMessage::Kind kind) {
+  return kind == net::SignalMessage::Kind::Offer ? "offer" : kind == net::SignalMessage::Kind::Answer ? "answer" : "candidate";
+}
+
+}  // namespace
+
+WebRtcLink::WebRtcLink(net::SessionOptions session, WebRtcPeerOptions peer)
+    : session_options_(std::move(session)), width_(peer.width), height_(peer.height) {
+  const bool connector = session_options_.role == net::Role::Connector;
+  peer.offerer = connector;
+  peer.name = session_options_.name + " webrtc";
+  if (peer.local_addresses.empty() || peer.local_addresses == std::vector<std::string>{"127.0.0.1"})
+    peer.local_addresses = ice_addresses_for(session_options_.host);
+  // The opener's limit: what a data-channel message may hold once its seal is off.
+  guard_ = std::make_shared<ChannelGuard>(session_options_.key, session_options_.role, 64 * 1024 - net::kDatagramOverhead);
+  peer.guard = guard_;
+  Signalling signalling;
+  // From GStreamer's threads: the session queues them for its network thread.
+  signalling.on_description = [this](const std::string& type, const std::string& sdp) {
+    session_->send(net::SignalMessage{type == "offer" ? net::SignalMessage::Kind::Offer : net::SignalMessage::Kind::Answer, 0, sdp});
+  };
+  signalling.on_candidate = [this](unsigned mline, const std::string& candidate) {
+    session_->send(net::SignalMessage{net::SignalMessage::Kind::Candidate, mline, candidate});
+  };
+  session_ = std::make_unique<net::Session>(session_options_);
+  peer_ = std::make_unique<WebRtcPeer>(peer, signalling);
+  session_->set_handler([this](const net::Message& message) { on_session_message(message); });
+}
+
+WebRtcLink::~WebRtcLink() {
+  stop();
+  // The session's thread, which calls into the peer, ended in stop(); the peer goes first, so
+  // that no GStreamer thread sends a signal into a session that is gone.
+  peer_.reset();
+  session_.reset();
+}
+
+void WebRtcLink::start() {
+  if (started_.exchange(true)) throw std::logic_error("a link starts once");
+  session_->start();
+  pump_thread_ = std::thread([this] { pump(); });
+}
+
+void WebRtcLink::stop() {
+  if (stopping_.exchange(true)) return;
+  if (pump_thread_.joinable()) pump_thread_.join();
+  if (session_) session_->stop();
+}
+
+uint16_t WebRtcLink::local_port() const { return session_->local_port(); }
+
+void WebRtcLink::set_handler(std::function<void(const net::Message&)> handler) { handler_ = std::move(handler); }
+
+void WebRtcLink::on_session_message(const net::Message& message) {
+  const auto* signal = std::get_if<net::SignalMessage>(&message);
+  if (!signal) return;  // the session's heartbeats; nothing else travels on it in this mode
+  std::string error;
+  if (signal->kind == net::SignalMessage::Kind::Candidate)
+    peer_->add_ice_candidate(signal->mline, signal->text);
+  else
+    error = peer_->set_remote_description(signal_kind_name(signal->kind), signal->text);
+  std::lock_guard lock(mutex_);
+  ++counts_.messages_in[size_t(net::message_type_index(net::MessageType::Signal))];
+  if (!error.empty() && signal_error_.empty())
+    signal_error_ = std::string("the other site's WebRTC ") + signal_kind_name(signal->kind) + " was refused: " + error;
+}
+
+void WebRtcLink::send(const net::Message& message) {
+  const net::MessageType type = net::message_type(message);
+  const size_t index = size_t(net::message_type_index(type));
+  if (const auto* portrait = std::get_if<net::PortraitMessage>(&message)) {
+    peer_->send_portrait(*portrait);
+    std::lock_guard lock(mutex_);
+    ++counts_.messages_out[index];
+    return;
+  }
+  if (type == net::MessageType::Signal) {
+    session_->send(message);
+    return;
+  }
+  if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
+    {
+      std::lock_guard lock(mutex_);
+      net::TouchEventMessage numbered = *touch;
+      numbered.sequence = ++touch_sequence_;
+      if (touches_waiting_.size() >= kMaxTouchesWaiting) {
+        touches_waiting_.pop_front();
+        ++counts_.touches_unacked_dropped;
+      }
+      touches_waiting_.push_back(numbered);
+    }
+    flush_touches();
+    return;
+  }
+  const bool sent = peer_->send_message(message);
+  std::lock_guard lock(mutex_);
+  ++(sent ? counts_.messages_out[index] : counts_.stale_dropped_out[index]);
+}
+
+void WebRtcLink::flush_touches() {
+  std::lock_guard lock(mutex_);
+  while (!touches_waiting_.empty() && peer_->send_message(touches_waiting_.front())) {
+    touches_waiting_.pop_front();
+    ++counts_.messages_out[size_t(net::message_type_index(net::MessageType::TouchEvent))];
+  }
+}
+
+void WebRtcLink::pump() {
+  bool blank_sent = false;
+  auto next_heartbeat = std::chrono::steady_clock::now();
+  while (!stopping_) {
+    // The offerer's first picture lets webrtcbin make the offer; it waits for the session, whose
+    // network thread then carries the offer across.
+    if (!blank_sent && session_->status().connected()) {
+      if (peer_->connected() == false && session_options_.role == net::Role::Connector)
+        peer_->send_portrait(blank_portrait(width_, height_));
+      blank_sent = true;
+    }
+    bool busy = false;
+    while (auto portrait = peer_->take_portrait()) {
+      busy = true;
+      {
+        std::lock_guard lock(mutex_);
+        ++counts_.messages_in[size_t(net::message_type_index(net::MessageType::Portrait))];
+      }
+      if (handler_) handler_(portrait->portrait);
+    }
+    for (const net::Message& message : peer_->take_messages()) {
+      busy = true;
+      {
+        std::lock_guard lock(mutex_);
+        ++counts_.messages_in[size_t(net::message_type_index(net::message_type(message)))];
+      }
+      if (handler_) handler_(message);
+    }
+    const bool up = peer_->connected();  // also sends the guard's hello once the channels open
+    if (up) {
+      {
+        std::lock_guard lock(mutex_);
+        if (!ever_connected_) ever_connected_ = true, connected_us_ = monotonic_now_us();
+      }
+      flush_touches();
+      if (std::chrono::steady_clock::now() >= next_heartbeat) {
+        next_heartbeat = std::chrono::steady_clock::now() + session_options_.heartbeat_period;
+        net::HeartbeatMessage heartbeat{monotonic_now_us(), ++heartbeat_sequence_};
+        send(heartbeat);
+      }
+    }
+    if (!busy) std::this_thread::sleep_for(kLinkPumpPeriod);
+  }
+}
+
+net::ConnectionStatus WebRtcLink::status() const {
+  net::ConnectionStatus status = session_->status();
+  const std::string guard_failure = guard_->failure();
+  std::string signal_error;
+  {
+    std::lock_guard lock(mutex_);
+    signal_error = signal_error_;
+  }
+  if (status.state == net::ConnectionState::Ended) return status;  // the other site said goodbye
+  if (!signal_error.empty() || !guard_failure.empty()) {
+    status.state = net::ConnectionState::Refused;
+    status.reason = !signal_error.empty() ? signal_error : guard_failure;
+    return status;
+  }
+  // The call, once up, does not need the session: it only set it up and will say goodbye.
+  if (peer_->connected()) {
+    status.state = net::ConnectionState::Connected;
+    status.peer += " (WebRTC)";
+  } else if (status.state == net::ConnectionState::Connected) {
+    status.state = net::ConnectionState::Connecting;
+    status.reason = "the session is up; the WebRTC call is being set up (the other site needs --transport webrtc too)";
+  }
+  return status;
+}
+
+bool WebRtcLink::wait_connected(std::chrono::milliseconds timeout) const {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!status().connected()) {
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return true;
+}
+
+net::NetCounters WebRtcLink::counters() const {
+  net::NetCounters out = session_->counters();
+  const WebRtcCounters call = peer_->counters();
+  std::lock_guard lock(mutex_);
+  for (int i = 0; i < net::kMessageTypeCount; ++i) {
+    out.messages_in[size_t(i)] += counts_.messages_in[size_t(i)];
+    out.messages_out[size_t(i)] += counts_.messages_out[size_t(i)];
+    out.stale_dropped_out[size_t(i)] += counts_.stale_dropped_out[size_t(i)];
+  }
+  out.bytes_out += call.color_bytes_sent + call.depth_bytes_sent + call.channel_bytes_sent;
+  out.rejected += call.messages_refused;
+  if (call.messages_refused) {
+    out.rejected_by_reason["webrtc_refused"] += call.messages_refused;
+    out.last_rejection = peer_->last_error();
+  }
+  return out;
+}
+
+nlohmann::json WebRtcLink::transport_json() const {
+  const WebRtcCounters call = peer_->counters();
+  uint64_t since_us = 0;
+  {
+    std::lock_guard lock(mutex_);
+    since_us = ever_connected_ ? connected_us_ : 0;
+  }
+  const double seconds = since_us ? double(monotonic_now_us() - since_us) * 1e-6 : 0.0;
+  auto kbps = [&](uint64_t bytes) { return seconds > 0 ? nlohmann::json(double(bytes) * 8e-3 / seconds) : nlohmann::json(); };
+  return {{"kind", "webrtc"},
+          {"connected_s", seconds},
+          {"kbit_per_s_out", {{"color", kbps(call.color_bytes_sent)}, {"depth_alpha", kbps(call.depth_bytes_sent)},
+                              {"data_channels", kbps(call.channel_bytes_sent)}}},
+          {"portraits", {{"sent", call.portraits_sent}, {"received", call.portraits_received},
+                         {"dropped", call.portraits_dropped}, {"frames_unpaired", call.frames_unpaired}}},
+          {"messages", {{"sent", call.messages_sent}, {"received", call.messages_received}, {"refused", call.messages_refused}}},
+          {"codec_ms_median", {{"color_encode", call.color_encode_ms}, {"depth_alpha_encode", call.depth_encode_ms},
+                               {"color_decode", call.color_decode_ms}, {"depth_alpha_decode", call.depth_decode_ms}}},
+          {"keyframes", {{"asked_by_us", call.keyframes_asked}, {"asked_of_us", call.keyframes_asked_of_us}}},
+          {"data_channels_sealed", guard_->ready()},
+          {"last_error", peer_->last_error()}};
+}
+
+}  // namespace rt::media

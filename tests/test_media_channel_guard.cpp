@@ -1,0 +1,114 @@
+// The site key on the data channels, without GStreamer: the handshake over the reliable channel,
+// then sealed records both ways on both channels; a wrong key, a replayed record, a record on the
+// other channel, a handshake frame on the fast channel and clear bytes are refused.
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+#include "media/channel_guard.h"
+
+using namespace rt;
+using namespace rt::media;
+
+namespace {
+
+constexpr size_t kGuardTestLimit = 4096;
+
+// Hands each side's reply to the other until neither has anything to say.
+void run_guard_handshake(ChannelGuard& connector, ChannelGuard& listener) {
+  std::vector<uint8_t> frame = connector.start();
+  REQUIRE_FALSE(frame.empty());
+  CHECK(listener.start().empty());  // the listener answers, it does not begin
+  CHECK(connector.start().empty());  // not again within a quarter second
+  bool to_listener = true;
+  for (int step = 0; step < 4 && !frame.empty(); ++step) {
+    ChannelGuard::Received got = (to_listener ? listener : connector).receive(GuardedChannel::Reliable, frame);
+    if (got.kind == ChannelGuard::Received::Kind::Refused) {
+      frame = got.reply;
+    } else {
+      REQUIRE(got.kind == ChannelGuard::Received::Kind::Handshake);
+      frame = got.reply;
+    }
+    to_listener = !to_listener;
+  }
+}
+
+std::vector<uint8_t> guard_bytes(const std::string& text) { return std::vector<uint8_t>(text.begin(), text.end()); }
+
+}  // namespace
+
+TEST_CASE("the guards' handshake gives both sides keys, and records cross both ways on both channels") {
+  const net::SessionKey key = net::random_session_key();
+  ChannelGuard connector(key, net::Role::Connector, kGuardTestLimit), listener(key, net::Role::Listener, kGuardTestLimit);
+  CHECK_FALSE(connector.seal(GuardedChannel::Fast, guard_bytes("early")));  // nothing goes out before the keys
+  run_guard_handshake(connector, listener);
+  REQUIRE(connector.ready());
+  REQUIRE(listener.ready());
+  for (const GuardedChannel channel : {GuardedChannel::Fast, GuardedChannel::Reliable}) {
+    const auto there = connector.seal(channel, guard_bytes("skeleton"));
+    REQUIRE(there);
+    const auto opened = listener.receive(channel, *there);
+    REQUIRE(opened.kind == ChannelGuard::Received::Kind::Message);
+    CHECK(opened.message == guard_bytes("skeleton"));
+    const auto back = listener.seal(channel, guard_bytes("eye"));
+    REQUIRE(back);
+    CHECK(connector.receive(channel, *back).message == guard_bytes("eye"));
+    // The same record again: refused (the fast channel's window, the reliable channel's order).
+    const auto again = listener.receive(channel, *there);
+    CHECK(again.kind == ChannelGuard::Received::Kind::Refused);
+    CHECK(again.reason.find("refused") != std::string::npos);
+  }
+  // A record of one channel does not open on the other; nor does a record of our own (reflected).
+  const auto fast = connector.seal(GuardedChannel::Fast, guard_bytes("touch?"));
+  CHECK(listener.receive(GuardedChannel::Reliable, *fast).kind == ChannelGuard::Received::Kind::Refused);
+  CHECK(connector.receive(GuardedChannel::Fast, *fast).kind == ChannelGuard::Received::Kind::Refused);
+  // Clear bytes and handshake frames once done are refused.
+  CHECK(listener.receive(GuardedChannel::Reliable, guard_bytes("RTNM plain")).kind == ChannelGuard::Received::Kind::Refused);
+  CHECK(listener.receive(GuardedChannel::Reliable, connector.start()).kind == ChannelGuard::Received::Kind::Refused);
+}
+
+TEST_CASE("guards with different keys refuse each other, and nothing is sealed") {
+  ChannelGuard connector(net::random_session_key(), net::Role::Connector, kGuardTestLimit);
+  ChannelGuard listener(net::random_session_key(), net::Role::Listener, kGuardTestLimit);
+  run_guard_handshake(connector, listener);
+  CHECK_FALSE(connector.ready());
+  CHECK_FALSE(listener.ready());
+  CHECK(listener.failure().find("different keys") != std::string::npos);
+  CHECK_FALSE(listener.seal(GuardedChannel::Reliable, guard_bytes("touch")));
+}
+
+TEST_CASE("the guards' handshake refuses frames out of place") {
+  const net::SessionKey key = net::random_session_key();
+  {
+    ChannelGuard connector(key, net::Role::Connector, kGuardTestLimit), listener(key, net::Role::Listener, kGuardTestLimit);
+    const auto hello = connector.start();
+    const auto on_fast = listener.receive(GuardedChannel::Fast, hello);
+    CHECK(on_fast.kind == ChannelGuard::Received::Kind::Refused);
+    CHECK(on_fast.reason.find("rt-fast") != std::string::npos);
+    CHECK(listener.receive(GuardedChannel::Reliable, std::span(hello).first(40)).kind == ChannelGuard::Received::Kind::Refused);
+  }
+  {
+    ChannelGuard connector(key, net::Role::Connector, kGuardTestLimit), listener(key, net::Role::Listener, kGuardTestLimit);
+    const auto hello = connector.start();
+    REQUIRE(listener.receive(GuardedChannel::Reliable, hello).kind == ChannelGuard::Received::Kind::Handshake);
+    // The same hello again (sent before the answer came) is ignored; another connector's is refused.
+    const auto again = listener.receive(GuardedChannel::Reliable, hello);
+    CHECK(again.kind == ChannelGuard::Received::Kind::Handshake);
+    CHECK(again.reply.empty());
+    ChannelGuard other(key, net::Role::Connector, kGuardTestLimit);
+    CHECK(listener.receive(GuardedChannel::Reliable, other.start()).reason == "a second hello");
+  }
+  {
+    // A connector's hello sent to a connector (a reflection) is refused by its role byte.
+    ChannelGuard one(key, net::Role::Connector, kGuardTestLimit), other(key, net::Role::Connector, kGuardTestLimit);
+    (void)other.start();
+    CHECK(other.receive(GuardedChannel::Reliable, one.start()).kind == ChannelGuard::Received::Kind::Refused);
+  }
+  {
+    ChannelGuard listener(key, net::Role::Listener, kGuardTestLimit);
+    std::vector<uint8_t> frame = guard_bytes("RTDH");
+    frame.push_back(9);
+    CHECK(listener.receive(GuardedChannel::Reliable, frame).reason.find("unknown step") != std::string::npos);
+  }
+}
