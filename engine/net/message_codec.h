@@ -29,6 +29,8 @@ inline constexpr uint32_t kMaxPortraitSide = 4096;          // pixels, either si
 inline constexpr size_t kMaxHands = 2;
 // Coordinates beyond this many metres from the site origin are rejected as nonsense.
 inline constexpr double kMaxCoordinate = 100.0;
+// The largest Opus packet (RFC 6716: 1275 bytes for one frame).
+inline constexpr size_t kMaxVoicePacket = 1275;
 // The largest encoded message of any type (header included): the record layer's limit.
 inline constexpr size_t kMaxMessageSize = kHeaderSize + kMaxPortraitPayload;
 
