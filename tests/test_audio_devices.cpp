@@ -126,3 +126,36 @@ TEST_CASE("audio devices: the simulated room echoes the loudspeaker only when as
     CHECK(std::abs(taps[i].gain) < std::abs(taps[0].gain));
   }
 }
+
+// Run by tests/sound/live_pulse_test.sh, which starts its own PulseAudio server with a null sink
+// (rt_null) on a private socket and points PULSE_SERVER at it: hidden from the plain run.
+TEST_CASE("audio devices: live, a tone played to a null sink is heard on its monitor", "[.pulse]") {
+  REQUIRE(std::getenv("PULSE_SERVER") != nullptr);
+  PulseInputResult in = open_pulse_input("rt_null.monitor");
+  INFO(in.message);
+  REQUIRE(in.input);
+  PulseOutputResult out = open_pulse_output("rt_null");
+  INFO(out.message);
+  REQUIRE(out.output);
+  const auto tone = audio_devices_tone(kSampleRate, 440.0, 0.5f);
+  std::vector<float> block(kBlockSamples);
+  double loudest = 0.0, tone_power = 0.0, total_power = 0.0;
+  // Played and recorded in step, a block each, for three seconds: the tone's second and silence.
+  for (size_t i = 0; i < 300; ++i) {
+    if ((i + 1) * kBlockSamples <= tone.size()) out.output->write(std::span(tone).subspan(i * kBlockSamples, kBlockSamples));
+    REQUIRE(in.input->read(block));
+    double power = 0.0, re = 0.0, im = 0.0;
+    for (size_t j = 0; j < block.size(); ++j) {
+      power += double(block[j]) * block[j];
+      const double phase = 2.0 * std::numbers::pi * 440.0 * double(j) / kSampleRate;
+      re += block[j] * std::cos(phase);
+      im += block[j] * std::sin(phase);
+    }
+    loudest = std::max(loudest, std::sqrt(power / double(block.size())));
+    total_power += power;
+    tone_power += 2.0 * (re * re + im * im) / double(block.size());
+  }
+  WARN("loudest 10 ms RMS on the monitor " << loudest << ", share at 440 Hz " << tone_power / std::max(total_power, 1e-20));
+  CHECK(loudest > 0.2);  // the tone's RMS is 0.35
+  CHECK(tone_power / total_power > 0.8);
+}

@@ -22,7 +22,7 @@ std::string device_label(const std::string& device) {
 }
 
 // Connects the pipeline to the server (NULL -> READY opens the device) and says why it cannot.
-std::string open_on_server(GstElement* pipeline) {
+std::string open_on_server(GstElement* pipeline, bool wait_until_playing) {
   if (gst_element_set_state(pipeline, GST_STATE_READY) == GST_STATE_CHANGE_FAILURE) {
     std::string error = pending_bus_error(pipeline);
     return error.empty() ? "the sound server refused the device" : error;
@@ -30,6 +30,13 @@ std::string open_on_server(GstElement* pipeline) {
   if (gst_element_set_state(pipeline, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE) {
     std::string error = pending_bus_error(pipeline);
     return error.empty() ? "the device would not start" : error;
+  }
+  // Until the state change completes, an appsink answers a pull with nothing: wait for it.
+  // (A sink waits for its first buffer instead: nothing to wait for there.)
+  if (wait_until_playing &&
+      gst_element_get_state(pipeline, nullptr, nullptr, 2 * GST_SECOND) == GST_STATE_CHANGE_FAILURE) {
+    std::string error = pending_bus_error(pipeline);
+    return error.empty() ? "the device failed while starting" : error;
   }
   return pending_bus_error(pipeline);
 }
@@ -129,7 +136,7 @@ PulseInputResult open_pulse_input(const std::string& device) {
   g_object_set(source, "client-name", "RemoteTouch", nullptr);
   gst_object_unref(source);
   GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline), "sink");
-  if (const std::string error = open_on_server(pipeline); !error.empty()) {
+  if (const std::string error = open_on_server(pipeline, true); !error.empty()) {
     discard(pipeline, sink);
     result.message = "no sound in: cannot open " + label + " input (" + error +
                      "); is a PulseAudio or PipeWire server running? `pactl list short sources` names the inputs";
@@ -155,7 +162,7 @@ PulseOutputResult open_pulse_output(const std::string& device) {
   g_object_set(sink, "client-name", "RemoteTouch", nullptr);
   gst_object_unref(sink);
   GstElement* source = gst_bin_get_by_name(GST_BIN(pipeline), "source");
-  if (const std::string error = open_on_server(pipeline); !error.empty()) {
+  if (const std::string error = open_on_server(pipeline, false); !error.empty()) {
     discard(pipeline, source);
     result.message = "no sound out: cannot open " + label + " output (" + error +
                      "); is a PulseAudio or PipeWire server running? `pactl list short sinks` names the outputs";
