@@ -59,7 +59,8 @@ class RoomLoudspeaker final : public AudioOutput {
   SimulatedRoom& room_;
 };
 
-SimulatedRoom::SimulatedRoom(std::vector<float> speech, std::optional<EchoPathOptions> echo) : speech_(std::move(speech)) {
+SimulatedRoom::SimulatedRoom(std::vector<float> speech, std::optional<EchoPathOptions> echo, size_t record_seconds)
+    : speech_(std::move(speech)), recorded_limit_(std::min(record_seconds, kRecordedSeconds) * kSampleRate) {
   if (echo) {
     if (auto error = check_echo_path(*echo); !error.empty()) throw std::invalid_argument(error);
     taps_ = echo_taps(*echo);
@@ -72,7 +73,7 @@ std::unique_ptr<AudioOutput> SimulatedRoom::loudspeaker() { return std::make_uni
 
 void SimulatedRoom::play(std::span<const float> block) {
   std::lock_guard lock(mutex_);
-  constexpr size_t kRecorded = kRecordedSeconds * kSampleRate;
+  const size_t kRecorded = recorded_limit_;
   const size_t keep = std::min(block.size(), kRecorded - std::min(kRecorded, played_.size()));
   played_.reserve(played_.size() + keep);
   played_.insert(played_.end(), block.begin(), block.begin() + ptrdiff_t(keep));
@@ -84,7 +85,8 @@ void SimulatedRoom::play(std::span<const float> block) {
 
 void SimulatedRoom::read_into(std::span<float> block) {
   std::lock_guard lock(mutex_);
-  constexpr size_t kRecorded = kRecordedSeconds * kSampleRate;
+  const size_t kRecorded = recorded_limit_;
+  last_powers_ = {};
   const uint64_t oldest = played_count_ - recent_.size();
   for (float& out : block) {
     const uint64_t t = read_++;
@@ -95,6 +97,8 @@ void SimulatedRoom::read_into(std::span<float> block) {
       const uint64_t s = t - tap.delay_samples;
       if (s >= oldest && s < played_count_) echo += tap.gain * recent_[size_t(s - oldest)];
     }
+    last_powers_.speech += double(said) * said;
+    last_powers_.echo += double(echo) * echo;
     if (speech_heard_.size() < kRecorded) {
       // Reserved in whole seconds: GCC 12 warns about inserting into an empty vector otherwise.
       if (speech_heard_.size() == speech_heard_.capacity()) {
@@ -106,6 +110,11 @@ void SimulatedRoom::read_into(std::span<float> block) {
     }
     out = std::clamp(said + echo, -1.0f, 1.0f);
   }
+}
+
+SimulatedRoom::BlockPowers SimulatedRoom::last_block_powers() const {
+  std::lock_guard lock(mutex_);
+  return last_powers_;
 }
 
 std::vector<float> SimulatedRoom::echo_heard() const {

@@ -44,7 +44,9 @@ class SimulatedRoom {
 
   // `speech`: what the user says, from the first sample read; silence after it. `echo`: none
   // means the microphone hears no loudspeaker. Throws std::invalid_argument for a bad echo path.
-  SimulatedRoom(std::vector<float> speech, std::optional<EchoPathOptions> echo);
+  // `record_seconds`: how much of the microphone's parts to keep for echo_heard() and
+  // speech_heard() (a long-running site keeps none and reads last_block_powers() instead).
+  SimulatedRoom(std::vector<float> speech, std::optional<EchoPathOptions> echo, size_t record_seconds = kRecordedSeconds);
 
   // Both refer to the room, which must outlive them.
   std::unique_ptr<AudioInput> microphone();
@@ -55,6 +57,11 @@ class SimulatedRoom {
   std::vector<float> echo_heard() const;
   std::vector<float> speech_heard() const;
   std::vector<float> played() const;
+  // The power (sum of squares) of the user's speech and of the echo in the last block read.
+  struct BlockPowers {
+    double speech = 0.0, echo = 0.0;
+  };
+  BlockPowers last_block_powers() const;
   bool has_echo() const { return !taps_.empty(); }
 
  private:
@@ -71,6 +78,8 @@ class SimulatedRoom {
   uint64_t played_count_ = 0;
   std::vector<float> played_, echo_heard_, speech_heard_;  // the first kRecordedSeconds
   uint64_t read_ = 0;
+  size_t recorded_limit_ = 0;
+  BlockPowers last_powers_;
 };
 
 }  // namespace rt::audio

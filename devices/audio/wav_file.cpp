@@ -105,7 +105,11 @@ WavFileOutput::WavFileOutput(const std::string& path, std::function<uint64_t()> 
 }
 
 WavFileOutput::~WavFileOutput() {
-  finish();
+  // A file left unfinished here has no caller to tell; finish() says why to those who call it.
+  try {
+    finish();
+  } catch (const std::exception&) {
+  }
   gst_object_unref(source_);
   gst_object_unref(pipeline_);
 }

@@ -19,7 +19,6 @@ namespace {
 
 constexpr size_t kBlock = audio::kBlockSamples;
 constexpr size_t kFrame = media::kVoiceFrameSamples;
-constexpr size_t kRecordedSamples = 120 * size_t(audio::kSampleRate);
 // Behind by more than this, the loop gives up the lost time instead of rushing to make it up.
 constexpr uint64_t kMaxLagUs = 200'000;
 
@@ -83,7 +82,8 @@ SiteSound::SiteSound(const SoundOptions& options, Site site, const sim::Effects&
                                     .gain_db = effects.room_echo->gain_db,
                                     .reverb_ms = effects.room_echo->reverb_ms,
                                     .reverb_db = effects.room_echo->reverb_db};
-    room_ = std::make_unique<audio::SimulatedRoom>(std::move(speech), echo);
+    // Nothing recorded: a site may run for hours, and its figures are summed as it goes.
+    room_ = std::make_unique<audio::SimulatedRoom>(std::move(speech), echo, 0);
   }
   if (simulated_in) {
     in_ = room_->microphone();
@@ -109,8 +109,11 @@ SiteSound::SiteSound(const SoundOptions& options, Site site, const sim::Effects&
     decoder_ = std::make_unique<media::VoiceDecoder>();
     jitter_ = std::make_unique<media::VoiceJitterBuffer>();
   }
-  // Cancelling needs both halves: what was played, and the microphone that heard it.
-  if (in_ && out_)
+  // Cancelling needs both halves: what was played, and the microphone that heard it; and an echo
+  // to cancel: a real room has one, a simulated room only when the scene asks for it (otherwise
+  // the canceller would cost a tenth of a core for nothing), a file none.
+  const bool live_room = in_spec.kind == audio::AudioSpec::Kind::Live && out_spec.kind == audio::AudioSpec::Kind::Live;
+  if (in_ && out_ && (live_room || (room_ && room_->has_echo())))
     canceller_ = std::make_unique<media::EchoCanceller>(
         media::EchoCancellerOptions{.noise_suppression = options.noise_suppression, .gain_control = options.gain_control});
   capture_frame_.reserve(kFrame);
@@ -188,13 +191,14 @@ void SiteSound::tick(uint64_t block_index) {
   std::vector<float> heard(kBlock);
   in_->read(heard);
   const std::vector<float> cleaned = canceller_ ? canceller_->captured(heard) : heard;
-  if (mic_recorded_.size() + kBlock <= kRecordedSamples) {
-    if (mic_recorded_.size() == mic_recorded_.capacity()) {
-      mic_recorded_.reserve(mic_recorded_.size() + audio::kSampleRate);
-      cleaned_recorded_.reserve(cleaned_recorded_.size() + audio::kSampleRate);
+  if (canceller_ && room_ && block_index * kBlock >= 2 * size_t(audio::kSampleRate)) {
+    // Echo at least -50 dBFS and the near user silent: the blocks the figure is about.
+    const audio::SimulatedRoom::BlockPowers parts = room_->last_block_powers();
+    if (parts.speech == 0.0 && parts.echo >= double(kBlock) * 1e-5) {
+      erle_in_ += power_of(heard);
+      erle_out_ += power_of(cleaned);
+      ++erle_blocks_;
     }
-    mic_recorded_.insert(mic_recorded_.end(), heard.begin(), heard.end());
-    cleaned_recorded_.insert(cleaned_recorded_.end(), cleaned.begin(), cleaned.end());
   }
   capture_frame_.insert(capture_frame_.end(), cleaned.begin(), cleaned.end());
   if (capture_frame_.size() < kFrame) return;
@@ -240,23 +244,9 @@ nlohmann::json SiteSound::metrics() const {
   // The echo canceller's enhancement where the microphone heard the far voice's echo alone (this
   // site's user silent), after its first two seconds.
   if (room_ && room_->has_echo() && canceller_) {
-    const std::vector<float> echo = room_->echo_heard();
-    const std::vector<float> speech = room_->speech_heard();
-    const size_t n = std::min({echo.size(), speech.size(), mic_recorded_.size(), cleaned_recorded_.size()});
-    double in = 0.0, out = 0.0;
-    size_t blocks = 0;
-    for (size_t at = 2 * size_t(audio::kSampleRate); at + kBlock <= n; at += kBlock) {
-      const double near = power_of(std::span(speech).subspan(at, kBlock));
-      const double far = power_of(std::span(echo).subspan(at, kBlock));
-      // Echo at least -50 dBFS and the near user silent.
-      if (near > 0.0 || far < double(kBlock) * 1e-5) continue;
-      in += power_of(std::span(mic_recorded_).subspan(at, kBlock));
-      out += power_of(std::span(cleaned_recorded_).subspan(at, kBlock));
-      ++blocks;
-    }
-    m["echo"] = {{"erle_db_after_2s", blocks ? nlohmann::json(10.0 * std::log10(in / std::max(out, in * 1e-10 + 1e-20)))
-                                             : nlohmann::json()},
-                 {"echo_only_seconds", double(blocks * kBlock) / audio::kSampleRate},
+    m["echo"] = {{"erle_db_after_2s", erle_blocks_ ? nlohmann::json(10.0 * std::log10(erle_in_ / std::max(erle_out_, erle_in_ * 1e-10 + 1e-20)))
+                                                   : nlohmann::json()},
+                 {"echo_only_seconds", double(erle_blocks_ * kBlock) / audio::kSampleRate},
                  {"noise_suppression", options_.noise_suppression},
                  {"gain_control", options_.gain_control}};
   }

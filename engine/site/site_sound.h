@@ -89,7 +89,10 @@ class SiteSound {
   std::vector<float> playout_frame_;   // the decoded 20 ms being played, in two halves
   uint32_t sequence_ = 0;
   uint64_t voice_bytes_out_ = 0, voice_frames_out_ = 0, voice_frames_in_ = 0;
-  std::vector<float> mic_recorded_, cleaned_recorded_;  // for the echo figures, the first two minutes
+  // The echo canceller's figure, summed as the blocks go: microphone and cleaned power over the
+  // blocks after the first two seconds that held echo alone.
+  double erle_in_ = 0.0, erle_out_ = 0.0;
+  uint64_t erle_blocks_ = 0;
   double encode_ms_ = 0.0, loop_ms_ = 0.0;
 };
 
