@@ -373,7 +373,8 @@ TEST_CASE("random corruptions of valid messages never crash the decoder") {
   std::vector<std::vector<uint8_t>> seeds = {encode_message(EyeMessage{1, {0.1, 0.2, 0.3}, true}),
                                              encode_message(test::test_skeleton(10)),
                                              encode_message(HeartbeatMessage{1, 2}),
-                                             encode_message(test::test_portrait(8, 6, 1))};
+                                             encode_message(test::test_portrait(8, 6, 1)),
+                                             encode_message(VoiceMessage{5, 6, 960, std::vector<uint8_t>(60, 0x5a)})};
   std::mt19937 random(7);
   int accepted = 0, rejected = 0;
   for (int i = 0; i < 3000; ++i) {
@@ -387,4 +388,40 @@ TEST_CASE("random corruptions of valid messages never crash the decoder") {
   }
   INFO(accepted << " accepted, " << rejected << " rejected");
   CHECK(rejected > 1000);
+}
+
+TEST_CASE("voice frames round-trip; bad sizes and an unknown type are refused") {
+  VoiceMessage voice{123456789, 41, 960, {}};
+  for (int i = 0; i < 77; ++i) voice.packet.push_back(uint8_t(i * 13));
+  const auto back = round_trip<VoiceMessage>(voice);
+  CHECK(back.timestamp_us == voice.timestamp_us);
+  CHECK(back.sequence == 41);
+  CHECK(back.frame_samples == 960);
+  CHECK(back.packet == voice.packet);
+  CHECK(message_type(voice) == MessageType::Voice);
+
+  // The sender learns first: no packet, a packet longer than Opus makes, a frame Opus cannot be.
+  CHECK_THROWS_WITH(encode_message(VoiceMessage{1, 0, 960, {}}), Catch::Contains("voice packet of 0 bytes"));
+  CHECK_THROWS_WITH(encode_message(VoiceMessage{1, 0, 960, std::vector<uint8_t>(kMaxVoicePacket + 1)}),
+                    Catch::Contains("must be 1..1275"));
+  CHECK_THROWS_WITH(encode_message(VoiceMessage{1, 0, 1000, {1}}), Catch::Contains("must be 480, 960 or 1920"));
+
+  const auto good = encode_message(voice);
+  constexpr size_t frame_samples_at = kHeaderSize + 8 + 4, length_at = frame_samples_at + 2;
+  auto bytes = good;
+  bytes[frame_samples_at] = 7;
+  expect_rejected(bytes, DecodeErrorKind::BadValue, "must be 480, 960 or 1920");
+  bytes = good;
+  bytes[length_at] = 78;  // one more than follows
+  expect_rejected(bytes, DecodeErrorKind::BadLength, "declares 78 bytes, 77 follow");
+  bytes = good;
+  bytes[length_at] = 0;
+  expect_rejected(bytes, DecodeErrorKind::BadValue, "voice packet of 0 bytes");
+  bytes = good;
+  patch_u32(bytes, 8, uint32_t(16 + kMaxVoicePacket + 1));
+  expect_rejected(bytes, DecodeErrorKind::BadLength, "limit 1291");
+  expect_rejected(std::vector<uint8_t>(good.begin(), good.begin() + kHeaderSize + 10), DecodeErrorKind::Truncated, "");
+  bytes = good;
+  bytes[6] = 8;
+  expect_rejected(bytes, DecodeErrorKind::UnknownType, "unknown message type 8");
 }

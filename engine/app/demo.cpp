@@ -51,6 +51,13 @@ class DemoCommand : public Command {
     command_->add_option("--present-mode", options_.present_mode, "fifo, or mailbox where the device offers it")
         ->check(CLI::IsMember({"fifo", "mailbox"}))
         ->capture_default_str();
+    command_->add_option("--sound", options_.sound,
+                         "simulated: each simulated user says a sentence, the scene's room echoes it (site_X/audio.wav "
+                         "holds what each loudspeaker played); none: a silent call")
+        ->check(CLI::IsMember({"simulated", "none"}))
+        ->capture_default_str();
+    command_->add_flag("--noise-suppression", options_.noise_suppression, "Each site's voice noise suppression (webrtcdsp)");
+    command_->add_flag("--gain-control", options_.gain_control, "Each site's voice gain control (webrtcdsp)");
     add_inspection_options(*command_, options_.run);  // forwarded to both sites
     ibr_ = add_ibr_options(*command_);
     quality_.add_to(*command_);

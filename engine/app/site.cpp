@@ -3,12 +3,14 @@
 // then the flags given on the command line over it.
 #include "app/command.h"
 #include "app/option_groups.h"
+#include "audio/audio_spec.h"
 #include "site/site_run.h"
 
 namespace rt::app {
 namespace {
 
 using site::SiteRunOptions;
+using site::SoundOptions;
 
 class SiteCommand : public Command {
  public:
@@ -53,6 +55,32 @@ class SiteCommand : public Command {
         ->check(CLI::ExistingFile);
     command_->add_option("--motor", options_.motor, "simulated, usb (the Arduino; an error without it) or auto")
         ->check(CLI::IsMember({"simulated", "usb", "auto"}))
+        ->capture_default_str();
+    auto audio_check = [](const char* option) {
+      return [option](const std::string& value) {
+        try {
+          audio::parse_audio_spec(value, option);
+          return std::string();
+        } catch (const std::invalid_argument& error) {
+          return std::string(error.what());
+        }
+      };
+    };
+    command_->add_option("--audio-in", options_.sound.audio_in,
+                         "The microphone: simulated (the scene's user and room), pulse (the sound server's default "
+                         "input), pulse:DEVICE (one by name, `pactl list short sources`), FILE.wav, or none")
+        ->check(audio_check("--audio-in"))
+        ->capture_default_str();
+    command_->add_option("--audio-out", options_.sound.audio_out,
+                         "The loudspeaker: simulated (the room; also written to audio.wav), pulse, pulse:DEVICE "
+                         "(`pactl list short sinks`), FILE.wav, or none")
+        ->check(audio_check("--audio-out"))
+        ->capture_default_str();
+    command_->add_flag("--noise-suppression", options_.sound.noise_suppression,
+                       "The voice's noise suppression (webrtcdsp), after the echo canceller");
+    command_->add_flag("--gain-control", options_.sound.gain_control, "The voice's automatic gain control (webrtcdsp)");
+    command_->add_option("--voice-kbps", voice_kbps_, "The voice's Opus bitrate, kbit/s")
+        ->check(CLI::Range(6, 128))
         ->capture_default_str();
     command_->add_option("--tracker", options_.tracker,
                          "scene (simulated, or the replay's), or leap[:ws://HOST:PORT/PATH]: the Leap service live")
@@ -114,6 +142,13 @@ class SiteCommand : public Command {
     } else {
       options_.site = site_ == "B" ? Site::B : Site::A;
     }
+    if (!config_.empty()) {
+      for (auto [name, field] : {std::pair{"--audio-in", &SoundOptions::audio_in}, {"--audio-out", &SoundOptions::audio_out}})
+        if (given(name)) options_.sound.*field = flags.sound.*field;
+      if (given("--noise-suppression")) options_.sound.noise_suppression = flags.sound.noise_suppression;
+      if (given("--gain-control")) options_.sound.gain_control = flags.sound.gain_control;
+    }
+    options_.sound.voice_bitrate_bps = voice_kbps_ * 1000;
     if (given("--frames")) options_.frames_given = true;
     if (options_.run.out.empty()) options_.run.out = std::string("out/site_") + site_name(options_.site);
     options_.ibr.width = options_.run.width;
@@ -129,6 +164,7 @@ class SiteCommand : public Command {
   CLI::App* command_ = nullptr;
   SiteRunOptions options_;
   std::string site_ = "A";
+  int voice_kbps_ = 28;
   std::filesystem::path config_;
   IbrOptions ibr_;
   QualityOptions quality_;

@@ -211,6 +211,9 @@ int run_two_site_demo(const DemoOptions& options) {
     if (options.run.capture_frame >= 0) args.insert(args.end(), {"--capture-frame", std::to_string(options.run.capture_frame)});
     const bool window = site::parse_display_mode(options.display, site::display_present()) != site::DisplayMode::Headless;
     args.insert(args.end(), {"--display", window ? "both" : "headless", "--present-mode", options.present_mode});
+    args.insert(args.end(), {"--audio-in", options.sound, "--audio-out", options.sound});
+    if (options.noise_suppression) args.push_back("--noise-suppression");
+    if (options.gain_control) args.push_back("--gain-control");
     const std::filesystem::path& replay = site == "A" ? options.replay_a : options.replay_b;
     if (!replay.empty()) args.insert(args.end(), {"--replay", replay.string()});
     // The image-based model's, the hand's and the touch options, as the demo was given them.

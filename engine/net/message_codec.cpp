@@ -22,6 +22,7 @@ constexpr uint32_t kTouchPayload = 8 + 1 + 1 + 8 + 8;
 constexpr uint32_t kHeartbeatPayload = 8 + 8 + 8 + 8 + 1;
 constexpr uint32_t kSignalFixed = 1 + 4 + 4;
 constexpr uint32_t kPortraitFixed = 8 + 8 + 4 + 4 + 4 * 8 + 16 * 8;
+constexpr uint32_t kVoiceFixed = 8 + 4 + 2 + 2;
 
 // Thrown inside the decoder only, caught at its top: one place turns a failed check into a result.
 struct Reject {
@@ -111,6 +112,14 @@ std::string check_portrait_images(const PortraitMessage& p) {
   return {};
 }
 
+std::string check_voice(uint16_t frame_samples, size_t packet_bytes) {
+  if (frame_samples != 480 && frame_samples != 960 && frame_samples != 1920)
+    return "voice frame of " + std::to_string(frame_samples) + " samples, must be 480, 960 or 1920 (10, 20, 40 ms at 48 kHz)";
+  if (packet_bytes == 0 || packet_bytes > kMaxVoicePacket)
+    return "voice packet of " + std::to_string(packet_bytes) + " bytes, must be 1.." + std::to_string(kMaxVoicePacket);
+  return {};
+}
+
 void put_vector(ByteWriter& w, const Eigen::Vector3d& v) {
   for (int i = 0; i < 3; ++i) w.put<double>(v[i]);
 }
@@ -190,6 +199,13 @@ void encode_payload(ByteWriter& w, const Message& message, const EncodeOptions& 
           w.put<uint32_t>(m.mline);
           w.put<uint32_t>(uint32_t(m.text.size()));
           w.put_bytes(std::span(reinterpret_cast<const uint8_t*>(m.text.data()), m.text.size()));
+        } else if constexpr (std::is_same_v<T, VoiceMessage>) {
+          invalid(check_voice(m.frame_samples, m.packet.size()));
+          w.put<uint64_t>(m.timestamp_us);
+          w.put<uint32_t>(m.sequence);
+          w.put<uint16_t>(m.frame_samples);
+          w.put<uint16_t>(uint16_t(m.packet.size()));
+          w.put_bytes(m.packet);
         } else {
           static_assert(std::is_same_v<T, HeartbeatMessage>);
           w.put<uint64_t>(m.timestamp_us);
@@ -242,6 +258,21 @@ Message decode_payload(MessageType type, ByteReader& r, const DecodeOptions& opt
       const auto text = r.get_bytes(length);
       m.text.assign(reinterpret_cast<const char*>(text.data()), text.size());
       if (auto e = check_signal(m); !e.empty()) reject(DecodeErrorKind::BadValue, e);
+      return m;
+    }
+    case MessageType::Voice: {
+      VoiceMessage m;
+      m.timestamp_us = r.get<uint64_t>();
+      m.sequence = r.get<uint32_t>();
+      m.frame_samples = r.get<uint16_t>();
+      const uint16_t length = r.get<uint16_t>();
+      if (!r.ok()) reject(DecodeErrorKind::Truncated, "shorter than its fixed fields");
+      if (auto e = check_voice(m.frame_samples, length); !e.empty()) reject(DecodeErrorKind::BadValue, e);
+      if (r.left() != length)
+        reject(DecodeErrorKind::BadLength, "packet declares " + std::to_string(length) + " bytes, " +
+                                               std::to_string(r.left()) + " follow");
+      const auto bytes = r.get_bytes(length);
+      m.packet.assign(bytes.begin(), bytes.end());
       return m;
     }
     case MessageType::TouchEvent: {
@@ -332,7 +363,7 @@ Message decode_payload(MessageType type, ByteReader& r, const DecodeOptions& opt
   reject(DecodeErrorKind::UnknownType, "unknown message type");
 }
 
-bool known_type(uint16_t type) { return type >= 1 && type <= kMessageTypeCount; }
+bool known_type(uint16_t type) { return is_message_type(type); }
 
 }  // namespace
 
@@ -344,14 +375,25 @@ const char* message_type_name(MessageType type) {
     case MessageType::TouchEvent: return "touch";
     case MessageType::Heartbeat: return "heartbeat";
     case MessageType::Signal: return "signal";
+    case MessageType::Voice: return "voice";
   }
   return "unknown";
 }
 
 MessageType message_type(const Message& message) {
-  static constexpr MessageType types[] = {MessageType::Eye, MessageType::Portrait, MessageType::Skeleton,
-                                          MessageType::TouchEvent, MessageType::Heartbeat, MessageType::Signal};
-  return types[message.index()];
+  // By the alternative's type, not its place in the variant: a new alternative may go anywhere.
+  return std::visit(
+      [](const auto& m) {
+        using T = std::decay_t<decltype(m)>;
+        if constexpr (std::is_same_v<T, EyeMessage>) return MessageType::Eye;
+        if constexpr (std::is_same_v<T, PortraitMessage>) return MessageType::Portrait;
+        if constexpr (std::is_same_v<T, SkeletonMessage>) return MessageType::Skeleton;
+        if constexpr (std::is_same_v<T, TouchEventMessage>) return MessageType::TouchEvent;
+        if constexpr (std::is_same_v<T, HeartbeatMessage>) return MessageType::Heartbeat;
+        if constexpr (std::is_same_v<T, SignalMessage>) return MessageType::Signal;
+        if constexpr (std::is_same_v<T, VoiceMessage>) return MessageType::Voice;
+      },
+      message);
 }
 
 const char* decode_error_kind_name(DecodeErrorKind kind) {
@@ -376,6 +418,7 @@ uint32_t max_payload_size(MessageType type) {
     case MessageType::TouchEvent: return kTouchPayload;
     case MessageType::Heartbeat: return kHeartbeatPayload;
     case MessageType::Signal: return kSignalFixed + kMaxSignalText;
+    case MessageType::Voice: return kVoiceFixed + uint32_t(kMaxVoicePacket);
   }
   return 0;
 }
@@ -414,7 +457,8 @@ std::optional<MessageHeader> decode_header(std::span<const uint8_t> bytes, Decod
   if (h.version != kProtocolVersion)
     return fail(DecodeErrorKind::BadVersion, "protocol version " + std::to_string(h.version) + ", this build speaks " +
                                                  std::to_string(kProtocolVersion));
-  if (!known_type(h.type)) return fail(DecodeErrorKind::UnknownType, "unknown message type " + std::to_string(h.type));
+  if (!known_type(h.type))
+    return fail(DecodeErrorKind::UnknownType, "unknown message type " + std::to_string(h.type));
   const auto type = MessageType(h.type);
   const uint32_t limit = max_payload_size(type);
   const bool fixed = type == MessageType::Eye || type == MessageType::TouchEvent || type == MessageType::Heartbeat;

@@ -34,6 +34,8 @@ inline constexpr double kMaxCoordinate = 100.0;
 inline constexpr uint32_t kMaxSignalText = 256 * 1024;
 inline constexpr uint32_t kMaxCandidateText = 1024;
 inline constexpr uint32_t kMaxSignalMline = 64;
+// The largest Opus packet (RFC 6716: 1275 bytes for one frame).
+inline constexpr size_t kMaxVoicePacket = 1275;
 // The largest encoded message of any type (header included): the record layer's limit.
 inline constexpr size_t kMaxMessageSize = kHeaderSize + kMaxPortraitPayload;
 

@@ -16,11 +16,13 @@
 namespace rt::net {
 
 // Wire values: never renumber, only append (and bump kProtocolVersion if the meaning changes).
-enum class MessageType : uint16_t { Eye = 1, Portrait = 2, Skeleton = 3, TouchEvent = 4, Heartbeat = 5, Signal = 6 };
-inline constexpr int kMessageTypeCount = 6;
+enum class MessageType : uint16_t { Eye = 1, Portrait = 2, Skeleton = 3, TouchEvent = 4, Heartbeat = 5, Signal = 6, Voice = 7 };
+inline constexpr int kMessageTypeCount = 7;
 const char* message_type_name(MessageType type);
 // 0..kMessageTypeCount-1 for counters indexed by type.
 inline int message_type_index(MessageType type) { return int(type) - 1; }
+// A wire value this build speaks.
+inline bool is_message_type(uint16_t type) { return type >= 1 && type <= kMessageTypeCount; }
 
 // The remote viewer's eye: the sender renders its portrait for it.
 struct EyeMessage {
@@ -78,7 +80,17 @@ struct SignalMessage {
   std::string text;    // the SDP, or the candidate line: printable text, no NUL
 };
 
-using Message = std::variant<EyeMessage, PortraitMessage, SkeletonMessage, TouchEventMessage, HeartbeatMessage, SignalMessage>;
+// One frame of the near user's voice: Opus (voice/opus_voice.h), one packet per frame, numbered so
+// that the receiver's jitter buffer tells a lost frame from a late one.
+struct VoiceMessage {
+  uint64_t timestamp_us = 0;    // capture time of the frame's first sample, sender's clock
+  uint32_t sequence = 0;        // frame number, from 0, one per frame (wraps)
+  uint16_t frame_samples = 0;   // at 48 kHz: 480, 960 or 1920 (10, 20 or 40 ms)
+  std::vector<uint8_t> packet;  // one Opus packet, 1..kMaxVoicePacket bytes
+};
+
+using Message = std::variant<EyeMessage, PortraitMessage, SkeletonMessage, TouchEventMessage, HeartbeatMessage,
+                             SignalMessage, VoiceMessage>;
 
 MessageType message_type(const Message& message);
 

@@ -5,7 +5,8 @@ namespace rt::net {
 nlohmann::json NetCounters::to_json() const {
   auto per_type = [](const std::array<uint64_t, kMessageTypeCount>& values) {
     nlohmann::json out = nlohmann::json::object();
-    for (int i = 0; i < kMessageTypeCount; ++i) out[message_type_name(MessageType(i + 1))] = values[size_t(i)];
+    for (int i = 0; i < kMessageTypeCount; ++i)
+      if (is_message_type(uint16_t(i + 1))) out[message_type_name(MessageType(i + 1))] = values[size_t(i)];
     return out;
   };
   return {{"bytes_in", bytes_in},

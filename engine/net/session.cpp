@@ -148,6 +148,11 @@ struct Session::Impl {
   std::optional<SkeletonMessage> in_skeleton;
   std::optional<HeartbeatMessage> in_heartbeat;
   std::vector<TouchEventMessage> in_touch;
+  // Voice frames queue in order: each is a different 20 ms of speech, none replaces another. Both
+  // queues are bounded; past that the oldest frame goes (counted as stale), and the receiver's
+  // jitter buffer conceals it.
+  std::deque<std::vector<uint8_t>> out_voice;
+  std::deque<VoiceMessage> in_voice;
   ConnectionStatus status;
   NetCounters counters;
 
@@ -565,6 +570,13 @@ struct Session::Impl {
             if constexpr (std::is_same_v<T, SkeletonMessage>) put(in_skeleton, m);
             if constexpr (std::is_same_v<T, HeartbeatMessage>) put(in_heartbeat, m);
             // Signals have no mailbox: the handler (the WebRTC link's) takes each.
+            if constexpr (std::is_same_v<T, VoiceMessage>) {
+              if (in_voice.size() >= options.incoming_voice_capacity) {
+                ++counters.stale_dropped_in[size_t(index)];
+                in_voice.pop_front();
+              }
+              in_voice.push_back(std::move(m));
+            }
             if constexpr (std::is_same_v<T, TouchEventMessage>) {
               if (in_touch.size() >= options.incoming_touch_capacity) {
                 ++counters.stale_dropped_in[size_t(index)];
@@ -589,10 +601,21 @@ struct Session::Impl {
       out_signal.pop_front();
       return o;
     }
-    for (auto [slot, type] : {std::pair{&out_heartbeat, MessageType::Heartbeat}, {&out_eye, MessageType::Eye},
-                              {&out_skeleton, MessageType::Skeleton}, {&out_portrait, MessageType::Portrait}})
+    if (out_heartbeat) {
+      Outgoing o{MessageType::Heartbeat, std::move(*out_heartbeat), 0, goodbye_pending};
+      out_heartbeat.reset();
+      return o;
+    }
+    // Voice before the pictures: a frame is small and its listener hears a late one as a gap.
+    if (!out_voice.empty()) {
+      Outgoing o{MessageType::Voice, std::move(out_voice.front()), 0, false};
+      out_voice.pop_front();
+      return o;
+    }
+    for (auto [slot, type] : {std::pair{&out_eye, MessageType::Eye}, {&out_skeleton, MessageType::Skeleton},
+                              {&out_portrait, MessageType::Portrait}})
       if (*slot) {
-        Outgoing o{type, std::move(**slot), 0, goodbye_pending && type == MessageType::Heartbeat};
+        Outgoing o{type, std::move(**slot), 0, false};
         slot->reset();
         return o;
       }
@@ -943,6 +966,13 @@ void Session::send_encoded(MessageType stream, std::vector<uint8_t> bytes) {
         }
         s.out_signal.push_back(std::move(bytes));
         break;
+      case MessageType::Voice:
+        if (s.out_voice.size() >= s.options.outgoing_voice_capacity) {
+          ++s.counters.stale_dropped_out[size_t(message_type_index(stream))];
+          s.out_voice.pop_front();
+        }
+        s.out_voice.push_back(std::move(bytes));
+        break;
       case MessageType::TouchEvent:  // as encoded: send() is what numbers a touch event
         s.out_touch.emplace_back(s.next_touch_sequence++, std::move(bytes));
         break;
@@ -963,6 +993,15 @@ std::optional<EyeMessage> Session::take_eye() { return take(impl_->mutex, impl_-
 std::optional<PortraitMessage> Session::take_portrait() { return take(impl_->mutex, impl_->in_portrait); }
 std::optional<SkeletonMessage> Session::take_skeleton() { return take(impl_->mutex, impl_->in_skeleton); }
 std::optional<HeartbeatMessage> Session::take_heartbeat() { return take(impl_->mutex, impl_->in_heartbeat); }
+
+std::vector<VoiceMessage> Session::take_voice() {
+  std::lock_guard lock(impl_->mutex);
+  std::vector<VoiceMessage> out;
+  out.reserve(impl_->in_voice.size());
+  for (auto& m : impl_->in_voice) out.push_back(std::move(m));
+  impl_->in_voice.clear();
+  return out;
+}
 
 std::vector<TouchEventMessage> Session::take_touch_events() {
   std::lock_guard lock(impl_->mutex);

@@ -5,7 +5,7 @@
 //
 // Sending never blocks on the network. Eye, skeleton and portrait are newest-wins streams: a newer
 // message replaces an older unsent one (counted as stale); one handed to a connection that then
-// dies is lost. Touch events are numbered and acknowledged (in the heartbeats): one stays queued
+// dies is lost. Voice frames queue in order, boundedly, and are not sent again. Touch events are numbered and acknowledged (in the heartbeats): one stays queued
 // until the peer has acknowledged it, and goes again on the next connection, so a touch written
 // into a connection that died on the way still arrives; the receiver drops the copies. Received
 // messages land in mailboxes the receiver polls (newest wins; touch events queue), and optionally
@@ -45,6 +45,10 @@ struct SessionOptions {
   std::chrono::milliseconds handshake_timeout{2000};
   std::chrono::milliseconds reconnect_min{50}, reconnect_max{2000};
   size_t incoming_touch_capacity = 1024;  // beyond this, unpolled touch events are dropped (counted)
+  // Voice frames waiting to be written, and received ones not yet taken: half a second and two
+  // seconds of 20 ms frames; beyond these the oldest is dropped (counted as stale).
+  size_t outgoing_voice_capacity = 25;
+  size_t incoming_voice_capacity = 100;
   std::string name = "net";               // log prefix, e.g. "site A"
   std::function<void(const std::string&)> log;  // one line per event; default: stderr
 };
@@ -78,6 +82,8 @@ class Session : public Transport {
   std::optional<SkeletonMessage> take_skeleton();
   std::optional<HeartbeatMessage> take_heartbeat();
   std::vector<TouchEventMessage> take_touch_events();
+  // Every voice frame received since the last call, in arrival order.
+  std::vector<VoiceMessage> take_voice();
 
   // Set before start(). Called for every accepted message, heartbeats too: on the network thread,
   // portraits on the session's portrait-decoding thread (so a 720p decode never delays a touch).

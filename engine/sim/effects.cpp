@@ -104,6 +104,12 @@ const std::vector<EffectParser>& parsers() {
                            " frames (at most " + format_number(most) + "); make 'mean_length_frames' longer");
          e.tracker.dropouts = dropouts;
        }},
+      {"room_echo",
+       [](const nlohmann::json& j, const std::string& w, const auto&, Effects& e) {
+         reject_unknown_fields(j, {"delay_ms", "gain_db", "reverb_ms", "reverb_db"}, w);
+         e.room_echo = RoomEcho{require_in_range(j, "delay_ms", w, 10.0, 500.0), require_in_range(j, "gain_db", w, -60.0, 0.0),
+                                require_in_range(j, "reverb_ms", w, 0.0, 1000.0), require_in_range(j, "reverb_db", w, -80.0, 0.0)};
+       }},
   };
   return table;
 }
@@ -117,7 +123,7 @@ CameraColor ColorGain::for_camera(const std::string& name) const {
 
 bool Effects::any() const {
   return depth_noise || flying_pixels || near_cutoff || skin_depth_bias || color_gain || misregistration ||
-         camera_timing_jitter || tracker.jitter || tracker.latency || tracker.dropouts;
+         camera_timing_jitter || tracker.jitter || tracker.latency || tracker.dropouts || room_echo;
 }
 
 const std::vector<std::string>& effect_names() {
@@ -171,6 +177,11 @@ nlohmann::json effects_to_json(const Effects& e) {
   if (e.tracker.dropouts)
     json["tracker_dropouts"] = {{"probability", e.tracker.dropouts->probability},
                                 {"mean_length_frames", e.tracker.dropouts->mean_length_frames}};
+  if (e.room_echo)
+    json["room_echo"] = {{"delay_ms", e.room_echo->delay_ms},
+                         {"gain_db", e.room_echo->gain_db},
+                         {"reverb_ms", e.room_echo->reverb_ms},
+                         {"reverb_db", e.room_echo->reverb_db}};
   return json;
 }
 

@@ -67,6 +67,15 @@ struct TrackerDropouts {
   double mean_length_frames = 5.0;
 };
 
+// The room's echo: what the site's loudspeaker plays comes back into its microphone (the audio
+// devices' simulated room, devices/audio/simulated_room.h).
+struct RoomEcho {
+  double delay_ms = 50.0;
+  double gain_db = -6.0;
+  double reverb_ms = 60.0;  // reflections after the direct path, spread over this long
+  double reverb_db = -18.0;  // the last reflection, below the direct path
+};
+
 struct TrackerEffects {
   std::optional<TrackerJitter> jitter;
   std::optional<TrackerLatency> latency;
@@ -82,6 +91,7 @@ struct Effects {
   std::optional<Misregistration> misregistration;
   std::optional<CameraTimingJitter> camera_timing_jitter;
   TrackerEffects tracker;  // tracker_jitter, tracker_latency, tracker_dropouts
+  std::optional<RoomEcho> room_echo;
 
   bool any() const;
 };

@@ -51,6 +51,9 @@ std::vector<std::pair<std::string, std::string>> closing_rows(const nlohmann::js
   // A peer that ended its session said so first: that close is not counted as lost.
   rows.emplace_back("connections lost / reconnects / touches resent",
                     count("/net/connections_lost") + " / " + count("/net/reconnects") + " / " + count("/net/touches_resent"));
+  rows.emplace_back("voice kbit/s out (Opus) / frames lost", table_cell(at("/sound/voice/bitrate_kbps"), "%.1f") + " / " +
+                                                                 count("/sound/voice/jitter/lost"));
+  rows.emplace_back("echo return loss enhancement dB (after 2 s)", table_cell(at("/sound/echo/erle_db_after_2s"), "%.1f"));
   const nlohmann::json state = at("/appearance/state");
   const nlohmann::json fitted = at("/appearance/frames_fitted");
   rows.emplace_back("appearance adaption (frames fitted)",

@@ -10,6 +10,8 @@
 #include "pipeline/ibr_settings.h"
 #include "config/json.h"
 #include "site/site_options.h"
+
+#include "audio/audio_spec.h"
 #include "tracker/leap_url.h"
 
 namespace rt::site {
@@ -58,7 +60,7 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
     if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "transport" && key != "time_scale" &&
         key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" && key != "site_file" &&
         key != "motor" &&  key != "tracker" && key != "display" && key != "monitor" &&
-        key != "present_mode" && key != "ibr" && key != "hand" && key != "touch")
+        key != "present_mode" && key != "ibr" && key != "hand" && key != "touch" && key != "audio_in" && key != "audio_out")
       throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
   std::string site = site_name(options.site), key_file;
   string_field("scene", options.scene);
@@ -90,6 +92,15 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   }
   if (options.motor != "simulated" && options.motor != "usb" && options.motor != "auto")
     throw std::runtime_error(config.string() + ": 'motor' must be \"simulated\", \"usb\" or \"auto\"");
+  string_field("audio_in", options.sound.audio_in);
+  string_field("audio_out", options.sound.audio_out);
+  for (auto [name, value] : {std::pair{"audio_in", &options.sound.audio_in}, {"audio_out", &options.sound.audio_out}}) {
+    try {
+      audio::parse_audio_spec(*value, name);
+    } catch (const std::invalid_argument& error) {
+      throw std::runtime_error(config.string() + ": '" + name + "': " + error.what());
+    }
+  }
   string_field("display", options.display);
   string_field("present_mode", options.present_mode);
   try {

@@ -8,6 +8,7 @@
 #include "pipeline/hand_settings.h"
 #include "pipeline/ibr_settings.h"
 #include "pipeline/run_options.h"
+#include "site/site_sound_options.h"
 #include "touch/touch_settings.h"
 
 namespace rt::site {
@@ -49,6 +50,7 @@ struct SiteRunOptions {
   nlohmann::json quality;               // what --quality or --budget-ms chose, for metrics; null: neither
   pipeline::HandRendererOptions hand;   // the receiver's geometry hand
   TouchSettings touch;                  // contact prediction and the motor's latency
+  SoundOptions sound;                   // microphone, loudspeaker, the voice's knobs (site_sound.h)
 };
 
 // Fills the fields a --config JSON names (scene, site, listen, peer, key_file, transport, time_scale,

@@ -22,6 +22,7 @@
 #include "site/site_common.h"
 #include "site/site_metrics.h"
 #include "site/site_motor.h"
+#include "site/site_sound.h"
 #include "session/output_folder_lock.h"
 #include "time/monotonic_clock.h"
 #include "motor/simulated_motor.h"
@@ -132,6 +133,8 @@ class SiteRun {
   std::unique_ptr<Receiver> receiver_;
   // Declared after the sender and the receiver, so destroyed before them: its thread calls them.
   std::unique_ptr<net::Transport> net_;
+  // After the transport: its thread sends and takes voice frames, so it stops first.
+  std::unique_ptr<SiteSound> sound_;
   std::mutex skeleton_mutex_;
   std::deque<std::pair<uint64_t, uint64_t>> remote_capture_of_stamp_;  // (stamp here, sender's capture) µs
   session::LatencyStats touch_to_motor_, detect_to_motor_;
@@ -232,12 +235,21 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
   receiver_ = std::make_unique<Receiver>(common_);
   common_.sender_graph = &sender_->ibr_graph();
   net_->set_handler([this](const net::Message& message) { on_message(message); });
+  sound_ = std::make_unique<SiteSound>(options.sound, options.site, common_.scene.effects, common_.out, *net_,
+                                       [this](const std::string& line) {
+                                         std::cerr << "site " << common_.name << ": sound: " << line << "\n";
+                                         events_.write("sound_log", monotonic_now_us(), {{"line", line}});
+                                       });
+  std::cerr << "site " << common_.name << ": sound: " << sound_->description() << "\n";
+  events_.write("sound", monotonic_now_us(), {{"sound", sound_->description()}});
 }
 
 void SiteRun::on_message(const net::Message& message) {
   const uint64_t now = monotonic_now_us();
   const Site here = common_.options.site;
-  if (const auto* eye = std::get_if<net::EyeMessage>(&message)) {
+  if (const auto* voice = std::get_if<net::VoiceMessage>(&message)) {
+    if (sound_) sound_->receive(*voice);
+  } else if (const auto* eye = std::get_if<net::EyeMessage>(&message)) {
     if (eye->valid) sender_->set_remote_eye(map_point(common_.remote, here, eye->eye));
   } else if (const auto* skeleton = std::get_if<net::SkeletonMessage>(&message)) {
     // The hands' capture times on the other machine's clock come onto this one by the link's
@@ -468,6 +480,7 @@ int SiteRun::run() {
   std::cout << "connected" << std::endl;
 
   touch_->loop().start();
+  sound_->start();
   // A stage that throws ends the run cleanly: the others see `stopping` and the error is reported.
   std::atomic<bool> failed{false};
   auto guarded = [&](const char* stage, auto loop) {
@@ -502,6 +515,7 @@ int SiteRun::run() {
   ibr.join();
   tracker.join();
   touch_->loop().stop();
+  sound_->stop();
   const double elapsed_s = double(monotonic_now_us() - common_.epoch_us) * 1e-6;
   // Give the peer a moment to take our last messages before the connection closes.
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
@@ -509,6 +523,7 @@ int SiteRun::run() {
   sender_->add_metrics(m, std::max(elapsed_s, 1e-6));
   receiver_->add_metrics(m, std::max(elapsed_s, 1e-6));
   m["motor"] = motor_.description;
+  m["sound"] = sound_->metrics();
   m["latency_ms"]["touch_to_motor_command"] = touch_to_motor_.to_json();
   m["latency_ms"]["touch_detected_to_motor_command"] = detect_to_motor_.to_json();
   m["fps"]["touch_loop"] = double(touch_->loop().ticks()) / std::max(elapsed_s, 1e-6);

@@ -1,0 +1,160 @@
+#include "media/echo_canceller.h"
+
+#include <gst/app/gstappsink.h>
+#include <gst/app/gstappsrc.h>
+#include <gst/gst.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <stdexcept>
+
+namespace rt::media {
+namespace {
+
+const char* const kFloatCaps = "audio/x-raw,format=F32LE,rate=48000,channels=1,layout=interleaved";
+// webrtcdsp takes 16-bit interleaved or float planar; 16-bit is what it was tuned with.
+const char* const kDspCaps = "audio/x-raw,format=S16LE,rate=48000,channels=1";
+
+void require_dsp_element(const char* name) {
+  GstElementFactory* factory = gst_element_factory_find(name);
+  if (!factory)
+    throw std::runtime_error(std::string("echo cancellation needs the GStreamer element ") + name +
+                             ", which is missing: apt-get install gstreamer1.0-plugins-bad");
+  gst_object_unref(factory);
+}
+
+GstElement* launch(const std::string& description) {
+  GError* error = nullptr;
+  GstElement* pipeline = gst_parse_launch(description.c_str(), &error);
+  if (error) {
+    const std::string why = error->message;
+    g_error_free(error);
+    if (pipeline) gst_object_unref(pipeline);
+    throw std::runtime_error("echo canceller pipeline: " + why);
+  }
+  return pipeline;
+}
+
+GstElement* child(GstElement* pipeline, const char* name) { return gst_bin_get_by_name(GST_BIN(pipeline), name); }
+
+void push_block(GstElement* source, std::span<const float> block, uint64_t& samples) {
+  GstBuffer* buffer = gst_buffer_new_allocate(nullptr, block.size_bytes(), nullptr);
+  gst_buffer_fill(buffer, 0, block.data(), block.size_bytes());
+  GST_BUFFER_PTS(buffer) = gst_util_uint64_scale(samples, GST_SECOND, 48000);
+  GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale(block.size(), GST_SECOND, 48000);
+  samples += block.size();
+  if (gst_app_src_push_buffer(GST_APP_SRC(source), buffer) != GST_FLOW_OK)
+    throw std::runtime_error("echo canceller: the pipeline stopped taking audio");
+}
+
+// One block out of `sink`; webrtcdsp hands back each 10 ms it was given.
+std::vector<float> pull_block(GstElement* sink, GstElement* pipeline) {
+  GstSample* sample = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), 2 * GST_SECOND);
+  if (!sample) {
+    std::string why = "no audio came out within 2 s";
+    GstBus* bus = gst_element_get_bus(pipeline);
+    if (GstMessage* message = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR)) {
+      GError* error = nullptr;
+      gst_message_parse_error(message, &error, nullptr);
+      if (error) why = error->message, g_error_free(error);
+      gst_message_unref(message);
+    }
+    gst_object_unref(bus);
+    throw std::runtime_error("echo canceller: " + why);
+  }
+  std::vector<float> out;
+  GstBuffer* buffer = gst_sample_get_buffer(sample);
+  GstMapInfo map;
+  if (buffer && gst_buffer_map(buffer, &map, GST_MAP_READ)) {
+    out.resize(map.size / sizeof(float));
+    std::memcpy(out.data(), map.data, out.size() * sizeof(float));
+    gst_buffer_unmap(buffer, &map);
+  }
+  gst_sample_unref(sample);
+  return out;
+}
+
+void start(GstElement* pipeline) {
+  if (gst_element_set_state(pipeline, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
+    throw std::runtime_error("echo canceller: the pipeline would not start");
+}
+
+void release(GstElement*& pipeline, std::initializer_list<GstElement**> elements) {
+  if (pipeline) gst_element_set_state(pipeline, GST_STATE_NULL);
+  for (GstElement** e : elements)
+    if (*e) gst_object_unref(*e), *e = nullptr;
+  if (pipeline) gst_object_unref(pipeline), pipeline = nullptr;
+}
+
+}  // namespace
+
+EchoCanceller::EchoCanceller(const EchoCancellerOptions& options) {
+  static std::once_flag once;
+  std::call_once(once, [] { gst_init(nullptr, nullptr); });
+  require_dsp_element("webrtcdsp");
+  require_dsp_element("webrtcechoprobe");
+  // The canceller finds its probe by name among all in the process: one name per canceller.
+  static std::atomic<int> next_probe{0};
+  const std::string probe = "rt_echo_probe_" + std::to_string(next_probe++);
+  const std::string sinks = " sync=false async=false max-buffers=64";
+  try {
+    far_pipeline_ = launch(std::string("appsrc name=source format=time caps=") + kFloatCaps + " ! audioconvert ! " +
+                           kDspCaps + " ! webrtcechoprobe name=" + probe + " ! appsink name=sink" + sinks);
+    far_source_ = child(far_pipeline_, "source");
+    far_sink_ = child(far_pipeline_, "sink");
+    near_pipeline_ = launch(std::string("appsrc name=source format=time caps=") + kFloatCaps + " ! audioconvert ! " +
+                            kDspCaps + " ! webrtcdsp name=dsp probe=" + probe +
+                            " echo-cancel=true delay-agnostic=true extended-filter=true"
+                            " echo-suppression-level=high noise-suppression=" +
+                            (options.noise_suppression ? "true" : "false") +
+                            " gain-control=" + (options.gain_control ? "true" : "false") +
+                            " high-pass-filter=true ! audioconvert ! " + kFloatCaps + " ! appsink name=sink" + sinks);
+    near_source_ = child(near_pipeline_, "source");
+    near_sink_ = child(near_pipeline_, "sink");
+    start(far_pipeline_);
+    start(near_pipeline_);
+  } catch (...) {
+    release(near_pipeline_, {&near_source_, &near_sink_});
+    release(far_pipeline_, {&far_source_, &far_sink_});
+    throw;
+  }
+}
+
+EchoCanceller::~EchoCanceller() {
+  release(near_pipeline_, {&near_source_, &near_sink_});
+  release(far_pipeline_, {&far_source_, &far_sink_});
+}
+
+void EchoCanceller::played(std::span<const float> block) {
+  if (block.size() != kBlockSamples)
+    throw std::invalid_argument("echo canceller: a played block is 480 samples, not " + std::to_string(block.size()));
+  push_block(far_source_, block, far_samples_);
+  // Read back, so that the probe has taken the block before the microphone's reaches the canceller.
+  pull_block(far_sink_, far_pipeline_);
+}
+
+std::vector<float> EchoCanceller::captured(std::span<const float> block) {
+  if (block.size() != kBlockSamples)
+    throw std::invalid_argument("echo canceller: a captured block is 480 samples, not " + std::to_string(block.size()));
+  push_block(near_source_, block, near_samples_);
+  std::vector<float> out = pull_block(near_sink_, near_pipeline_);
+  out.resize(kBlockSamples, 0.0f);
+  return out;
+}
+
+double echo_return_loss_enhancement_db(std::span<const float> microphone, std::span<const float> cancelled, size_t from,
+                                       size_t to) {
+  to = std::min({to, microphone.size(), cancelled.size()});
+  double in = 0.0, out = 0.0;
+  for (size_t i = from; i < to; ++i) {
+    in += double(microphone[i]) * microphone[i];
+    out += double(cancelled[i]) * cancelled[i];
+  }
+  // A floor under the output: perfect silence reads as 100 dB, not infinity.
+  return 10.0 * std::log10(std::max(in, 1e-20) / std::max(out, in * 1e-10 + 1e-20));
+}
+
+}  // namespace rt::media

@@ -1,0 +1,273 @@
+#include "site/site_sound.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+#include "audio/audio_spec.h"
+#include "audio/simulated_room.h"
+#include "audio/wav_file.h"
+#include "media/echo_canceller.h"
+#include "media/opus_voice.h"
+#include "media/voice_jitter_buffer.h"
+#include "time/monotonic_clock.h"
+
+namespace rt::site {
+namespace {
+
+constexpr size_t kBlock = audio::kBlockSamples;
+constexpr size_t kFrame = media::kVoiceFrameSamples;
+// Behind by more than this, the loop gives up the lost time instead of rushing to make it up.
+constexpr uint64_t kMaxLagUs = 200'000;
+
+double power_of(std::span<const float> samples) {
+  double sum = 0.0;
+  for (float s : samples) sum += double(s) * s;
+  return sum;
+}
+
+// A single-quoted shell word: the sentence and the path go to espeak-ng as they are.
+std::string shell_word(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+}  // namespace
+
+std::string simulated_sentence(Site site) {
+  return site == Site::A ? "Hello from site A. Can you hear me? Put your hand on the glass and we will clap."
+                         : "Hi, this is site B. I hear you well. Ready when you are, let us clap now.";
+}
+
+double simulated_sentence_start_s(Site site) { return site == Site::A ? 0.5 : 6.0; }
+
+std::vector<float> speak_with_espeak(const std::string& text, const std::filesystem::path& folder) {
+  const std::filesystem::path path = folder / "sentence.wav";
+  const std::string command = "espeak-ng -v en-us -s 150 -w " + shell_word(path.string()) + " " + shell_word(text) + " 2>&1";
+  if (std::system(command.c_str()) != 0 || !std::filesystem::exists(path))
+    throw std::runtime_error("the simulated user's sentence needs espeak-ng: apt-get install espeak-ng (scripts/packages.txt)");
+  std::vector<float> speech = audio::read_wav_file(path.string(), 30.0);
+  std::filesystem::remove(path);
+  return speech;
+}
+
+SiteSound::SiteSound(const SoundOptions& options, Site site, const sim::Effects& effects, const std::filesystem::path& out,
+                     net::Transport& transport, std::function<void(const std::string&)> log)
+    : options_(options), transport_(transport), log_(std::move(log)) {
+  const audio::AudioSpec in_spec = audio::parse_audio_spec(options.audio_in, "--audio-in");
+  const audio::AudioSpec out_spec = audio::parse_audio_spec(options.audio_out, "--audio-out");
+  const bool simulated_in = in_spec.kind == audio::AudioSpec::Kind::Simulated;
+  const bool simulated_out = out_spec.kind == audio::AudioSpec::Kind::Simulated;
+  std::string in_description, out_description;
+  if (simulated_in || simulated_out) {
+    std::vector<float> speech;
+    if (simulated_in) {
+      try {
+        const std::vector<float> sentence = speak_with_espeak(simulated_sentence(site), out);
+        speech_delay_samples_ = size_t(simulated_sentence_start_s(site) * audio::kSampleRate);
+        speech.reserve(speech_delay_samples_ + sentence.size());
+        speech.assign(speech_delay_samples_, 0.0f);
+        speech.insert(speech.end(), sentence.begin(), sentence.end());
+      } catch (const std::exception& error) {
+        log_(std::string("the simulated user stays silent: ") + error.what());
+      }
+    }
+    // The echo is the room's own loudspeaker heard by its own microphone: both must be the room's.
+    std::optional<audio::EchoPathOptions> echo;
+    if (effects.room_echo && simulated_in && simulated_out)
+      echo = audio::EchoPathOptions{.delay_ms = effects.room_echo->delay_ms,
+                                    .gain_db = effects.room_echo->gain_db,
+                                    .reverb_ms = effects.room_echo->reverb_ms,
+                                    .reverb_db = effects.room_echo->reverb_db};
+    // Nothing recorded: a site may run for hours, and its figures are summed as it goes.
+    room_ = std::make_unique<audio::SimulatedRoom>(std::move(speech), echo, 0);
+  }
+  if (simulated_in) {
+    in_ = room_->microphone();
+    in_description = in_->description();
+  } else {
+    audio::OpenedInput opened = audio::open_audio_input(in_spec);
+    in_ = std::move(opened.device);
+    in_description = opened.description;
+  }
+  if (simulated_out) {
+    out_ = room_->loudspeaker();
+    out_description = out_->description();
+    heard_path_ = out / "audio.wav";
+    heard_file_ = std::make_unique<audio::WavFileOutput>(heard_path_.string());
+  } else {
+    audio::OpenedOutput opened = audio::open_audio_output(out_spec);
+    out_ = std::move(opened.device);
+    out_description = opened.description;
+  }
+  description_ = "in: " + in_description + "; out: " + out_description;
+  if (in_) encoder_ = std::make_unique<media::VoiceEncoder>(media::VoiceEncoderOptions{.bitrate_bps = options.voice_bitrate_bps});
+  if (out_) {
+    decoder_ = std::make_unique<media::VoiceDecoder>();
+    jitter_ = std::make_unique<media::VoiceJitterBuffer>();
+  }
+  // Cancelling needs both halves: what was played, and the microphone that heard it; and an echo
+  // to cancel: a real room has one, a simulated room only when the scene asks for it (otherwise
+  // the canceller would cost a tenth of a core for nothing), a file none.
+  const bool live_room = in_spec.kind == audio::AudioSpec::Kind::Live && out_spec.kind == audio::AudioSpec::Kind::Live;
+  if (in_ && out_ && (live_room || (room_ && room_->has_echo())))
+    canceller_ = std::make_unique<media::EchoCanceller>(
+        media::EchoCancellerOptions{.noise_suppression = options.noise_suppression, .gain_control = options.gain_control});
+  capture_frame_.reserve(kFrame);
+}
+
+SiteSound::~SiteSound() {
+  try {
+    stop();
+  } catch (const std::exception& error) {
+    log_(std::string("sound: ") + error.what());
+  }
+}
+
+void SiteSound::start() {
+  if (started_ || (!in_ && !out_)) return;
+  started_ = true;
+  start_us_ = monotonic_now_us();
+  thread_ = std::thread([this] { loop(); });
+}
+
+void SiteSound::stop() {
+  stopping_ = true;
+  if (thread_.joinable()) thread_.join();
+  if (heard_file_) heard_file_->finish();
+  if (out_) out_->finish();
+}
+
+void SiteSound::loop() {
+  uint64_t base_us = start_us_, block = 0;
+  while (!stopping_) {
+    const uint64_t deadline = base_us + audio::samples_to_us((block + 1) * kBlock);
+    const uint64_t now = monotonic_now_us();
+    if (now + 500 < deadline) {
+      std::this_thread::sleep_for(std::chrono::microseconds(deadline - now));
+    } else if (now > deadline + kMaxLagUs) {
+      ++late_ticks_;
+      base_us = now - audio::samples_to_us((block + 1) * kBlock);
+    }
+    const uint64_t began = monotonic_now_us();
+    try {
+      tick(ticks_);
+    } catch (const std::exception& error) {
+      log_(std::string("sound stopped: ") + error.what());
+      return;
+    }
+    loop_ms_ += double(monotonic_now_us() - began) / 1000.0;
+    ++ticks_;
+    ++block;
+  }
+}
+
+void SiteSound::receive(net::VoiceMessage frame) {
+  // Five seconds of 20 ms frames: a sound thread that stalled longer has lost them anyway.
+  constexpr size_t kMaxReceivedFrames = 250;
+  std::lock_guard lock(received_mutex_);
+  if (received_.size() >= kMaxReceivedFrames) {
+    received_.pop_front();
+    ++received_dropped_;
+  }
+  received_.push_back(std::move(frame));
+}
+
+void SiteSound::tick(uint64_t block_index) {
+  // The far voice: every voice frame that came, into the jitter buffer; a frame every other tick.
+  std::deque<net::VoiceMessage> frames;
+  {
+    std::lock_guard lock(received_mutex_);
+    frames.swap(received_);
+  }
+  for (net::VoiceMessage& frame : frames) {
+    ++voice_frames_in_;
+    if (jitter_ && frame.frame_samples == kFrame) jitter_->push(std::move(frame));
+  }
+  std::vector<float> played(kBlock, 0.0f);
+  if (out_) {
+    if (block_index % 2 == 0) {
+      const media::VoiceJitterBuffer::Playout playout = jitter_->pop();
+      if (playout.slot == media::VoiceJitterBuffer::Slot::Frame)
+        playout_frame_ = decoder_->decode(playout.frame.packet);
+      else if (playout.slot == media::VoiceJitterBuffer::Slot::Lost)
+        playout_frame_ = decoder_->conceal();
+      else
+        playout_frame_.assign(kFrame, 0.0f);
+    }
+    std::copy_n(playout_frame_.begin() + ptrdiff_t((block_index % 2) * kBlock), kBlock, played.begin());
+    out_->write(played);
+    if (heard_file_) heard_file_->write(played);
+    if (canceller_) canceller_->played(played);
+  }
+  if (!in_) return;
+  std::vector<float> heard(kBlock);
+  in_->read(heard);
+  const std::vector<float> cleaned = canceller_ ? canceller_->captured(heard) : heard;
+  if (canceller_ && room_ && block_index * kBlock >= 2 * size_t(audio::kSampleRate)) {
+    // Echo at least -50 dBFS and the near user silent: the blocks the figure is about.
+    const audio::SimulatedRoom::BlockPowers parts = room_->last_block_powers();
+    if (parts.speech == 0.0 && parts.echo >= double(kBlock) * 1e-5) {
+      erle_in_ += power_of(heard);
+      erle_out_ += power_of(cleaned);
+      ++erle_blocks_;
+    }
+  }
+  capture_frame_.insert(capture_frame_.end(), cleaned.begin(), cleaned.end());
+  if (capture_frame_.size() < kFrame) return;
+  const uint64_t began = monotonic_now_us();
+  net::VoiceMessage message;
+  message.timestamp_us = start_us_ + audio::samples_to_us((block_index + 1) * kBlock - kFrame);
+  message.sequence = sequence_++;
+  message.frame_samples = uint16_t(kFrame);
+  message.packet = encoder_->encode(capture_frame_);
+  encode_ms_ += double(monotonic_now_us() - began) / 1000.0;
+  capture_frame_.clear();
+  voice_bytes_out_ += message.packet.size();
+  ++voice_frames_out_;
+  transport_.send(message);
+}
+
+nlohmann::json SiteSound::metrics() const {
+  nlohmann::json m;
+  m["devices"] = description_;
+  m["ticks"] = ticks_;
+  m["late_ticks"] = late_ticks_;
+  const double seconds = double(ticks_) * double(kBlock) / audio::kSampleRate;
+  m["seconds"] = seconds;
+  m["cpu_percent_of_a_core"] = seconds > 0 ? loop_ms_ / (seconds * 1000.0) * 100.0 : 0.0;
+  nlohmann::json voice;
+  voice["frames_out"] = voice_frames_out_;
+  voice["frames_in"] = voice_frames_in_;
+  voice["frames_dropped_before_the_sound_thread"] = received_dropped_;
+  // The Opus payload alone; each record adds its header, nonce and tag on the wire.
+  voice["bitrate_kbps"] = voice_frames_out_ ? double(voice_bytes_out_) * 8.0 / (double(voice_frames_out_) * 0.020) / 1000.0 : 0.0;
+  voice["encode_ms_per_frame"] = voice_frames_out_ ? encode_ms_ / double(voice_frames_out_) : 0.0;
+  if (jitter_) {
+    const media::JitterCounters& c = jitter_->counters();
+    voice["jitter"] = {{"played", c.played}, {"lost", c.lost},         {"late", c.late},
+                       {"duplicate", c.duplicate}, {"overflow_dropped", c.overflow_dropped}, {"rebuffers", c.rebuffers}};
+  }
+  if (decoder_) voice["undecodable"] = decoder_->undecodable();
+  m["voice"] = voice;
+  if (heard_file_)
+    m["audio_wav"] = {{"path", heard_path_.filename().string()},
+                      {"start_us", heard_file_->start_us()},
+                      {"samples", heard_file_->samples_written()},
+                      {"note", "what this site's loudspeaker played; start_us: its first sample, on the site's monotonic clock"}};
+  // The echo canceller's enhancement where the microphone heard the far voice's echo alone (this
+  // site's user silent), after its first two seconds.
+  if (room_ && room_->has_echo() && canceller_) {
+    m["echo"] = {{"erle_db_after_2s", erle_blocks_ ? nlohmann::json(10.0 * std::log10(erle_in_ / std::max(erle_out_, erle_in_ * 1e-10 + 1e-20)))
+                                                   : nlohmann::json()},
+                 {"echo_only_seconds", double(erle_blocks_ * kBlock) / audio::kSampleRate},
+                 {"noise_suppression", options_.noise_suppression},
+                 {"gain_control", options_.gain_control}};
+  }
+  return m;
+}
+
+}  // namespace rt::site

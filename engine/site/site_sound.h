@@ -1,0 +1,107 @@
+#pragma once
+// The site's sound: the microphone's voice, with the room's echo cancelled, sent as Opus frames
+// over the session; the other site's voice taken from the session through the jitter buffer to
+// the loudspeaker. One thread, 10 ms a tick on the wall clock (sound does not slow down with the
+// scene's time scale: a voice at the wrong speed is no voice).
+//
+// The simulated room (the default) has the simulated user say a sentence of its own, made with
+// espeak-ng when the site starts, and echoes the loudspeaker into the microphone when the scene
+// asks for a room_echo; the site then writes what its loudspeaker played to audio.wav. A device
+// that cannot be opened leaves the site without that half of the sound and says so.
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "audio/audio_device.h"
+#include "geometry/site_frames.h"
+#include "net/transport.h"
+#include "sim/effects.h"
+#include "site/site_sound_options.h"
+
+namespace rt::audio {
+class SimulatedRoom;
+class WavFileOutput;
+}  // namespace rt::audio
+namespace rt::media {
+class EchoCanceller;
+class VoiceEncoder;
+class VoiceDecoder;
+class VoiceJitterBuffer;
+}  // namespace rt::media
+
+namespace rt::site {
+
+// What the simulated user at `site` says, and when (seconds after the sites connect): the two
+// take turns, so that each site's echo canceller meets the far voice alone.
+std::string simulated_sentence(Site site);
+double simulated_sentence_start_s(Site site);
+
+// Speaks `text` with espeak-ng into a WAV under `folder` and reads it back at 48 kHz. Throws
+// std::runtime_error saying how to install espeak-ng when it is missing.
+std::vector<float> speak_with_espeak(const std::string& text, const std::filesystem::path& folder);
+
+class SiteSound {
+ public:
+  // Throws std::invalid_argument for an --audio-in or --audio-out that names nothing it knows.
+  SiteSound(const SoundOptions& options, Site site, const sim::Effects& effects, const std::filesystem::path& out,
+            net::Transport& transport, std::function<void(const std::string&)> log);
+  ~SiteSound();
+
+  void start();  // at connect
+  void stop();   // joins the thread, completes the files
+
+  // A voice frame from the other site (the transport's thread): held until the sound thread takes
+  // it, at most a few seconds' worth (the oldest go first).
+  void receive(net::VoiceMessage frame);
+
+  std::string description() const { return description_; }
+  nlohmann::json metrics() const;
+
+ private:
+  void loop();
+  void tick(uint64_t block_index);
+
+  SoundOptions options_;
+  net::Transport& transport_;
+  std::mutex received_mutex_;
+  std::deque<net::VoiceMessage> received_;
+  uint64_t received_dropped_ = 0;
+  std::function<void(const std::string&)> log_;
+  std::string description_;
+  std::unique_ptr<audio::SimulatedRoom> room_;
+  std::unique_ptr<audio::AudioInput> in_;
+  std::unique_ptr<audio::AudioOutput> out_;
+  std::unique_ptr<audio::WavFileOutput> heard_file_;  // audio.wav: what the loudspeaker played
+  std::filesystem::path heard_path_;
+  std::unique_ptr<media::EchoCanceller> canceller_;
+  std::unique_ptr<media::VoiceEncoder> encoder_;
+  std::unique_ptr<media::VoiceDecoder> decoder_;
+  std::unique_ptr<media::VoiceJitterBuffer> jitter_;
+  size_t speech_delay_samples_ = 0;
+
+  std::thread thread_;
+  std::atomic<bool> stopping_{false};
+  bool started_ = false;
+  uint64_t start_us_ = 0, ticks_ = 0, late_ticks_ = 0;
+
+  // The loop's alone until stop() has joined it.
+  std::vector<float> capture_frame_;   // 20 ms being filled for the encoder
+  std::vector<float> playout_frame_;   // the decoded 20 ms being played, in two halves
+  uint32_t sequence_ = 0;
+  uint64_t voice_bytes_out_ = 0, voice_frames_out_ = 0, voice_frames_in_ = 0;
+  // The echo canceller's figure, summed as the blocks go: microphone and cleaned power over the
+  // blocks after the first two seconds that held echo alone.
+  double erle_in_ = 0.0, erle_out_ = 0.0;
+  uint64_t erle_blocks_ = 0;
+  double encode_ms_ = 0.0, loop_ms_ = 0.0;
+};
+
+}  // namespace rt::site
