@@ -21,8 +21,11 @@ add_test(NAME session_demo_outage
          COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-outage wave 150 0 --disconnect-after-ms 400 --outage-ms 600)
 # A slow, lossy link (40 ms delay, 20 ms jitter, 2 % of records lost, each loss a cut link as TCP
 # would give it): still one touch per site.
+# Without sound: the fault proxy cuts the link at a lost record, and the voice's fifty records a
+# second would cut it twice as often as the touch path this test is about.
 add_test(NAME session_demo_lossy
-         COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-lossy clap 115 1 --delay-ms 40 --jitter-ms 20 --loss 0.02)
+         COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-lossy clap 115 1 --delay-ms 40 --jitter-ms 20 --loss 0.02
+                 --sound none)
 # The same scene over a WebRTC call set up through the session, then over the direct session: the
 # same touches, and the hand at the glass within 1 dB (the two sites' mean).
 add_test(NAME session_demo_webrtc

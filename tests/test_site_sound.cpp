@@ -4,6 +4,8 @@
 // site library does.
 #include <catch2/catch.hpp>
 
+#include <atomic>
+
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -25,11 +27,21 @@ TEST_CASE("site sound: A's sentence arrives whole at B, and B cancels its room's
   for (const char* site : {"A", "B"}) std::filesystem::create_directories(dir / site);
   const net::SessionKey key = net::random_session_key();
   test::LogLines log;
+  // The site hands each voice frame its transport receives to its sound (site_run.cpp).
+  std::atomic<site::SiteSound*> a_sound{nullptr}, b_sound{nullptr};
+  auto voice_to = [](std::atomic<site::SiteSound*>& sound) {
+    return [&sound](const net::Message& message) {
+      site::SiteSound* to = sound.load();
+      if (const auto* voice = std::get_if<net::VoiceMessage>(&message); voice && to) to->receive(*voice);
+    };
+  };
   net::Session a_session(test::test_session_options(net::Role::Listener, key, log, "A"));
+  a_session.set_handler(voice_to(a_sound));
   a_session.start();
   net::SessionOptions connector = test::test_session_options(net::Role::Connector, key, log, "B");
   connector.port = a_session.local_port();
   net::Session b_session(connector);
+  b_session.set_handler(voice_to(b_sound));
   b_session.start();
   REQUIRE(b_session.wait_connected(5000ms));
 
@@ -39,12 +51,18 @@ TEST_CASE("site sound: A's sentence arrives whole at B, and B cancels its room's
   auto sink = [&](const std::string& line) { lines.push_back(line); };
   site::SiteSound a({}, Site::A, echoing, dir / "A", a_session, sink);
   site::SiteSound b({}, Site::B, echoing, dir / "B", b_session, sink);
+  a_sound = &a;
+  b_sound = &b;
   a.start();
   b.start();
   // A speaks from 0.5 s for about 4.5 s; B answers only at 6 s.
   std::this_thread::sleep_for(std::chrono::milliseconds(int(site::simulated_sentence_start_s(Site::B) * 1000)));
   a.stop();
   b.stop();
+  a_session.stop();
+  b_session.stop();
+  a_sound = nullptr;
+  b_sound = nullptr;
   INFO("sound log: " << (lines.empty() ? std::string("(empty)") : lines.front()));
   CHECK(lines.empty());
 

@@ -48,7 +48,10 @@ uint32_t rtp_time_of(GstClockTime pts) { return uint32_t(gst_util_uint64_scale_i
 GstClockTime pts_of_rtp_time(uint64_t ticks) { return gst_util_uint64_scale_int_ceil(ticks, GST_SECOND, 90000); }
 
 // Which channel a message type travels on: the fast one for what the next copy replaces anyway.
-bool travels_fast(net::MessageType type) { return type == net::MessageType::Eye || type == net::MessageType::Skeleton; }
+// Voice too: its jitter buffer conceals a lost frame, where a retransmitted one would come too late.
+bool travels_fast(net::MessageType type) {
+  return type == net::MessageType::Eye || type == net::MessageType::Skeleton || type == net::MessageType::Voice;
+}
 
 }  // namespace
 
