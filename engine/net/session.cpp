@@ -152,7 +152,6 @@ struct Session::Impl {
   // queues are bounded; past that the oldest frame goes (counted as stale), and the receiver's
   // jitter buffer conceals it.
   std::deque<std::vector<uint8_t>> out_voice;
-  std::deque<VoiceMessage> in_voice;
   ConnectionStatus status;
   NetCounters counters;
 
@@ -569,14 +568,8 @@ struct Session::Impl {
             if constexpr (std::is_same_v<T, PortraitMessage>) put(in_portrait, m);
             if constexpr (std::is_same_v<T, SkeletonMessage>) put(in_skeleton, m);
             if constexpr (std::is_same_v<T, HeartbeatMessage>) put(in_heartbeat, m);
-            // Signals have no mailbox: the handler (the WebRTC link's) takes each.
-            if constexpr (std::is_same_v<T, VoiceMessage>) {
-              if (in_voice.size() >= options.incoming_voice_capacity) {
-                ++counters.stale_dropped_in[size_t(index)];
-                in_voice.pop_front();
-              }
-              in_voice.push_back(std::move(m));
-            }
+            // Signals and voice frames have no mailbox: the handler (the WebRTC link's, the site
+            // sound's) takes each, in order.
             if constexpr (std::is_same_v<T, TouchEventMessage>) {
               if (in_touch.size() >= options.incoming_touch_capacity) {
                 ++counters.stale_dropped_in[size_t(index)];
@@ -994,14 +987,6 @@ std::optional<PortraitMessage> Session::take_portrait() { return take(impl_->mut
 std::optional<SkeletonMessage> Session::take_skeleton() { return take(impl_->mutex, impl_->in_skeleton); }
 std::optional<HeartbeatMessage> Session::take_heartbeat() { return take(impl_->mutex, impl_->in_heartbeat); }
 
-std::vector<VoiceMessage> Session::take_voice() {
-  std::lock_guard lock(impl_->mutex);
-  std::vector<VoiceMessage> out;
-  out.reserve(impl_->in_voice.size());
-  for (auto& m : impl_->in_voice) out.push_back(std::move(m));
-  impl_->in_voice.clear();
-  return out;
-}
 
 std::vector<TouchEventMessage> Session::take_touch_events() {
   std::lock_guard lock(impl_->mutex);

@@ -45,10 +45,9 @@ struct SessionOptions {
   std::chrono::milliseconds handshake_timeout{2000};
   std::chrono::milliseconds reconnect_min{50}, reconnect_max{2000};
   size_t incoming_touch_capacity = 1024;  // beyond this, unpolled touch events are dropped (counted)
-  // Voice frames waiting to be written, and received ones not yet taken: half a second and two
-  // seconds of 20 ms frames; beyond these the oldest is dropped (counted as stale).
+  // Voice frames waiting to be written: half a second of 20 ms frames; beyond it the oldest is
+  // dropped (counted as stale). Received ones go to the handler only.
   size_t outgoing_voice_capacity = 25;
-  size_t incoming_voice_capacity = 100;
   std::string name = "net";               // log prefix, e.g. "site A"
   std::function<void(const std::string&)> log;  // one line per event; default: stderr
 };
@@ -82,8 +81,6 @@ class Session : public Transport {
   std::optional<SkeletonMessage> take_skeleton();
   std::optional<HeartbeatMessage> take_heartbeat();
   std::vector<TouchEventMessage> take_touch_events();
-  // Every voice frame received since the last call, in arrival order.
-  std::vector<VoiceMessage> take_voice();
 
   // Set before start(). Called for every accepted message, heartbeats too: on the network thread,
   // portraits on the session's portrait-decoding thread (so a 720p decode never delays a touch).
