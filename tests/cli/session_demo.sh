@@ -8,6 +8,7 @@ set -euo pipefail
 binary=$1 out=$2 scene=$3 frames=$4 touches=$5
 shift 5
 rm -rf "$out"
+mkdir -p "$(dirname "$out")"  # for the log beside it, before the demo makes $out
 "$binary" demo --scene "$scene" --frames "$frames" --width 96 --height 54 --resolution-scale 0.1 --time-scale 1 \
   --out "$out" "$@" 2>&1 | tee "$out.log"
 fail() { echo "FAIL: $*" >&2; exit 1; }
