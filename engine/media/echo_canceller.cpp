@@ -11,6 +11,8 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "audio/gst_audio.h"
+
 namespace rt::media {
 namespace {
 
@@ -26,17 +28,6 @@ void require_dsp_element(const char* name) {
   gst_object_unref(factory);
 }
 
-GstElement* launch(const std::string& description) {
-  GError* error = nullptr;
-  GstElement* pipeline = gst_parse_launch(description.c_str(), &error);
-  if (error) {
-    const std::string why = error->message;
-    g_error_free(error);
-    if (pipeline) gst_object_unref(pipeline);
-    throw std::runtime_error("echo canceller pipeline: " + why);
-  }
-  return pipeline;
-}
 
 GstElement* child(GstElement* pipeline, const char* name) { return gst_bin_get_by_name(GST_BIN(pipeline), name); }
 
@@ -101,11 +92,11 @@ EchoCanceller::EchoCanceller(const EchoCancellerOptions& options) {
   const std::string probe = "rt_echo_probe_" + std::to_string(next_probe++);
   const std::string sinks = " sync=false async=false max-buffers=64";
   try {
-    far_pipeline_ = launch(std::string("appsrc name=source format=time caps=") + kFloatCaps + " ! audioconvert ! " +
+    far_pipeline_ = audio::parse_pipeline(std::string("appsrc name=source format=time caps=") + kFloatCaps + " ! audioconvert ! " +
                            kDspCaps + " ! webrtcechoprobe name=" + probe + " ! appsink name=sink" + sinks);
     far_source_ = child(far_pipeline_, "source");
     far_sink_ = child(far_pipeline_, "sink");
-    near_pipeline_ = launch(std::string("appsrc name=source format=time caps=") + kFloatCaps + " ! audioconvert ! " +
+    near_pipeline_ = audio::parse_pipeline(std::string("appsrc name=source format=time caps=") + kFloatCaps + " ! audioconvert ! " +
                             kDspCaps + " ! webrtcdsp name=dsp probe=" + probe +
                             " echo-cancel=true delay-agnostic=true extended-filter=true"
                             " echo-suppression-level=high noise-suppression=" +

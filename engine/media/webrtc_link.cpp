@@ -209,15 +209,6 @@ net::ConnectionStatus WebRtcLink::status() const {
   return status;
 }
 
-bool WebRtcLink::wait_connected(std::chrono::milliseconds timeout) const {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (!status().connected()) {
-    if (std::chrono::steady_clock::now() >= deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return true;
-}
-
 net::NetCounters WebRtcLink::counters() const {
   net::NetCounters out = session_->counters();
   const WebRtcCounters call = peer_->counters();

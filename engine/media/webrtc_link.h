@@ -37,7 +37,6 @@ class WebRtcLink : public net::Transport {
   void set_handler(std::function<void(const net::Message&)> handler) override;
   net::ConnectionStatus status() const override;
   net::NetCounters counters() const override;
-  bool wait_connected(std::chrono::milliseconds timeout) const override;
   nlohmann::json transport_json() const override;
 
  private:

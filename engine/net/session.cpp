@@ -21,18 +21,6 @@
 
 namespace rt::net {
 
-const char* connection_state_name(ConnectionState state) {
-  switch (state) {
-    case ConnectionState::Idle: return "idle";
-    case ConnectionState::Connecting: return "connecting";
-    case ConnectionState::Connected: return "connected";
-    case ConnectionState::Lost: return "lost";
-    case ConnectionState::Refused: return "refused";
-    case ConnectionState::Ended: return "ended";
-  }
-  return "unknown";
-}
-
 namespace {
 
 using asio::ip::tcp;
@@ -987,7 +975,6 @@ std::optional<PortraitMessage> Session::take_portrait() { return take(impl_->mut
 std::optional<SkeletonMessage> Session::take_skeleton() { return take(impl_->mutex, impl_->in_skeleton); }
 std::optional<HeartbeatMessage> Session::take_heartbeat() { return take(impl_->mutex, impl_->in_heartbeat); }
 
-
 std::vector<TouchEventMessage> Session::take_touch_events() {
   std::lock_guard lock(impl_->mutex);
   return std::exchange(impl_->in_touch, {});
@@ -1003,15 +990,6 @@ ConnectionStatus Session::status() const {
 NetCounters Session::counters() const {
   std::lock_guard lock(impl_->mutex);
   return impl_->counters;
-}
-
-bool Session::wait_connected(std::chrono::milliseconds timeout) const {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (!status().connected()) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return true;
 }
 
 }  // namespace rt::net

@@ -89,8 +89,6 @@ class Session : public Transport {
 
   ConnectionStatus status() const override;
   NetCounters counters() const override;
-  // Polls status() until connected or the timeout passes.
-  bool wait_connected(std::chrono::milliseconds timeout) const override;
   nlohmann::json transport_json() const override { return {{"kind", "direct"}}; }
 
  private:

@@ -42,7 +42,7 @@ class Transport {
   virtual ConnectionStatus status() const = 0;
   virtual NetCounters counters() const = 0;
   // Polls status() until connected or the timeout passes.
-  virtual bool wait_connected(std::chrono::milliseconds timeout) const = 0;
+  bool wait_connected(std::chrono::milliseconds timeout) const;
   // What the transport itself measured, for metrics.json ("transport": {...}).
   virtual nlohmann::json transport_json() const = 0;
 };
