@@ -42,23 +42,59 @@ for site in "AB":
         assert 0 <= stages[wait]["median_ms"] <= on_screen["median_ms"], (site, wait, stages[wait], on_screen)
 PY
 # Contact prediction (on by default) times each clap's pulse against the scene's true contact, and
-# nothing is predicted, cancelled or felt where the palms never meet.
-/usr/bin/python3 - "$out/metrics.json" "$touches" "$@" <<'PY' || fail "contact prediction not used or mistimed"
+# nothing is predicted, cancelled or felt where the palms never meet. Where the link is cut, the
+# remote palm's arrival at the glass can only reach this site once the link is back: each pulse may
+# come late by the time this site's link was down after the contact, and by no more than the
+# slack below on top of it (the proxy's delay and jitter, a tracker period, the touch loop's tick).
+/usr/bin/python3 - "$out" "$touches" "$@" <<'PY' || fail "contact prediction not used or mistimed"
 import json, sys
-m, touches, extra = json.load(open(sys.argv[1])), int(sys.argv[2]), sys.argv[3:]
+out, touches, extra = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
+m = json.load(open(f"{out}/metrics.json"))
+events = [json.loads(line) for line in open(f"{out}/events.jsonl")]
+link_cut = any(a.startswith("--disconnect") or a.startswith("--loss") for a in extra)
+SLACK_AFTER_DOWNTIME_MS, PREDICTION_LEAD_MS = 250, 500
+
+def downtime_us(site, begin, end):
+    """Time in [begin, end] this site's link spent between a connection_lost and the next restore."""
+    total, lost_at = 0, None
+    for e in events:
+        if e.get("site") != site:
+            continue
+        if e["event"] == "connection_lost" and lost_at is None:
+            lost_at = e["t_us"]
+        elif e["event"] == "connection_restored" and lost_at is not None:
+            total += max(0, min(e["t_us"], end) - max(lost_at, begin))
+            lost_at = None
+    if lost_at is not None:
+        total += max(0, end - max(lost_at, begin))
+    return total
+
 for site in "AB":
     touch = m["sites"][site]["touch"]
     pulses, timing = touch["pulses"], touch["contact_to_vibration_ms"]
     print(f"site {site}: pulses {pulses}, contact to vibration median {timing['median_ms']} ms")
     assert touch["settings"]["contact_prediction"] == "on", touch["settings"]
-    assert timing["contacts"] == touches and timing["vibrations_without_contact"] == 0, timing
+    assert timing["contacts"] == touches, timing
     if touches == 0:
+        assert timing["vibrations_without_contact"] == 0, timing
         assert pulses == {"predicted": 0, "confirmed": 0, "cancelled": 0, "unpredicted": 0}, pulses
-    elif not any(a.startswith("--disconnect") or a.startswith("--loss") for a in extra):
+    elif not link_cut:
+        assert timing["vibrations_without_contact"] == 0, timing
         # A link cut may hide the reach from the predictor; a clean run predicts its clap.
         assert pulses["predicted"] == touches and pulses["cancelled"] == 0, pulses
         assert timing["contacts_not_felt"] == 0, timing
         assert abs(timing["median_ms"]) <= 60, timing
+    else:
+        commands = [e["t_us"] for e in events if e["event"] == "motor_pulse" and e.get("site") == site]
+        contacts = [t["contact_us"] for t in timing["touches"]]
+        assert len(commands) == len(contacts), (commands, contacts)
+        for contact, command in zip(contacts, commands):
+            down = downtime_us(site, contact, command) if command > contact else 0
+            late_ms = (command - contact - down) / 1000
+            print(f"site {site}: motor command {(command - contact) / 1000:.1f} ms after the contact, "
+                  f"{down / 1000:.1f} ms of it with the link down")
+            assert (command - contact) / 1000 >= -PREDICTION_LEAD_MS, (contact, command)
+            assert late_ms <= SLACK_AFTER_DOWNTIME_MS, (contact, command, down)
 PY
 # Each displayed frame says what appearance the drawn hand was shaded with, and only where one was drawn.
 /usr/bin/python3 - "$out" "$touches" <<'PY' || fail "frames.jsonl: drawn_hand_appearance missing or wrong"
