@@ -55,6 +55,34 @@ TEST_CASE("audio devices: a WAV file written and read back is the same sound", "
   CHECK(blocks == tone.size() / kBlockSamples);
 }
 
+TEST_CASE("audio devices: a stereo WAV keeps its channels apart, and a block must be whole frames", "[audio]") {
+  const auto dir = rt::test::output_dir("test_audio_devices");
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "stereo.wav").string();
+  const auto left = audio_devices_tone(4801, 440.0, 0.5f), right = audio_devices_tone(4801, 1000.0, 0.25f);
+  std::vector<float> frames;
+  frames.reserve(2 * left.size());
+  for (size_t i = 0; i < left.size(); ++i) frames.insert(frames.end(), {left[i], right[i]});
+  {
+    WavFileOutput out(path, {}, 2);
+    CHECK(out.channels() == 2);
+    CHECK_THROWS_WITH(out.write(std::span(frames).first(3)), Catch::Contains("not whole frames of 2 channels"));
+    out.write(frames);
+    out.finish();
+    CHECK(out.samples_written() == left.size());
+  }
+  const auto back = read_wav_file(path, 10.0, 2);
+  REQUIRE(back.size() == frames.size());
+  double worst = 0.0;
+  for (size_t i = 0; i < frames.size(); ++i) worst = std::max(worst, double(std::abs(back[i] - frames[i])));
+  CHECK(worst < 2.0 / 32768.0);
+  // Read as mono, the two channels' mean.
+  const auto mono = read_wav_file(path);
+  REQUIRE(mono.size() == left.size());
+  CHECK(mono[100] == Approx(0.5f * (left[100] + right[100])).margin(1e-3));
+  CHECK_THROWS_WITH(WavFileOutput((dir / "three.wav").string(), {}, 3), Catch::Contains("1 or 2 channels, not 3"));
+}
+
 TEST_CASE("audio devices: a missing or broken WAV file is refused with the reason", "[audio]") {
   const auto dir = rt::test::output_dir("test_audio_devices");
   std::filesystem::create_directories(dir);

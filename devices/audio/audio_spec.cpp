@@ -26,17 +26,17 @@ OpenedInput open_audio_input(const AudioSpec& spec) {
   return opened;
 }
 
-OpenedOutput open_audio_output(const AudioSpec& spec, std::function<uint64_t()> clock) {
+OpenedOutput open_audio_output(const AudioSpec& spec, std::function<uint64_t()> clock, int channels) {
   OpenedOutput opened;
   switch (spec.kind) {
     case AudioSpec::Kind::None: opened.description = "no sound out (none asked for)"; break;
     case AudioSpec::Kind::Simulated: throw std::logic_error("the simulated room is built by the site, with its scene");
     case AudioSpec::Kind::WavFile:
-      opened.device = std::make_unique<WavFileOutput>(spec.target, std::move(clock));
+      opened.device = std::make_unique<WavFileOutput>(spec.target, std::move(clock), channels);
       opened.description = opened.device->description();
       break;
     case AudioSpec::Kind::Live: {
-      PulseOutputResult live = open_pulse_output(spec.target);
+      PulseOutputResult live = open_pulse_output(spec.target, channels);
       opened.device = std::move(live.output);
       opened.description = live.message;
       break;

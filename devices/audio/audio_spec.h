@@ -32,7 +32,7 @@ struct OpenedOutput {
   std::string description;
 };
 OpenedInput open_audio_input(const AudioSpec& spec);
-// `clock`: the site's monotonic clock, for a WAV file's start.
-OpenedOutput open_audio_output(const AudioSpec& spec, std::function<uint64_t()> clock = {});
+// `clock`: the site's monotonic clock, for a WAV file's start; `channels`: 1 or 2.
+OpenedOutput open_audio_output(const AudioSpec& spec, std::function<uint64_t()> clock = {}, int channels = 1);
 
 }  // namespace rt::audio

@@ -95,27 +95,30 @@ class PulseInput final : public AudioInput {
 
 class PulseOutput final : public AudioOutput {
  public:
-  PulseOutput(GstElement* pipeline, GstElement* source, std::string label)
-      : pipeline_(pipeline), source_(source), label_(std::move(label)) {}
+  PulseOutput(GstElement* pipeline, GstElement* source, std::string label, int channels)
+      : pipeline_(pipeline), source_(source), label_(std::move(label)), channels_(channels) {}
   ~PulseOutput() override { discard(pipeline_, source_); }
 
   void write(std::span<const float> block) override {
     if (failed_ || block.empty()) return;
-    GstBuffer* buffer = gst_buffer_new_allocate(nullptr, block.size_bytes(), nullptr);
-    gst_buffer_fill(buffer, 0, block.data(), block.size_bytes());
+    const size_t frames = block.size() / size_t(channels_);
+    GstBuffer* buffer = gst_buffer_new_allocate(nullptr, frames * size_t(channels_) * sizeof(float), nullptr);
+    gst_buffer_fill(buffer, 0, block.data(), frames * size_t(channels_) * sizeof(float));
     GST_BUFFER_PTS(buffer) = gst_util_uint64_scale(samples_, GST_SECOND, kSampleRate);
-    GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale(block.size(), GST_SECOND, kSampleRate);
-    samples_ += block.size();
+    GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale(frames, GST_SECOND, kSampleRate);
+    samples_ += frames;
     // A device that vanished mid-call silences the site; the call goes on.
     if (gst_app_src_push_buffer(GST_APP_SRC(source_), buffer) != GST_FLOW_OK) failed_ = true;
   }
   std::string description() const override { return "live output " + label_; }
+  int channels() const override { return channels_; }
 
  private:
   GstElement* pipeline_;
   GstElement* source_;
   std::string label_;
-  uint64_t samples_ = 0;
+  int channels_ = 1;
+  uint64_t samples_ = 0;  // frames
   bool failed_ = false;
 };
 
@@ -147,8 +150,9 @@ PulseInputResult open_pulse_input(const std::string& device) {
   return result;
 }
 
-PulseOutputResult open_pulse_output(const std::string& device) {
+PulseOutputResult open_pulse_output(const std::string& device, int channels) {
   PulseOutputResult result;
+  if (channels != 1 && channels != 2) throw std::invalid_argument("a live output has 1 or 2 channels, not " + std::to_string(channels));
   const std::string label = device_label(device);
   if (auto missing = missing_audio_elements({"appsrc", "pulsesink", "audioconvert", "audioresample"}); !missing.empty()) {
     result.message = "no sound out: " + missing;
@@ -156,7 +160,8 @@ PulseOutputResult open_pulse_output(const std::string& device) {
   }
   // The site paces its blocks itself; the sink plays them as they come.
   GstElement* pipeline = parse_pipeline(std::string("appsrc name=source is-live=true format=time block=false caps=") +
-                                        kLiveCaps + " ! audioconvert ! audioresample ! pulsesink name=device sync=false");
+                                        "audio/x-raw,format=F32LE,rate=48000,channels=" + std::to_string(channels) +
+                                        ",layout=interleaved ! audioconvert ! audioresample ! pulsesink name=device sync=false");
   GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline), "device");
   if (!device.empty()) g_object_set(sink, "device", device.c_str(), nullptr);
   g_object_set(sink, "client-name", "RemoteTouch", nullptr);
@@ -168,7 +173,7 @@ PulseOutputResult open_pulse_output(const std::string& device) {
                      "); is a PulseAudio or PipeWire server running? `pactl list short sinks` names the outputs";
     return result;
   }
-  result.output = std::make_unique<PulseOutput>(pipeline, source, label);
+  result.output = std::make_unique<PulseOutput>(pipeline, source, label, channels);
   result.message = result.output->description();
   return result;
 }

@@ -22,6 +22,7 @@ struct PulseOutputResult {
 };
 
 PulseInputResult open_pulse_input(const std::string& device);
-PulseOutputResult open_pulse_output(const std::string& device);
+// `channels`: 1 or 2 (interleaved, left first).
+PulseOutputResult open_pulse_output(const std::string& device, int channels = 1);
 
 }  // namespace rt::audio

@@ -51,12 +51,24 @@ class RoomMicrophone final : public AudioInput {
 
 class RoomLoudspeaker final : public AudioOutput {
  public:
-  explicit RoomLoudspeaker(SimulatedRoom& room) : room_(room) {}
-  void write(std::span<const float> block) override { room_.play(block); }
-  std::string description() const override { return "simulated loudspeaker"; }
+  RoomLoudspeaker(SimulatedRoom& room, int channels) : room_(room), channels_(channels) {}
+  void write(std::span<const float> block) override {
+    if (channels_ == 1) return room_.play(block);
+    mono_.resize(block.size() / size_t(channels_));
+    for (size_t i = 0; i < mono_.size(); ++i) {
+      float sum = 0.0f;
+      for (size_t c = 0; c < size_t(channels_); ++c) sum += block[i * size_t(channels_) + c];
+      mono_[i] = sum / float(channels_);
+    }
+    room_.play(mono_);
+  }
+  int channels() const override { return channels_; }
+  std::string description() const override { return channels_ == 2 ? "simulated loudspeakers (stereo)" : "simulated loudspeaker"; }
 
  private:
   SimulatedRoom& room_;
+  int channels_;
+  std::vector<float> mono_;
 };
 
 SimulatedRoom::SimulatedRoom(std::vector<float> speech, std::optional<EchoPathOptions> echo, size_t record_seconds)
@@ -69,7 +81,10 @@ SimulatedRoom::SimulatedRoom(std::vector<float> speech, std::optional<EchoPathOp
 }
 
 std::unique_ptr<AudioInput> SimulatedRoom::microphone() { return std::make_unique<RoomMicrophone>(*this); }
-std::unique_ptr<AudioOutput> SimulatedRoom::loudspeaker() { return std::make_unique<RoomLoudspeaker>(*this); }
+std::unique_ptr<AudioOutput> SimulatedRoom::loudspeaker(int channels) {
+  if (channels != 1 && channels != 2) throw std::invalid_argument("a simulated loudspeaker has 1 or 2 channels");
+  return std::make_unique<RoomLoudspeaker>(*this, channels);
+}
 
 void SimulatedRoom::play(std::span<const float> block) {
   std::lock_guard lock(mutex_);

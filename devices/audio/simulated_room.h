@@ -50,7 +50,8 @@ class SimulatedRoom {
 
   // Both refer to the room, which must outlive them.
   std::unique_ptr<AudioInput> microphone();
-  std::unique_ptr<AudioOutput> loudspeaker();
+  // `channels`: 2 for the site's stereo pair, whose sum the microphone hears (they stand together).
+  std::unique_ptr<AudioOutput> loudspeaker(int channels = 1);
 
   // What the microphone heard of the loudspeaker alone, and of the user alone (for the echo
   // canceller's figures): index = sample read. Kept for the first kRecordedSeconds only.

@@ -15,17 +15,21 @@ namespace rt::audio {
 namespace {
 
 constexpr auto kWavStartTimeout = std::chrono::seconds(10);
-const char* const kSiteCaps = "audio/x-raw,format=F32LE,rate=48000,channels=1,layout=interleaved";
+std::string site_caps(int channels) {
+  if (channels != 1 && channels != 2) throw std::invalid_argument("1 or 2 channels, not " + std::to_string(channels));
+  return "audio/x-raw,format=F32LE,rate=48000,channels=" + std::to_string(channels) + ",layout=interleaved";
+}
 
 }  // namespace
 
-WavFileInput::WavFileInput(const std::string& path) : path_(path) {
+WavFileInput::WavFileInput(const std::string& path, int channels) : path_(path) {
+  const std::string caps = site_caps(channels);
   if (!std::filesystem::is_regular_file(path))
     throw std::runtime_error("audio input " + path + ": no such file (give a WAV file, 'simulated' or 'pulse[:DEVICE]')");
   if (auto missing = missing_audio_elements({"filesrc", "wavparse", "audioconvert", "audioresample", "appsink"});
       !missing.empty())
     throw std::runtime_error("audio input " + path + ": " + missing);
-  pipeline_ = parse_pipeline(std::string("filesrc name=file ! wavparse ! audioconvert ! audioresample ! ") + kSiteCaps +
+  pipeline_ = parse_pipeline(std::string("filesrc name=file ! wavparse ! audioconvert ! audioresample ! ") + caps +
                              " ! appsink name=sink sync=false max-buffers=16");
   GstElement* file = gst_bin_get_by_name(GST_BIN(pipeline_), "file");
   g_object_set(file, "location", path.c_str(), nullptr);
@@ -86,11 +90,12 @@ bool WavFileInput::read(std::span<float> block) {
   return filled == block.size();
 }
 
-WavFileOutput::WavFileOutput(const std::string& path, std::function<uint64_t()> clock)
-    : path_(path), clock_(clock ? std::move(clock) : std::function<uint64_t()>(monotonic_now_us)) {
+WavFileOutput::WavFileOutput(const std::string& path, std::function<uint64_t()> clock, int channels)
+    : path_(path), clock_(clock ? std::move(clock) : std::function<uint64_t()>(monotonic_now_us)), channels_(channels) {
+  const std::string caps = site_caps(channels);
   if (auto missing = missing_audio_elements({"appsrc", "audioconvert", "wavenc", "filesink"}); !missing.empty())
     throw std::runtime_error("audio output " + path + ": " + missing);
-  pipeline_ = parse_pipeline(std::string("appsrc name=source format=time block=true max-bytes=1000000 caps=") + kSiteCaps +
+  pipeline_ = parse_pipeline(std::string("appsrc name=source format=time block=true max-bytes=1000000 caps=") + caps +
                              " ! audioconvert ! audio/x-raw,format=S16LE ! wavenc ! filesink name=file");
   GstElement* file = gst_bin_get_by_name(GST_BIN(pipeline_), "file");
   g_object_set(file, "location", path.c_str(), nullptr);
@@ -116,12 +121,16 @@ WavFileOutput::~WavFileOutput() {
 
 void WavFileOutput::write(std::span<const float> block) {
   if (finished_ || block.empty()) return;
+  if (block.size() % size_t(channels_) != 0)
+    throw std::invalid_argument("audio output " + path_ + ": a block of " + std::to_string(block.size()) +
+                                " samples is not whole frames of " + std::to_string(channels_) + " channels");
   if (samples_ == 0) start_us_ = clock_();
+  const size_t frames = block.size() / size_t(channels_);
   GstBuffer* buffer = gst_buffer_new_allocate(nullptr, block.size_bytes(), nullptr);
   gst_buffer_fill(buffer, 0, block.data(), block.size_bytes());
   GST_BUFFER_PTS(buffer) = gst_util_uint64_scale(samples_, GST_SECOND, kSampleRate);
-  GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale(block.size(), GST_SECOND, kSampleRate);
-  samples_ += block.size();
+  GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale(frames, GST_SECOND, kSampleRate);
+  samples_ += frames;
   if (gst_app_src_push_buffer(GST_APP_SRC(source_), buffer) != GST_FLOW_OK) {
     const std::string error = pending_bus_error(pipeline_);
     finished_ = true;
@@ -137,9 +146,9 @@ void WavFileOutput::finish() {
     throw std::runtime_error("audio output " + path_ + " was not completed: " + error);
 }
 
-std::vector<float> read_wav_file(const std::string& path, double max_seconds) {
-  WavFileInput input(path);
-  const size_t limit = size_t(max_seconds * kSampleRate);
+std::vector<float> read_wav_file(const std::string& path, double max_seconds, int channels) {
+  WavFileInput input(path, channels);
+  const size_t limit = size_t(max_seconds * kSampleRate) * size_t(channels);
   std::vector<float> samples;
   std::vector<float> block(kBlockSamples);
   while (true) {

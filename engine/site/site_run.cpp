@@ -7,11 +7,13 @@
 #include <deque>
 #include <fstream>
 #include <iostream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <thread>
 
 #include "display/glfw_window.h"
+#include "media/touch_sound.h"
 #include "media/webrtc_link.h"
 #include "net/session.h"
 #include "pipeline/demo_layers.h"
@@ -107,6 +109,9 @@ class SiteRun {
   // The touch loop's cue to pulse the motor (ahead of a predicted contact, or at a detected touch)
   // or to cancel a predicted pulse whose touch did not come (touch/touch_loop.h).
   void on_motor(MotorCue cue);
+  // The touch's sound: at the predicted contact for a pulse given ahead of it, else now; from
+  // where this site's hand nearest the glass is, as the seat hears it.
+  void play_touch_sound(uint64_t command_us, bool predicted);
   // The touch-to-motor latencies, once a touch has both its start and its pulse.
   void note_touch_to_motor();
   // Each true contact of the scene against the vibrations felt, where the truth is known: this
@@ -142,6 +147,7 @@ class SiteRun {
   // pulse's command time, until the two are paired.
   std::optional<std::pair<uint64_t, uint64_t>> unpaired_start_us_;
   std::optional<uint64_t> unpaired_pulse_us_;
+  uint64_t touch_sound_id_ = 0;  // the last touch's sound, withdrawn if its prediction is
   uint64_t started_us_ = 0;
   std::string stopped_by_;  // SIGINT, SIGTERM, window or peer; empty: the scene ended
   std::atomic<bool> told_transport_mismatch_{false};
@@ -314,8 +320,10 @@ void SiteRun::on_motor(MotorCue cue) {
     events_.write(status ? "motor_cancel" : "motor_error", command_us,
                   status ? nlohmann::json::object() : nlohmann::json{{"error", status.error()}});
     unpaired_pulse_us_.reset();
+    sound_->cancel_touch_sound(touch_sound_id_);
     return;
   }
+  play_touch_sound(command_us, !unpaired_start_us_.has_value());
   const motor::MotorStatus status = motor_.motor->pulse(kMotorPulse, kMotorStrength);
   if (!status) {
     events_.write("motor_error", command_us, {{"error", status.error()}});
@@ -328,6 +336,23 @@ void SiteRun::on_motor(MotorCue cue) {
                  {"ahead_of_detection", !unpaired_start_us_.has_value()}});
   unpaired_pulse_us_ = command_us;
   note_touch_to_motor();
+}
+
+void SiteRun::play_touch_sound(uint64_t command_us, bool predicted) {
+  const std::vector<HandSkeleton> hands = touch_->loop().local_hands();
+  const HandSkeleton* hand = hand_nearest_screen(hands);
+  const Eigen::Vector3d on_glass =
+      hand ? Eigen::Vector3d(hand->palm.x(), hand->palm.y(), 0.0) : Eigen::Vector3d::Constant(std::nan(""));
+  const Eigen::Vector3d& head = common_.scene.at(common_.options.site).site.seat.head_centre_m;
+  const uint64_t latency_us = uint64_t(std::llround(common_.options.touch.motor_latency_ms * 1000.0));
+  const uint64_t onset_us = predicted ? command_us + latency_us : command_us;
+  const media::StereoPlacement placement = media::place_between_loudspeakers(on_glass, head);
+  touch_sound_id_ = sound_->play_touch_sound(media::TouchSound::Clap, onset_us, placement);
+  if (touch_sound_id_)
+    events_.write("touch_sound", command_us,
+                  {{"sound", media::touch_sound_name(media::TouchSound::Clap)},
+                   {"onset_us", onset_us},
+                   {"azimuth_deg", placement.azimuth_rad * 180.0 / std::numbers::pi}});
 }
 
 void SiteRun::note_touch_to_motor() {
@@ -534,6 +559,16 @@ int SiteRun::run() {
                           {"cancelled", pulses.cancelled},
                           {"unpredicted", pulses.unpredicted}};
   m["touch"]["contact_to_vibration_ms"] = contact_to_vibration();
+  // Each touch's sound against the scene's true contact nearest it, where the truth is known.
+  if (const nlohmann::json& truth = m["touch"]["contact_to_vibration_ms"]; truth.is_object() && m["sound"].contains("touch_sounds"))
+    for (nlohmann::json& sound : m["sound"]["touch_sounds"]["sounds"]) {
+      double nearest_ms = NAN;
+      for (const nlohmann::json& touch : truth["touches"]) {
+        const double ms = (sound["onset_us"].get<double>() - touch["contact_us"].get<double>()) / 1000.0;
+        if (!(std::abs(ms) >= std::abs(nearest_ms))) nearest_ms = ms;
+      }
+      sound["onset_minus_true_contact_ms"] = std::isfinite(nearest_ms) ? nlohmann::json(nearest_ms) : nlohmann::json();
+    }
   if (options.run.capture_frame >= 0) m["capture"] = capture_->to_json();
   m["stopped_by"] = stopped_by_.empty() ? nlohmann::json() : nlohmann::json(stopped_by_);
   m["display"] = display_mode_ == DisplayMode::Window ? "window" : display_mode_ == DisplayMode::Both ? "both" : "headless";

@@ -94,12 +94,14 @@ SiteSound::SiteSound(const SoundOptions& options, Site site, const sim::Effects&
     in_description = opened.description;
   }
   if (simulated_out) {
-    out_ = room_->loudspeaker();
+    out_ = room_->loudspeaker(audio::kLoudspeakerChannels);
     out_description = out_->description();
     heard_path_ = out / "audio.wav";
-    heard_file_ = std::make_unique<audio::WavFileOutput>(heard_path_.string());
+    // The file's first sample played when its block was due, not when the thread woke to write it.
+    heard_file_ = std::make_unique<audio::WavFileOutput>(heard_path_.string(), [this] { return block_play_us_; },
+                                                         audio::kLoudspeakerChannels);
   } else {
-    audio::OpenedOutput opened = audio::open_audio_output(out_spec);
+    audio::OpenedOutput opened = audio::open_audio_output(out_spec, {}, audio::kLoudspeakerChannels);
     out_ = std::move(opened.device);
     out_description = opened.description;
   }
@@ -117,6 +119,7 @@ SiteSound::SiteSound(const SoundOptions& options, Site site, const sim::Effects&
     canceller_ = std::make_unique<media::EchoCanceller>(
         media::EchoCancellerOptions{.noise_suppression = options.noise_suppression, .gain_control = options.gain_control});
   capture_frame_.reserve(kFrame);
+  touch_sounds_.reserve(64);
 }
 
 SiteSound::~SiteSound() {
@@ -154,7 +157,8 @@ void SiteSound::loop() {
     }
     const uint64_t began = monotonic_now_us();
     try {
-      tick(ticks_);
+      // The block plays from its deadline on: the moment it is handed to the loudspeaker.
+      tick(ticks_, base_us + audio::samples_to_us((block + 1) * kBlock));
     } catch (const std::exception& error) {
       log_(std::string("sound stopped: ") + error.what());
       return;
@@ -176,7 +180,49 @@ void SiteSound::receive(net::VoiceMessage frame) {
   received_.push_back(std::move(frame));
 }
 
-void SiteSound::tick(uint64_t block_index) {
+uint64_t SiteSound::play_touch_sound(media::TouchSound sound, uint64_t onset_us, const media::StereoPlacement& placement) {
+  if (!out_) return 0;
+  // A touch detector gone wrong cannot pile requests up faster than the mixer drops them.
+  constexpr size_t kMaxWaitingRequests = media::TouchSoundMixer::kMaxSounds;
+  std::lock_guard lock(received_mutex_);
+  if (touch_requests_.size() >= kMaxWaitingRequests) touch_requests_.erase(touch_requests_.begin());
+  touch_requests_.push_back({next_touch_id_, sound, onset_us, placement});
+  return next_touch_id_++;
+}
+
+void SiteSound::cancel_touch_sound(uint64_t id) {
+  if (id == 0) return;
+  std::lock_guard lock(received_mutex_);
+  if (std::erase_if(touch_requests_, [&](const TouchSoundRequest& r) { return r.id == id; }) > 0) return;
+  if (touch_cancels_.size() < media::TouchSoundMixer::kMaxSounds) touch_cancels_.push_back(id);
+}
+
+void SiteSound::take_touch_sound_requests(uint64_t block_index, uint64_t play_us) {
+  std::vector<TouchSoundRequest> requests;
+  std::vector<uint64_t> cancels;
+  {
+    std::lock_guard lock(received_mutex_);
+    requests.swap(touch_requests_);
+    cancels.swap(touch_cancels_);
+  }
+  const uint64_t block_sample = block_index * kBlock;
+  for (const uint64_t id : cancels)
+    for (TouchSoundPlayed& played : touch_sounds_)
+      if (played.request.id == id && !played.cancelled)
+        played.cancelled = touch_mixer_.cancel(played.mixer_id, block_sample);
+  for (const TouchSoundRequest& request : requests) {
+    // Sample-exact where the onset is still ahead; one already past starts now.
+    const uint64_t ahead_us = request.onset_us > play_us ? request.onset_us - play_us : 0;
+    const uint64_t onset_sample = block_sample + (ahead_us * uint64_t(audio::kSampleRate) + 500'000) / 1'000'000;
+    TouchSoundPlayed played{request, touch_mixer_.schedule(request.sound, onset_sample, request.placement), onset_sample,
+                            play_us + audio::samples_to_us(onset_sample - block_sample), false};
+    constexpr size_t kKeptTouchSounds = 64;
+    if (touch_sounds_.size() < kKeptTouchSounds) touch_sounds_.push_back(played);
+  }
+}
+
+void SiteSound::tick(uint64_t block_index, uint64_t play_us) {
+  block_play_us_ = play_us;
   // The far voice: every voice frame that came, into the jitter buffer; a frame every other tick.
   std::deque<net::VoiceMessage> frames;
   {
@@ -199,8 +245,15 @@ void SiteSound::tick(uint64_t block_index) {
         playout_frame_.assign(kFrame, 0.0f);
     }
     std::copy_n(playout_frame_.begin() + ptrdiff_t((block_index % 2) * kBlock), kBlock, played.begin());
-    out_->write(played);
-    if (heard_file_) heard_file_->write(played);
+    // The voice from both loudspeakers, a touch's sound from where it happened; the microphone
+    // (and so the echo canceller's probe) hears their sum.
+    take_touch_sound_requests(block_index, play_us);
+    speakers_.resize(kBlock * 2);
+    for (size_t i = 0; i < kBlock; ++i) speakers_[2 * i] = speakers_[2 * i + 1] = played[i];
+    touch_mixer_.mix_into(speakers_, block_index * kBlock);
+    for (size_t i = 0; i < kBlock; ++i) played[i] = 0.5f * (speakers_[2 * i] + speakers_[2 * i + 1]);
+    out_->write(speakers_);
+    if (heard_file_) heard_file_->write(speakers_);
     if (canceller_) canceller_->played(played);
   }
   if (!in_) return;
@@ -253,6 +306,23 @@ nlohmann::json SiteSound::metrics() const {
   }
   if (decoder_) voice["undecodable"] = decoder_->undecodable();
   m["voice"] = voice;
+  if (out_) {
+    nlohmann::json sounds = nlohmann::json::array();
+    for (const TouchSoundPlayed& played : touch_sounds_)
+      sounds.push_back({{"sound", media::touch_sound_name(played.request.sound)},
+                        {"asked_onset_us", played.request.onset_us},
+                        {"onset_us", played.played_us},
+                        {"onset_sample", played.onset_sample},
+                        {"late_ms", double(int64_t(played.played_us) - int64_t(played.request.onset_us)) / 1000.0},
+                        {"cancelled", played.cancelled},
+                        {"azimuth_deg", played.request.placement.azimuth_rad * 180.0 / 3.14159265358979},
+                        {"gain_left", played.request.placement.gain_left},
+                        {"gain_right", played.request.placement.gain_right}});
+    m["touch_sounds"] = {{"sounds", sounds},
+                         {"dropped", touch_mixer_.dropped()},
+                         {"note", "onset_us: when the sound's first sample plays, on the site's monotonic clock; "
+                                  "onset_sample: that sample in audio.wav (the loudspeakers' stream)"}};
+  }
   if (heard_file_)
     m["audio_wav"] = {{"path", heard_path_.filename().string()},
                       {"start_us", heard_file_->start_us()},

@@ -8,6 +8,9 @@
 // espeak-ng when the site starts, and echoes the loudspeaker into the microphone when the scene
 // asks for a room_echo; the site then writes what its loudspeaker played to audio.wav. A device
 // that cannot be opened leaves the site without that half of the sound and says so.
+//
+// The loudspeakers are a stereo pair: the voice comes from both, a touch's sound (the clap) from
+// where the palms meet, starting at the sample that plays at the moment it is asked for.
 #include <atomic>
 #include <cstdint>
 #include <deque>
@@ -21,6 +24,7 @@
 #include <vector>
 
 #include "audio/audio_device.h"
+#include "media/touch_sound.h"
 #include "geometry/site_frames.h"
 #include "net/transport.h"
 #include "sim/effects.h"
@@ -62,18 +66,48 @@ class SiteSound {
   // it, at most a few seconds' worth (the oldest go first).
   void receive(net::VoiceMessage frame);
 
+  // Plays a touch's sound from `onset_us` (this site's monotonic clock) on, at `placement`; an
+  // onset already past starts with the next block. Any thread. Returns an id for
+  // cancel_touch_sound (0: no loudspeaker, nothing will play).
+  uint64_t play_touch_sound(media::TouchSound sound, uint64_t onset_us, const media::StereoPlacement& placement);
+  // Withdraws it if it has not begun (a predicted contact that did not come); any thread.
+  void cancel_touch_sound(uint64_t id);
+
   std::string description() const { return description_; }
   nlohmann::json metrics() const;
 
  private:
   void loop();
-  void tick(uint64_t block_index);
+  // `play_us`: when the block's first sample plays (is handed to the loudspeaker).
+  void tick(uint64_t block_index, uint64_t play_us);
+  void take_touch_sound_requests(uint64_t block_index, uint64_t play_us);
 
   SoundOptions options_;
   net::Transport& transport_;
   std::mutex received_mutex_;
   std::deque<net::VoiceMessage> received_;
   uint64_t received_dropped_ = 0;
+
+  struct TouchSoundRequest {
+    uint64_t id = 0;
+    media::TouchSound sound = media::TouchSound::Clap;
+    uint64_t onset_us = 0;
+    media::StereoPlacement placement;
+  };
+  // A touch's sound asked for and not yet scheduled, and the ones to withdraw (under received_mutex_).
+  std::vector<TouchSoundRequest> touch_requests_;
+  std::vector<uint64_t> touch_cancels_;
+  uint64_t next_touch_id_ = 1;
+  // What became of each (the sound thread's, read by metrics() after stop()): the first few.
+  struct TouchSoundPlayed {
+    TouchSoundRequest request;
+    uint64_t mixer_id = 0;
+    uint64_t onset_sample = 0;  // in the loudspeakers' stream, from its first sample
+    uint64_t played_us = 0;     // when that sample plays
+    bool cancelled = false;
+  };
+  std::vector<TouchSoundPlayed> touch_sounds_;
+  media::TouchSoundMixer touch_mixer_;
   std::function<void(const std::string&)> log_;
   std::string description_;
   std::unique_ptr<audio::SimulatedRoom> room_;
@@ -95,6 +129,8 @@ class SiteSound {
   // The loop's alone until stop() has joined it.
   std::vector<float> capture_frame_;   // 20 ms being filled for the encoder
   std::vector<float> playout_frame_;   // the decoded 20 ms being played, in two halves
+  std::vector<float> speakers_;  // the block to the stereo pair, interleaved
+  uint64_t block_play_us_ = 0;   // when the block being made plays
   uint32_t sequence_ = 0;
   uint64_t voice_bytes_out_ = 0, voice_frames_out_ = 0, voice_frames_in_ = 0;
   // The echo canceller's figure, summed as the blocks go: microphone and cleaned power over the

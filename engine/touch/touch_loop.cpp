@@ -22,6 +22,11 @@ void TouchLoop::set_local_hands(std::vector<HandSkeleton> hands) {
   local_hands_ = std::move(hands);
 }
 
+std::vector<HandSkeleton> TouchLoop::local_hands() {
+  std::lock_guard lock(hands_mutex_);
+  return local_hands_;
+}
+
 void TouchLoop::set_remote_hands(std::vector<HandSkeleton> hands) {
   std::lock_guard lock(hands_mutex_);
   remote_hands_ = std::move(hands);

@@ -56,6 +56,8 @@ class TouchLoop {
   // Newest hands of each side, both in the local site frame and the local clock.
   void set_local_hands(std::vector<HandSkeleton> hands);
   void set_remote_hands(std::vector<HandSkeleton> hands);
+  // A copy of this site's newest hands: where on the glass a touch happens.
+  std::vector<HandSkeleton> local_hands();
 
   // One detection step at `now_us`, as the thread runs it; for tests and for callers that
   // drive their own clock.

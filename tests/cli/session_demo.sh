@@ -96,6 +96,11 @@ for site in "AB":
             assert (command - contact) / 1000 >= -PREDICTION_LEAD_MS, (contact, command)
             assert late_ms <= SLACK_AFTER_DOWNTIME_MS, (contact, command, down)
 PY
+# The touch's sound, where the sites have loudspeakers: one per pulse, heard in each audio.wav at the
+# moment the vibration is felt.
+if [[ " $* " != *" --sound none"* ]]; then
+  /usr/bin/python3 "$(dirname "$0")/check_touch_sound.py" "$out" "$touches" || fail "touch sound missing or mistimed"
+fi
 # Each displayed frame says what appearance the drawn hand was shaded with, and only where one was drawn.
 /usr/bin/python3 - "$out" "$touches" <<'PY' || fail "frames.jsonl: drawn_hand_appearance missing or wrong"
 import json, sys

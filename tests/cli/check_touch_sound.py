@@ -1,0 +1,93 @@
+#!/usr/bin/env python3
+"""The touch's sound in a two-site demo, listened to in each site's audio.wav.
+
+    check_touch_sound.py OUT TOUCHES
+
+Each site must have played exactly TOUCHES touch sounds (none withdrawn among them), each asked
+for at the moment its vibration is felt (a pulse given ahead of a predicted contact: the motor's
+latency after the command; else the command itself, at the touch start), and each must be heard in
+audio.wav there: its onset, found in the file's own samples (where the two channels first differ,
+for a sound placed off the middle), within ONSET_TOLERANCE_MS of that
+moment on the file's clock. Where no touch happened, the file must hold no touch sound.
+"""
+import array
+import json
+import math
+import sys
+import wave
+
+ONSET_TOLERANCE_MS = 10.0
+RATE = 48000
+WINDOW = RATE // 1000          # 1 ms of energy
+BEFORE = 5 * WINDOW            # against the 5 ms before it
+JUMP_DB, FLOOR_DB = 10.0, -30.0
+SEARCH = RATE // 50            # 20 ms either side of the moment asked for
+SIDE_THRESHOLD = 2             # of 32768: the same voice rounds alike in both channels
+
+
+def energy(samples, channels, begin, end):
+    total = 0.0
+    for i in range(begin * channels, end * channels):
+        total += (samples[i] / 32768.0) ** 2
+    return total / max(1, (end - begin) * channels)
+
+
+def onset_near(samples, channels, frames, expected):
+    """The millisecond near `expected` whose energy jumps most over the 5 ms before it, if it jumps
+    by JUMP_DB to above FLOOR_DB: right where nothing else plays."""
+    best, best_jump = None, 10 ** (JUMP_DB / 10)
+    for start in range(max(BEFORE, expected - SEARCH), min(frames - WINDOW, expected + SEARCH), WINDOW // 4):
+        now = energy(samples, channels, start, start + WINDOW)
+        before = energy(samples, channels, start - BEFORE, start)
+        jump = now / max(before, 1e-12)
+        if 10 * math.log10(now + 1e-12) >= FLOOR_DB and jump > best_jump:
+            best, best_jump = start, jump
+    return best
+
+
+def side_onset_near(samples, frames, expected):
+    """The first sample near `expected` where left and right differ: the far voice plays the same
+    from both loudspeakers and cancels out of their difference, a sound placed off the middle does
+    not (by its level and its time difference)."""
+    for i in range(max(0, expected - SEARCH), min(frames, expected + SEARCH)):
+        if abs(samples[2 * i] - samples[2 * i + 1]) > SIDE_THRESHOLD:
+            return i
+    return None
+
+
+def main():
+    out, touches = sys.argv[1], int(sys.argv[2])
+    metrics = json.load(open(f"{out}/metrics.json"))
+    events = [json.loads(line) for line in open(f"{out}/events.jsonl")]
+    for site in "AB":
+        sound = metrics["sites"][site]["sound"]
+        latency_ms = metrics["sites"][site]["touch"]["settings"]["motor_latency_ms"]
+        played = [s for s in sound["touch_sounds"]["sounds"] if not s["cancelled"]]
+        assert len(played) == touches, (site, sound["touch_sounds"])
+        asked = [e for e in events if e["event"] == "touch_sound" and e["site"] == site]
+        pulses = [e["t_us"] for e in events if e["event"] == "motor_pulse" and e["site"] == site]
+        for event in asked:
+            lead_ms = (event["onset_us"] - event["t_us"]) / 1000
+            assert event["t_us"] in pulses, ("a touch sound without its pulse", event)
+            assert abs(lead_ms) < 0.01 or abs(lead_ms - latency_ms) < 0.01, ("asked for neither at the vibration nor now", event)
+        with wave.open(f"{out}/site_{site}/audio.wav") as wav:
+            channels, frames = wav.getnchannels(), wav.getnframes()
+            samples = array.array("h", wav.readframes(frames))
+        assert channels == 2, f"site {site}: audio.wav has {channels} channels, not the stereo pair"
+        start_us = sound["audio_wav"]["start_us"]
+        for s in played:
+            expected = round((s["asked_onset_us"] - start_us) * RATE / 1e6)
+            # Off the middle, the side signal holds the sound alone; in the middle, its onset must
+            # stand out of whatever else plays.
+            off_middle = abs(s["gain_left"] - s["gain_right"]) > 0.005
+            found = side_onset_near(samples, frames, expected) if off_middle else onset_near(samples, channels, frames, expected)
+            assert found is not None, f"site {site}: no touch sound heard near {expected / RATE:.3f} s of audio.wav"
+            off_ms = (found - expected) * 1000 / RATE
+            print(f"site {site}: {s['sound']} heard {off_ms:+.1f} ms from its vibration (asked {s['late_ms']:+.2f} ms late), "
+                  f"azimuth {s['azimuth_deg']:+.1f} deg")
+            assert abs(off_ms) <= ONSET_TOLERANCE_MS, (site, off_ms)
+    print("touch sounds ok")
+
+
+if __name__ == "__main__":
+    main()
