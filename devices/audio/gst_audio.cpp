@@ -17,7 +17,9 @@ const char* debian_package_of(const std::string& element) {
       {"wavparse", "gstreamer1.0-plugins-good"},      {"wavenc", "gstreamer1.0-plugins-good"},
       {"pulsesrc", "gstreamer1.0-pulseaudio"},        {"pulsesink", "gstreamer1.0-pulseaudio"},
       {"webrtcdsp", "gstreamer1.0-plugins-bad"},      {"webrtcechoprobe", "gstreamer1.0-plugins-bad"},
-      {"filesrc", "libgstreamer1.0-0"},               {"filesink", "libgstreamer1.0-0"}};
+      {"filesrc", "libgstreamer1.0-0"},               {"filesink", "libgstreamer1.0-0"},
+      {"qtdemux", "gstreamer1.0-plugins-good"},       {"mp4mux", "gstreamer1.0-plugins-good"},
+      {"mpeg4videoparse", "gstreamer1.0-plugins-bad"}, {"avenc_aac", "gstreamer1.0-libav"}};
   const auto it = packages.find(element);
   return it == packages.end() ? "the GStreamer plugins (scripts/packages.txt)" : it->second;
 }
@@ -104,6 +106,23 @@ std::string drain_and_stop(GstElement* pipeline, GstElement* source, std::chrono
                                                      GstMessageType(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
     if (!message)
       error = "the pipeline did not finish within " + std::to_string(timeout.count()) + " ms";
+    else if (GST_MESSAGE_TYPE(message) == GST_MESSAGE_ERROR)
+      error = take_error(message);
+    if (message) gst_message_unref(message);
+  }
+  gst_object_unref(bus);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  return error;
+}
+
+std::string run_to_end(GstElement* pipeline, std::chrono::milliseconds timeout) {
+  std::string error = start_pipeline(pipeline, std::chrono::milliseconds(0));
+  GstBus* bus = gst_element_get_bus(pipeline);
+  if (error.empty()) {
+    GstMessage* message = gst_bus_timed_pop_filtered(bus, GST_MSECOND * timeout.count(),
+                                                     GstMessageType(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+    if (!message)
+      error = "it did not finish within " + std::to_string(timeout.count()) + " ms";
     else if (GST_MESSAGE_TYPE(message) == GST_MESSAGE_ERROR)
       error = take_error(message);
     if (message) gst_message_unref(message);

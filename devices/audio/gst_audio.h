@@ -24,6 +24,9 @@ std::string start_pipeline(GstElement* pipeline, std::chrono::milliseconds timeo
 // writer has written its header; then stops the pipeline. Empty, or what went wrong.
 std::string drain_and_stop(GstElement* pipeline, GstElement* source, std::chrono::milliseconds timeout);
 
+// Plays a pipeline whose sources end by themselves (files) to its end of stream, then stops it.
+// Empty, or what went wrong.
+std::string run_to_end(GstElement* pipeline, std::chrono::milliseconds timeout);
 // The first error message on the bus, if any (empty otherwise); does not wait.
 std::string pending_bus_error(GstElement* pipeline);
 

@@ -91,8 +91,10 @@ void Receiver::display_loop() {
   auto write_frame = [&](const cv::Mat& bgr, nlohmann::json entry, uint64_t video_repeat) {
     const uint64_t display_index = frames_displayed_++;
     if (common_.write_frames) cv::imwrite((common_.out / "frames" / frame_name(display_index)).string(), bgr);
-    if (video.isOpened())
+    if (video.isOpened()) {
+      if (first_video_frame_us_ == 0) first_video_frame_us_ = entry["t_us"].get<uint64_t>();
       for (uint64_t i = 0; i < video_repeat; ++i) video.write(bgr);
+    }
     entry["display"] = display_index;
     frames_log << entry.dump() << "\n";
   };

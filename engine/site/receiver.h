@@ -38,6 +38,8 @@ class Receiver {
   void stop();
 
   void add_metrics(nlohmann::json& metrics, double wall_s) const;
+  // When site.mp4's first frame was shown (0: no video written); set once display_loop has begun.
+  uint64_t first_video_frame_us() const { return first_video_frame_us_; }
 
  private:
   struct ReceivedPortrait {
@@ -59,6 +61,7 @@ class Receiver {
   nlohmann::json appearance_shading_;  // hand::ShadingFit::to_json of the receiver's hand
   nlohmann::json window_metrics_;  // the window's counts at the display's end (same mutex)
   std::atomic<uint64_t> last_portrait_arrival_us_{0};
+  std::atomic<uint64_t> first_video_frame_us_{0};
   // How far in time the drawn hand's pose reaches to the skeletons it was built from (see HandsAtTime).
   session::LatencyStats skeleton_to_portrait_gap_;
   session::LatencyStats portrait_network_, portrait_on_screen_, hand_on_screen_;

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "display/glfw_window.h"
+#include "media/sound_into_video.h"
 #include "media/touch_sound.h"
 #include "media/webrtc_link.h"
 #include "net/session.h"
@@ -112,6 +113,9 @@ class SiteRun {
   // The touch's sound: at the predicted contact for a pulse given ahead of it, else now; from
   // where this site's hand nearest the glass is, as the seat hears it.
   void play_touch_sound(uint64_t command_us, bool predicted);
+  // audio.wav into site.mp4, where both were written and the scene played in real time (the video
+  // runs on the scene's clock, the sound on the wall's).
+  void put_sound_into_video();
   // The touch-to-motor latencies, once a touch has both its start and its pulse.
   void note_touch_to_motor();
   // Each true contact of the scene against the vibrations felt, where the truth is known: this
@@ -355,6 +359,22 @@ void SiteRun::play_touch_sound(uint64_t command_us, bool predicted) {
                    {"azimuth_deg", placement.azimuth_rad * 180.0 / std::numbers::pi}});
 }
 
+void SiteRun::put_sound_into_video() {
+  const std::filesystem::path video = common_.out / "site.mp4", sound = sound_->heard_path();
+  const uint64_t video_start_us = receiver_->first_video_frame_us(), sound_start_us = sound_->heard_start_us();
+  if (sound.empty() || !video_start_us || !sound_start_us || !std::filesystem::exists(video)) return;
+  if (common_.options.time_scale != 1.0) {
+    events_.write("sound_in_video", monotonic_now_us(),
+                  {{"muxed", false}, {"why", "the scene played at another speed than the sound: audio.wav holds it"}});
+    return;
+  }
+  const int64_t offset_us = int64_t(sound_start_us) - int64_t(video_start_us);
+  const std::string error = media::put_sound_into_video(video, sound, offset_us);
+  if (!error.empty()) std::cerr << "site " << common_.name << ": site.mp4 stays silent: " << error << "\n";
+  events_.write("sound_in_video", monotonic_now_us(),
+                {{"muxed", error.empty()}, {"sound_minus_video_ms", double(offset_us) / 1000.0}, {"error", error}});
+}
+
 void SiteRun::note_touch_to_motor() {
   if (!unpaired_start_us_ || !unpaired_pulse_us_) return;
   const auto [met_us, detected_us] = *unpaired_start_us_;
@@ -541,6 +561,7 @@ int SiteRun::run() {
   tracker.join();
   touch_->loop().stop();
   sound_->stop();
+  put_sound_into_video();
   const double elapsed_s = double(monotonic_now_us() - common_.epoch_us) * 1e-6;
   // Give the peer a moment to take our last messages before the connection closes.
   std::this_thread::sleep_for(std::chrono::milliseconds(300));

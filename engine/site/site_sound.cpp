@@ -284,6 +284,8 @@ void SiteSound::tick(uint64_t block_index, uint64_t play_us) {
   transport_.send(message);
 }
 
+uint64_t SiteSound::heard_start_us() const { return heard_file_ ? heard_file_->start_us() : 0; }
+
 nlohmann::json SiteSound::metrics() const {
   nlohmann::json m;
   m["devices"] = description_;

@@ -74,6 +74,10 @@ class SiteSound {
   void cancel_touch_sound(uint64_t id);
 
   std::string description() const { return description_; }
+  // audio.wav, what the simulated loudspeakers played (empty where they are not simulated), and
+  // when its first sample played (0 before it has).
+  std::filesystem::path heard_path() const { return heard_path_; }
+  uint64_t heard_start_us() const;
   nlohmann::json metrics() const;
 
  private:

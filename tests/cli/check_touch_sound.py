@@ -9,11 +9,18 @@ latency after the command; else the command itself, at the touch start), and eac
 audio.wav there: its onset, found in the file's own samples (where the two channels first differ,
 for a sound placed off the middle), within ONSET_TOLERANCE_MS of that
 moment on the file's clock. Where no touch happened, the file must hold no touch sound.
+
+Where the scene played in real time, site.mp4 must carry the same sound: decoded from it, each
+touch sound's onset within VIDEO_TOLERANCE_MS of its moment on the video's clock (its first frame
+shown at frames.jsonl's first t_us).
 """
 import array
 import json
 import math
+import os
+import subprocess
 import sys
+import tempfile
 import wave
 
 ONSET_TOLERANCE_MS = 10.0
@@ -22,6 +29,9 @@ WINDOW = RATE // 1000          # 1 ms of energy
 BEFORE = 5 * WINDOW            # against the 5 ms before it
 JUMP_DB, FLOOR_DB = 10.0, -30.0
 SEARCH = RATE // 50            # 20 ms either side of the moment asked for
+# Matched millisecond by millisecond, through a lossy codec.
+VIDEO_TOLERANCE_MS = 10
+LOUDNESS_CORRELATION = 0.8
 SIDE_THRESHOLD = 2             # of 32768: the same voice rounds alike in both channels
 
 
@@ -55,6 +65,42 @@ def side_onset_near(samples, frames, expected):
     return None
 
 
+def envelope(samples, channels, first_ms, end_ms):
+    """Energy of each millisecond in [first_ms, end_ms); zero outside the samples."""
+    frames = len(samples) // channels
+    out = []
+    for ms in range(first_ms, end_ms):
+        begin, end = ms * WINDOW, (ms + 1) * WINDOW
+        out.append(energy(samples, channels, begin, end) if begin >= 0 and end <= frames else 0.0)
+    return out
+
+
+def correlation(a, b):
+    n = len(a)
+    ma, mb = sum(a) / n, sum(b) / n
+    num = sum((x - ma) * (y - mb) for x, y in zip(a, b))
+    den = math.sqrt(sum((x - ma) ** 2 for x in a) * sum((y - mb) ** 2 for y in b))
+    return num / den if den > 0 else 0.0
+
+
+def read_stereo(path):
+    with wave.open(path) as wav:
+        channels, frames = wav.getnchannels(), wav.getnframes()
+        return channels, frames, array.array("h", wav.readframes(frames))
+
+
+def sound_of_video(video):
+    """site.mp4's sound track, decoded to a temporary WAV; None when it has none."""
+    with tempfile.TemporaryDirectory() as folder:
+        wav = os.path.join(folder, "sound.wav")
+        run = subprocess.run(["gst-launch-1.0", "-q", "filesrc", f"location={video}", "!", "qtdemux", "name=d", "d.audio_0",
+                              "!", "queue", "!", "avdec_aac", "!", "audioconvert", "!", "audio/x-raw,format=S16LE,channels=2",
+                              "!", "wavenc", "!", "filesink", f"location={wav}"], capture_output=True, text=True, timeout=120)
+        if run.returncode != 0 or not os.path.exists(wav):
+            return None
+        return read_stereo(wav)
+
+
 def main():
     out, touches = sys.argv[1], int(sys.argv[2])
     metrics = json.load(open(f"{out}/metrics.json"))
@@ -70,9 +116,7 @@ def main():
             lead_ms = (event["onset_us"] - event["t_us"]) / 1000
             assert event["t_us"] in pulses, ("a touch sound without its pulse", event)
             assert abs(lead_ms) < 0.01 or abs(lead_ms - latency_ms) < 0.01, ("asked for neither at the vibration nor now", event)
-        with wave.open(f"{out}/site_{site}/audio.wav") as wav:
-            channels, frames = wav.getnchannels(), wav.getnframes()
-            samples = array.array("h", wav.readframes(frames))
+        channels, frames, samples = read_stereo(f"{out}/site_{site}/audio.wav")
         assert channels == 2, f"site {site}: audio.wav has {channels} channels, not the stereo pair"
         start_us = sound["audio_wav"]["start_us"]
         for s in played:
@@ -86,6 +130,30 @@ def main():
             print(f"site {site}: {s['sound']} heard {off_ms:+.1f} ms from its vibration (asked {s['late_ms']:+.2f} ms late), "
                   f"azimuth {s['azimuth_deg']:+.1f} deg")
             assert abs(off_ms) <= ONSET_TOLERANCE_MS, (site, off_ms)
+        if metrics["sites"][site]["time_scale"] != 1:
+            continue
+        muxed = [e for e in events if e["event"] == "sound_in_video" and e["site"] == site]
+        assert muxed and muxed[0]["muxed"], f"site {site}: site.mp4 has no sound: {muxed}"
+        decoded = sound_of_video(f"{out}/site_{site}/site.mp4")
+        assert decoded, f"site {site}: no sound track could be decoded from site.mp4"
+        with open(f"{out}/site_{site}/frames.jsonl") as lines:
+            video_start_us = json.loads(lines.readline())["t_us"]
+        v_channels, v_frames, v_samples = decoded
+        assert v_channels == 2, f"site {site}: site.mp4's sound has {v_channels} channels"
+        # Coded sound is not the same sample for sample: match the loudness, millisecond by
+        # millisecond, of the half second around each touch sound in audio.wav against site.mp4's.
+        for s in played:
+            in_wav = round((s["asked_onset_us"] - start_us) * RATE / 1e6) // WINDOW
+            in_video = round((s["asked_onset_us"] - video_start_us) * RATE / 1e6) // WINDOW
+            reference = envelope(samples, channels, in_wav - 200, in_wav + 300)
+            best_lag, best = None, -1.0
+            for lag in range(-100, 101):
+                c = correlation(reference, envelope(v_samples, v_channels, in_video - 200 + lag, in_video + 300 + lag))
+                if c > best:
+                    best_lag, best = lag, c
+            print(f"site {site}: {s['sound']} heard in site.mp4 {best_lag:+d} ms from its moment on the video's clock "
+                  f"(loudness correlation {best:.3f})")
+            assert best >= LOUDNESS_CORRELATION and abs(best_lag) <= VIDEO_TOLERANCE_MS, (site, best_lag, best)
     print("touch sounds ok")
 
 
