@@ -97,9 +97,10 @@ std::string start_pipeline(GstElement* pipeline, std::chrono::milliseconds timeo
   return {};
 }
 
-std::string drain_and_stop(GstElement* pipeline, GstElement* source, std::chrono::milliseconds timeout) {
-  std::string error;
-  if (gst_app_src_end_of_stream(GST_APP_SRC(source)) != GST_FLOW_OK) error = "the pipeline refused its end of stream";
+namespace {
+
+// Waits for the end of stream or an error, then stops the pipeline: empty, or what went wrong.
+std::string wait_for_end_and_stop(GstElement* pipeline, std::chrono::milliseconds timeout, std::string error) {
   GstBus* bus = gst_element_get_bus(pipeline);
   if (error.empty()) {
     GstMessage* message = gst_bus_timed_pop_filtered(bus, GST_MSECOND * timeout.count(),
@@ -115,21 +116,15 @@ std::string drain_and_stop(GstElement* pipeline, GstElement* source, std::chrono
   return error;
 }
 
+}  // namespace
+
+std::string drain_and_stop(GstElement* pipeline, GstElement* source, std::chrono::milliseconds timeout) {
+  const bool refused = gst_app_src_end_of_stream(GST_APP_SRC(source)) != GST_FLOW_OK;
+  return wait_for_end_and_stop(pipeline, timeout, refused ? "the pipeline refused its end of stream" : "");
+}
+
 std::string run_to_end(GstElement* pipeline, std::chrono::milliseconds timeout) {
-  std::string error = start_pipeline(pipeline, std::chrono::milliseconds(0));
-  GstBus* bus = gst_element_get_bus(pipeline);
-  if (error.empty()) {
-    GstMessage* message = gst_bus_timed_pop_filtered(bus, GST_MSECOND * timeout.count(),
-                                                     GstMessageType(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-    if (!message)
-      error = "it did not finish within " + std::to_string(timeout.count()) + " ms";
-    else if (GST_MESSAGE_TYPE(message) == GST_MESSAGE_ERROR)
-      error = take_error(message);
-    if (message) gst_message_unref(message);
-  }
-  gst_object_unref(bus);
-  gst_element_set_state(pipeline, GST_STATE_NULL);
-  return error;
+  return wait_for_end_and_stop(pipeline, timeout, start_pipeline(pipeline, std::chrono::milliseconds(0)));
 }
 
 }  // namespace rt::audio
