@@ -58,6 +58,7 @@ class DemoCommand : public Command {
         ->capture_default_str();
     command_->add_flag("--noise-suppression", options_.noise_suppression, "Each site's voice noise suppression (webrtcdsp)");
     command_->add_flag("--gain-control", options_.gain_control, "Each site's voice gain control (webrtcdsp)");
+    command_->add_flag("--no-lip-sync", options_.no_lip_sync, "Each site plays the far voice as it comes, not held to the far portrait");
     add_inspection_options(*command_, options_.run);  // forwarded to both sites
     ibr_ = add_ibr_options(*command_);
     quality_.add_to(*command_);

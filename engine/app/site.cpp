@@ -79,6 +79,8 @@ class SiteCommand : public Command {
     command_->add_flag("--noise-suppression", options_.sound.noise_suppression,
                        "The voice's noise suppression (webrtcdsp), after the echo canceller");
     command_->add_flag("--gain-control", options_.sound.gain_control, "The voice's automatic gain control (webrtcdsp)");
+    command_->add_flag("--no-lip-sync", no_lip_sync_,
+                       "Play the far voice as it comes instead of holding it to the far portrait (lower sound latency)");
     command_->add_option("--voice-kbps", voice_kbps_, "The voice's Opus bitrate, kbit/s")
         ->check(CLI::Range(6, 128))
         ->capture_default_str();
@@ -148,6 +150,7 @@ class SiteCommand : public Command {
       if (given("--noise-suppression")) options_.sound.noise_suppression = flags.sound.noise_suppression;
       if (given("--gain-control")) options_.sound.gain_control = flags.sound.gain_control;
     }
+    if (no_lip_sync_) options_.sound.lip_sync = false;
     options_.sound.voice_bitrate_bps = voice_kbps_ * 1000;
     if (given("--frames")) options_.frames_given = true;
     if (options_.run.out.empty()) options_.run.out = std::string("out/site_") + site_name(options_.site);
@@ -165,6 +168,7 @@ class SiteCommand : public Command {
   SiteRunOptions options_;
   std::string site_ = "A";
   int voice_kbps_ = 28;
+  bool no_lip_sync_ = false;
   std::filesystem::path config_;
   IbrOptions ibr_;
   QualityOptions quality_;

@@ -214,6 +214,7 @@ int run_two_site_demo(const DemoOptions& options) {
     args.insert(args.end(), {"--audio-in", options.sound, "--audio-out", options.sound});
     if (options.noise_suppression) args.push_back("--noise-suppression");
     if (options.gain_control) args.push_back("--gain-control");
+    if (options.no_lip_sync) args.push_back("--no-lip-sync");
     const std::filesystem::path& replay = site == "A" ? options.replay_a : options.replay_b;
     if (!replay.empty()) args.insert(args.end(), {"--replay", replay.string()});
     // The image-based model's, the hand's and the touch options, as the demo was given them.

@@ -30,7 +30,7 @@ struct DemoOptions {
   std::string display = "auto";
   std::string present_mode = "fifo";
   std::string sound = "simulated";  // both sites' microphone and loudspeaker: simulated or none
-  bool noise_suppression = false, gain_control = false;
+  bool noise_suppression = false, gain_control = false, no_lip_sync = false;
   pipeline::IbrSettings ibr;                 // both sites' image-based model (forwarded to each)
   nlohmann::json quality;                    // what --quality or --budget-ms chose; null: neither
   std::vector<std::string> quality_arguments;  // the same choice for each site, for its metrics

@@ -54,6 +54,7 @@ std::vector<std::pair<std::string, std::string>> closing_rows(const nlohmann::js
   rows.emplace_back("voice kbit/s out (Opus) / frames lost", table_cell(at("/sound/voice/bitrate_kbps"), "%.1f") + " / " +
                                                                  count("/sound/voice/jitter/lost"));
   rows.emplace_back("echo return loss enhancement dB (after 2 s)", table_cell(at("/sound/echo/erle_db_after_2s"), "%.1f"));
+  rows.emplace_back("voice latency - portrait latency ms (median)", table_cell(at("/sound/voice_minus_portrait_ms"), "%.1f"));
   rows.emplace_back("touch sound onset - asked / - true contact ms",
                     table_cell(at("/sound/touch_sounds/sounds/0/late_ms"), "%.1f") + " / " +
                         table_cell(at("/sound/touch_sounds/sounds/0/onset_minus_true_contact_ms"), "%.1f"));

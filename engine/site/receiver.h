@@ -40,6 +40,8 @@ class Receiver {
   void add_metrics(nlohmann::json& metrics, double wall_s) const;
   // When site.mp4's first frame was shown (0: no video written); set once display_loop has begun.
   uint64_t first_video_frame_us() const { return first_video_frame_us_; }
+  // The portraits' median capture-to-screen latency so far (NaN: none shown yet).
+  double portrait_latency_ms() const { return portrait_on_screen_.median(); }
 
  private:
   struct ReceivedPortrait {

@@ -413,9 +413,15 @@ void SiteRun::monitor(const std::atomic<bool>& display_finished) {
   uint64_t last_progress = 0;
   const uint64_t frames = common_.scene.frame_count;
   bool stop_noted = false;
+  uint64_t last_hold_us = 0;
   while (!display_finished) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const uint64_t now = monotonic_now_us();
+    // The far voice waits for the far portrait: lips and words together.
+    if (common_.options.sound.lip_sync && now - last_hold_us >= 500'000) {
+      last_hold_us = now;
+      sound_->hold_voice_to(receiver_->portrait_latency_ms());
+    }
     const bool quit = window_quit();
     const net::ConnectionStatus status = net_->status();
     // The other site ending its session (its scene over, or stopped) ends this one too: there is
@@ -570,6 +576,12 @@ int SiteRun::run() {
   receiver_->add_metrics(m, std::max(elapsed_s, 1e-6));
   m["motor"] = motor_.description;
   m["sound"] = sound_->metrics();
+  // Sound against picture (ITU-R BT.1359 allows the sound 45 ms early to 125 ms late): the far
+  // voice's capture-to-play latency less the far portrait's capture-to-screen latency. Both are
+  // differences of the other site's clock to this one's, whose offset cancels here.
+  if (const double voice = sound_->voice_latency_ms(), picture = receiver_->portrait_latency_ms();
+      std::isfinite(voice) && std::isfinite(picture))
+    m["sound"]["voice_minus_portrait_ms"] = voice - picture;
   m["latency_ms"]["touch_to_motor_command"] = touch_to_motor_.to_json();
   m["latency_ms"]["touch_detected_to_motor_command"] = detect_to_motor_.to_json();
   m["fps"]["touch_loop"] = double(touch_->loop().ticks()) / std::max(elapsed_s, 1e-6);

@@ -236,15 +236,21 @@ void SiteSound::tick(uint64_t block_index, uint64_t play_us) {
   std::vector<float> played(kBlock, 0.0f);
   if (out_) {
     if (block_index % 2 == 0) {
-      const media::VoiceJitterBuffer::Playout playout = jitter_->pop();
-      if (playout.slot == media::VoiceJitterBuffer::Slot::Frame)
-        playout_frame_ = decoder_->decode(playout.frame.packet);
-      else if (playout.slot == media::VoiceJitterBuffer::Slot::Lost)
-        playout_frame_ = decoder_->conceal();
-      else
-        playout_frame_.assign(kFrame, 0.0f);
+      auto take_frame = [&] {
+        const media::VoiceJitterBuffer::Playout playout = jitter_->pop();
+        if (playout.slot == media::VoiceJitterBuffer::Slot::Frame)
+          voice_hold_.push(decoder_->decode(playout.frame.packet), playout.frame.timestamp_us);
+        else if (playout.slot == media::VoiceJitterBuffer::Slot::Lost)
+          voice_hold_.push(decoder_->conceal(), std::nullopt);
+      };
+      take_frame();
+      // A backlog (the burst after a cut link) goes to the hold at once, which drops what is far
+      // behind: taken a frame per 20 ms, it would keep the voice late for the rest of the call.
+      constexpr size_t kBacklogFrames = 6;
+      while (jitter_->buffered() > kBacklogFrames) take_frame();
     }
-    std::copy_n(playout_frame_.begin() + ptrdiff_t((block_index % 2) * kBlock), kBlock, played.begin());
+    voice_hold_.hold_to(hold_to_ms_.load());
+    voice_hold_.next_block(played, play_us);
     // The voice from both loudspeakers, a touch's sound from where it happened; the microphone
     // (and so the echo canceller's probe) hears their sum.
     take_touch_sound_requests(block_index, play_us);
@@ -307,6 +313,7 @@ nlohmann::json SiteSound::metrics() const {
                        {"duplicate", c.duplicate}, {"overflow_dropped", c.overflow_dropped}, {"rebuffers", c.rebuffers}};
   }
   if (decoder_) voice["undecodable"] = decoder_->undecodable();
+  if (out_) voice["held_to_the_portrait"] = voice_hold_.to_json();
   m["voice"] = voice;
   if (out_) {
     nlohmann::json sounds = nlohmann::json::array();

@@ -12,6 +12,7 @@
 // The loudspeakers are a stereo pair: the voice comes from both, a touch's sound (the clap) from
 // where the palms meet, starting at the sample that plays at the moment it is asked for.
 #include <atomic>
+#include <limits>
 #include <cstdint>
 #include <deque>
 #include <filesystem>
@@ -25,6 +26,7 @@
 
 #include "audio/audio_device.h"
 #include "media/touch_sound.h"
+#include "media/voice_hold.h"
 #include "geometry/site_frames.h"
 #include "net/transport.h"
 #include "sim/effects.h"
@@ -72,6 +74,12 @@ class SiteSound {
   uint64_t play_touch_sound(media::TouchSound sound, uint64_t onset_us, const media::StereoPlacement& placement);
   // Withdraws it if it has not begun (a predicted contact that did not come); any thread.
   void cancel_touch_sound(uint64_t id);
+
+  // Holds the far voice to the far portrait: its capture-to-play latency follows `latency_ms`, the
+  // portrait's capture-to-screen latency (NaN: play the voice as it comes). Any thread.
+  void hold_voice_to(double latency_ms) { hold_to_ms_ = latency_ms; }
+  // The far voice's median capture-to-play latency so far (NaN: none played yet); after stop().
+  double voice_latency_ms() const { return voice_hold_.median_latency_ms(); }
 
   std::string description() const { return description_; }
   // audio.wav, what the simulated loudspeakers played (empty where they are not simulated), and
@@ -132,7 +140,8 @@ class SiteSound {
 
   // The loop's alone until stop() has joined it.
   std::vector<float> capture_frame_;   // 20 ms being filled for the encoder
-  std::vector<float> playout_frame_;   // the decoded 20 ms being played, in two halves
+  media::VoiceHold voice_hold_;        // the decoded far voice, held to the portrait
+  std::atomic<double> hold_to_ms_{std::numeric_limits<double>::quiet_NaN()};
   std::vector<float> speakers_;  // the block to the stereo pair, interleaved
   uint64_t block_play_us_ = 0;   // when the block being made plays
   uint32_t sequence_ = 0;

@@ -10,6 +10,7 @@ struct SoundOptions {
   bool noise_suppression = false;
   bool gain_control = false;
   int voice_bitrate_bps = 28000;  // Opus, 24..32 kbit/s for speech
+  bool lip_sync = true;           // the far voice held to the far portrait (false: played as it comes)
 };
 
 }  // namespace rt::site
