@@ -67,9 +67,6 @@ void print_profile(const std::string& site, const nlohmann::json& gpu_ms) {
   }
 }
 
-constexpr auto kMotorPulse = std::chrono::milliseconds(150);
-constexpr int kMotorStrength = 200;
-
 net::SessionOptions session_options(const SiteRunOptions& options) {
   net::SessionOptions net_options;
   net_options.key = net::load_session_key_file(options.key_file);
@@ -106,7 +103,8 @@ class SiteRun {
   void on_touch(const TouchEvent& event);
   // The touch loop's cue to pulse the motor (ahead of a predicted contact, or at a detected touch)
   // or to cancel a predicted pulse whose touch did not come (touch/touch_loop.h).
-  void on_motor(MotorCue cue);
+  // A pulse is one step of the gesture's pattern (touch/gesture.h); the first starts it.
+  void on_motor(MotorCue cue, const MotorStep& step, Gesture gesture);
   // The touch-to-motor latencies, once a touch has both its start and its pulse.
   void note_touch_to_motor();
   // Each true contact of the scene against the vibrations felt, where the truth is known: this
@@ -210,7 +208,7 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
 
   touch_ = std::make_unique<SiteTouchLoop>(
       options.touch, common_.options.time_scale, [this](const TouchEvent& event) { on_touch(event); },
-      [this](MotorCue cue, uint64_t) { on_motor(cue); });
+      [this](MotorCue cue, uint64_t, const MotorStep& step, Gesture gesture) { on_motor(cue, step, gesture); });
 
   net::SessionOptions net_options = session_options(options);
   net_options.log = [this](const std::string& line) {
@@ -270,7 +268,7 @@ void SiteRun::on_message(const net::Message& message) {
     receiver_->on_portrait(*portrait, now);
   } else if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
     events_.write(touch->kind == net::TouchEventMessage::Kind::Start ? "remote_touch_start" : "remote_touch_end", now,
-                  {{"detected_by", touch->site == 0 ? "A" : "B"}});
+                  {{"detected_by", touch->site == 0 ? "A" : "B"}, {"gesture", gesture_name(Gesture(touch->gesture))}});
   } else if (std::holds_alternative<net::SignalMessage>(message) && !told_transport_mismatch_.exchange(true)) {
     // Only a direct session hands signals up: the other site is calling over WebRTC.
     std::cerr << "site " << common_.name << ": the other site runs --transport webrtc and this one "
@@ -283,12 +281,14 @@ void SiteRun::on_touch(const TouchEvent& event) {
   const bool start = event.kind == TouchEvent::Kind::Start;
   events_.write(start ? "touch_start" : "touch_end", event.timestamp_us,
                 {{"overlap_cm2", event.overlap_area_m2 * 1e4},
+                 {"gesture", gesture_name(event.gesture)},
                  {"local_capture_us", event.local_capture_us},
                  {"remote_capture_us", event.remote_capture_us}});
   net::TouchEventMessage message;
   message.timestamp_us = event.timestamp_us;
   message.kind = start ? net::TouchEventMessage::Kind::Start : net::TouchEventMessage::Kind::End;
   message.site = common_.options.site == Site::A ? 0 : 1;
+  message.gesture = uint8_t(event.gesture);
   net_->send(message);
   if (!start) {
     unpaired_start_us_.reset();
@@ -307,7 +307,7 @@ void SiteRun::on_touch(const TouchEvent& event) {
   note_touch_to_motor();
 }
 
-void SiteRun::on_motor(MotorCue cue) {
+void SiteRun::on_motor(MotorCue cue, const MotorStep& step, Gesture gesture) {
   const uint64_t command_us = monotonic_now_us();
   if (cue == MotorCue::Cancel) {
     const motor::MotorStatus status = motor_.motor->stop();
@@ -316,15 +316,22 @@ void SiteRun::on_motor(MotorCue cue) {
     unpaired_pulse_us_.reset();
     return;
   }
-  const motor::MotorStatus status = motor_.motor->pulse(kMotorPulse, kMotorStrength);
+  const motor::MotorStatus status = motor_.motor->pulse(step.duration, step.strength);
   if (!status) {
     events_.write("motor_error", command_us, {{"error", status.error()}});
     return;
   }
+  if (step.after.count() > 0) {  // a later step of the pattern: the touch's pulse was its first
+    events_.write("motor_step", command_us,
+                  {{"duration_ms", step.duration.count()}, {"strength", step.strength}, {"gesture", gesture_name(gesture)}});
+    return;
+  }
   // A predicted contact's pulse usually leaves before the detector sees the touch.
   events_.write("motor_pulse", command_us,
-                {{"duration_ms", kMotorPulse.count()},
-                 {"strength", kMotorStrength},
+                {{"duration_ms", step.duration.count()},
+                 {"strength", step.strength},
+                 {"gesture", gesture_name(gesture)},
+                 {"steps", motor_pattern(gesture).size()},
                  {"ahead_of_detection", !unpaired_start_us_.has_value()}});
   unpaired_pulse_us_ = command_us;
   note_touch_to_motor();
