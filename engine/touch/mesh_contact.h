@@ -3,10 +3,10 @@
 // skinned on the CPU from its skeleton (hand/skinning.h, with the shape adaption the receiver
 // draws it with), the skin within a band of the glass (or pressed through it) is projected onto
 // the glass plane as a patch of small cells, and the two sides' patches overlap where the hands
-// meet through the glass. Which part of each hand is in the overlap names the touch: the palm
-// (a clap, a high five), the backs of the first finger bones (a fist bump, knuckles forward), or
-// only fingers (a fingertip touch). The paper's joint boxes (mutual_touch.h) see a fist or a
-// fingertip as too small a touch and two hands side by side as one; the skin sees neither.
+// meet through the glass. The overlap and the hands' shape name the touch: only fingers in it
+// (a fingertip touch), a hand with its fingers closed (a fist bump, knuckles forward), or else
+// the palm (a clap, a high five). The paper's joint boxes (mutual_touch.h) see a fist bump or
+// two fingertips as too small a touch (under its 50 cm^2).
 #include <cstdint>
 #include <span>
 #include <unordered_map>
