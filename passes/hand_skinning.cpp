@@ -1,9 +1,8 @@
 #include "passes/hand_skinning.h"
 
-#include <Eigen/Core>
 #include <algorithm>
-#include <cmath>
 
+#include "hand/skinning.h"
 #include "hand_skinning.comp.h"
 
 namespace rt::passes {
@@ -25,24 +24,7 @@ void HandSkinningPass::add_to(vk::FrameGraph& graph, vk::Buffer& rest, vk::Buffe
 }
 
 std::vector<SkinnedVertex> hand_skinning_reference(std::span<const HandVertex> rest, const BoneMatrices& bones) {
-  std::vector<SkinnedVertex> out;
-  out.reserve(rest.size());
-  for (const HandVertex& v : rest) {
-    Eigen::Matrix4d blended = Eigen::Matrix4d::Zero();
-    for (int k = 0; k < 4; ++k) {
-      const int bone = std::clamp(int(v.joints[k] + 0.5f), 0, RT_HAND_BONES - 1);
-      blended += double(v.weights[k]) * Eigen::Map<const Eigen::Matrix4f>(bones[size_t(bone)].data()).cast<double>();
-    }
-    const Eigen::Vector4d p = blended * Eigen::Vector4d(v.position_u[0], v.position_u[1], v.position_u[2], 1.0);
-    Eigen::Vector3d n = blended.topLeftCorner<3, 3>() * Eigen::Vector3d(v.normal_v[0], v.normal_v[1], v.normal_v[2]);
-    if (n.squaredNorm() > 1e-20) n.normalize();
-    else n = Eigen::Vector3d(v.normal_v[0], v.normal_v[1], v.normal_v[2]);
-    SkinnedVertex s{};
-    s.position_u = {float(p.x()), float(p.y()), float(p.z()), v.position_u[3]};
-    s.normal_v = {float(n.x()), float(n.y()), float(n.z()), v.normal_v[3]};
-    out.push_back(s);
-  }
-  return out;
+  return hand::skin_vertices(rest, bones);
 }
 
 }  // namespace rt::passes

@@ -27,7 +27,8 @@ class HandSkinningPass {
   vk::ComputeKernel kernel_;
 };
 
-// The plain C++ reference, in double precision.
+// The plain C++ reference, in double precision: hand::skin_vertices (hand/skinning.h), which the
+// touch detector skins its hands with too.
 std::vector<SkinnedVertex> hand_skinning_reference(std::span<const HandVertex> rest, const BoneMatrices& bones);
 
 }  // namespace rt::passes

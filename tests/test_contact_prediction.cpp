@@ -128,7 +128,7 @@ LoopRun run_loop(const Path& path, bool predict, double end_s = 1.2) {
   timing.predict = predict;
   LoopRun run;
   TouchLoop loop({}, {}, std::chrono::microseconds(20'000), timing,
-                 [&](MotorCue cue, uint64_t now_us) { run.cues.emplace_back(cue, now_us); });
+                 [&](MotorCue cue, uint64_t now_us, const MotorStep&, Gesture) { run.cues.emplace_back(cue, now_us); });
   for (double t = 0.003; t < end_s; t += 0.02) {
     const double s = std::floor(t / 0.01) * 0.01;  // the tracker's newest frame, every 10 ms
     loop.set_local_hands({flat_hand(0, 0, path(s), us(s))});

@@ -82,12 +82,13 @@ TEST_CASE("small messages round-trip exactly") {
   CHECK(eye.valid);
   CHECK_FALSE(round_trip<EyeMessage>(EyeMessage{1, {0, 0, 0}, false}).valid);
 
-  const auto touch = round_trip<TouchEventMessage>(TouchEventMessage{99, TouchEventMessage::Kind::End, 1, 0xABCDEF0123ull, 41});
+  const auto touch = round_trip<TouchEventMessage>(TouchEventMessage{99, TouchEventMessage::Kind::End, 1, 0xABCDEF0123ull, 41, 2});
   CHECK(touch.timestamp_us == 99);
   CHECK(touch.kind == TouchEventMessage::Kind::End);
   CHECK(touch.site == 1);
   CHECK(touch.sender_session == 0xABCDEF0123ull);
   CHECK(touch.sequence == 41);
+  CHECK(touch.gesture == 2);
 
   const auto heartbeat = round_trip<HeartbeatMessage>(HeartbeatMessage{77, 0xFFFFFFFFFFull, 0x1234567890ull, 3});
   CHECK(heartbeat.timestamp_us == 77);
@@ -203,6 +204,7 @@ TEST_CASE("the encoder refuses what the decoder would reject") {
   p.depth.at(3, 3) = -1.0f;
   CHECK_THROWS_WITH(encode_message(p), Catch::Contains("depth -1"));
   CHECK_THROWS_WITH(encode_message(TouchEventMessage{1, TouchEventMessage::Kind::Start, 2}), Catch::Contains("site"));
+  CHECK_THROWS_WITH(encode_message(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0, 0, 0, 3}), Catch::Contains("gesture"));
 }
 
 TEST_CASE("malformed headers are rejected with what is wrong") {
@@ -250,6 +252,9 @@ TEST_CASE("bad values are rejected: NaN, Inf, out of range, bad flags, hand coun
   auto touch = encode_message(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
   touch[kHeaderSize + 9] = 7;  // after the timestamp and the kind
   expect_rejected(touch, DecodeErrorKind::BadValue, "touch site is 7");
+  touch = encode_message(TouchEventMessage{1, TouchEventMessage::Kind::Start, 0});
+  touch[kHeaderSize + 10] = 9;  // after the site
+  expect_rejected(touch, DecodeErrorKind::BadValue, "touch gesture 9");
 
   auto skeleton = encode_message(test::test_skeleton(10));
   const size_t first_hand = kHeaderSize + 9;

@@ -39,24 +39,37 @@ struct Played {
   nlohmann::json vibration;  // contact_to_vibration_json
   MotorTimingCounts counts;
   size_t pulses_felt = 0;
+  std::vector<Gesture> starts;          // the detector's touch starts
+  std::vector<Gesture> patterns;        // each motor pattern's gesture, at its first step
+  std::vector<motor::MotorCommand> commands;
 };
 
-// Site A of `scene_name`: its tracker's frames picked up a few milliseconds after their capture,
-// B's a link's delay later and stamped on a clock of B's own, the touch loop ticking at 50 Hz.
-Played play(const std::string& scene_name, const TouchSettings& settings, double time_scale) {
+// Site `here` (A unless told) of `scene_name`: its tracker's frames picked up a few milliseconds
+// after their capture, the other site's a link's delay later and stamped on a clock of its own,
+// the touch loop ticking at 50 Hz.
+Played play(const std::string& scene_name, const TouchSettings& settings, double time_scale, Site here = Site::A) {
   const sim::Scene scene = sim::load_scene(sim::resolve_scene(scene_name));
-  const std::vector<TrackedFrame> local = tracked(scene, Site::A), remote = tracked(scene, Site::B);
+  const Site there = here == Site::A ? Site::B : Site::A;
+  const std::vector<TrackedFrame> local = tracked(scene, here), remote = tracked(scene, there);
   auto wall_us = [&](uint64_t scene_us) { return uint64_t(double(scene_us) / time_scale); };
   constexpr uint64_t kPickUpUs = 7'000, kLinkUs = 3'000, kOtherClockUs = 987'654'321;
   uint64_t now_us = 0;
   motor::SimulatedMotor motor([&] { return now_us; },
                               std::chrono::microseconds(uint64_t(settings.motor_latency_ms * 1000.0)));
-  SiteTouchLoop touch(settings, time_scale, {}, [&](MotorCue cue, uint64_t) {
-    if (cue == MotorCue::Pulse)
-      (void)motor.pulse(std::chrono::milliseconds(150), 200);
-    else
-      (void)motor.stop();
-  });
+  Played played;
+  SiteTouchLoop touch(
+      settings, time_scale,
+      [&](const TouchEvent& event) {
+        if (event.kind == TouchEvent::Kind::Start) played.starts.push_back(event.gesture);
+      },
+      [&](MotorCue cue, uint64_t, const MotorStep& step, Gesture gesture) {
+        if (cue == MotorCue::Pulse) {
+          if (step.after.count() == 0) played.patterns.push_back(gesture);
+          (void)motor.pulse(step.duration, step.strength);
+        } else {
+          (void)motor.stop();
+        }
+      });
   size_t next_local = 0, next_remote = 0;
   const uint64_t end_us = wall_us(uint64_t(scene.duration_s() * 1e6)) + 500'000;
   for (now_us = 13'000; now_us < end_us;) {
@@ -72,7 +85,7 @@ Played play(const std::string& scene_name, const TouchSettings& settings, double
     if (newest_remote) {
       const uint64_t captured_us = wall_us(remote[*newest_remote].scene_us);
       std::vector<HandSkeleton> hands;
-      for (const HandSkeleton& hand : remote[*newest_remote].hands) hands.push_back(map_skeleton(Site::B, Site::A, hand));
+      for (const HandSkeleton& hand : remote[*newest_remote].hands) hands.push_back(map_skeleton(there, here, hand));
       touch.set_remote_hands(hands, captured_us + kOtherClockUs, captured_us + kPickUpUs + kLinkUs);
     }
     touch.loop().tick(now_us);
@@ -85,7 +98,7 @@ Played play(const std::string& scene_name, const TouchSettings& settings, double
   }
   std::vector<uint64_t> contacts_us;
   for (const double t : true_contact_times_s(scene)) contacts_us.push_back(wall_us(uint64_t(t * 1e6)));
-  Played played;
+  played.commands = motor.commands();
   const std::vector<uint64_t> felt = motor.felt_pulse_starts();
   played.vibration = contact_to_vibration_json(contacts_us, felt, uint64_t(500'000 / time_scale));
   played.counts = touch.loop().motor_counts();
@@ -111,6 +124,7 @@ TEST_CASE("the clap's palms meet once, when both reach the glass") {
   CHECK(true_contact_times_s(sim::load_scene(sim::resolve_scene("miss")))
             .empty());
   CHECK(true_contact_times_s(sim::load_scene(sim::resolve_scene("wave"))).empty());
+  CHECK(true_contact_times_s(sim::load_scene(sim::resolve_scene("graze"))).empty());
 }
 
 TEST_CASE("the site's motor vibrates as the clap's palms meet with prediction, at the detector's band without") {
@@ -142,7 +156,7 @@ TEST_CASE("the site's motor vibrates as the clap's palms meet with prediction, a
 }
 
 TEST_CASE("the site's motor stays still where the palms do not meet") {
-  for (const char* scene : {"miss", "wave"})
+  for (const char* scene : {"miss", "wave", "graze"})
     for (const bool predict : {false, true})
       for (const double time_scale : {1.0, 0.25}) {
         const Played played = play(scene, with_prediction(predict), time_scale);
@@ -151,6 +165,66 @@ TEST_CASE("the site's motor stays still where the palms do not meet") {
         CHECK(played.counts.predicted == 0);
         CHECK(played.counts.unpredicted == 0);
       }
+}
+
+TEST_CASE("each scene's touch is its own gesture at both sites, with that gesture's motor pattern") {
+  const std::vector<std::pair<std::string, std::vector<Gesture>>> expected = {
+      // approach: A's hand stops 6 cm before the glass, so no rule sees a touch (nor the paper's).
+      {"clap", {Gesture::Palm}},           {"approach", {}},  {"fist-bump", {Gesture::Fist}},
+      {"finger-touch", {Gesture::Finger}}, {"miss", {}},               {"wave", {}},
+      {"graze", {}}};
+  for (const auto& [scene, gestures] : expected)
+    for (const Site site : {Site::A, Site::B})
+      for (const bool predict : {true, false}) {
+        const Played played = play(scene, with_prediction(predict), 1.0, site);
+        CAPTURE(scene, site_name(site), predict, played.vibration.dump());
+        REQUIRE(played.starts.size() == gestures.size());
+        REQUIRE(played.patterns.size() == gestures.size());
+        size_t steps = 0;
+        for (size_t i = 0; i < gestures.size(); ++i) {
+          CHECK(gesture_name(played.starts[i]) == std::string(gesture_name(gestures[i])));
+          CHECK(gesture_name(played.patterns[i]) == std::string(gesture_name(gestures[i])));
+          steps += motor_pattern(gestures[i]).size();
+        }
+        // Every step of the pattern was commanded and felt, nothing else, and no pulse was cancelled.
+        CHECK(played.pulses_felt == steps);
+        CHECK(played.counts.cancelled == 0);
+        CHECK(played.vibration["vibrations_without_contact"] == 0);
+        CHECK(played.vibration["contacts_not_felt"] == 0);
+        CHECK(played.vibration["contacts"] == gestures.size());
+        if (!gestures.empty()) {
+          // The pattern as the gesture's: its steps' lengths and strengths, in order.
+          const std::vector<MotorStep>& pattern = motor_pattern(gestures.front());
+          size_t step = 0;
+          for (const motor::MotorCommand& command : played.commands)
+            if (command.kind == motor::MotorCommand::Kind::Pulse && step < pattern.size()) {
+              CHECK(command.duration == pattern[step].duration);
+              CHECK(command.strength == pattern[step].strength);
+              ++step;
+            }
+          CHECK(step == pattern.size());
+        }
+      }
+}
+
+TEST_CASE("the gestures' motor patterns differ: one long pulse, a strong double, a light tick") {
+  const auto& palm = motor_pattern(Gesture::Palm);
+  const auto& fist = motor_pattern(Gesture::Fist);
+  const auto& finger = motor_pattern(Gesture::Finger);
+  REQUIRE(palm.size() == 1);
+  CHECK(palm[0].duration == std::chrono::milliseconds(150));
+  REQUIRE(fist.size() == 2);
+  CHECK(fist[0].duration < palm[0].duration);
+  CHECK(fist[0].strength > palm[0].strength);
+  CHECK(fist[1].after >= fist[0].duration);  // two knocks, not one long one
+  REQUIRE(finger.size() == 1);
+  CHECK(finger[0].duration < fist[0].duration);
+  CHECK(finger[0].strength < palm[0].strength);
+  for (const Gesture gesture : {Gesture::Palm, Gesture::Fist, Gesture::Finger}) {
+    CHECK(gesture_from_name(gesture_name(gesture)) == gesture);
+    CHECK(motor_pattern(gesture).front().after.count() == 0);
+  }
+  CHECK_FALSE(gesture_from_name("slap").has_value());
 }
 
 TEST_CASE("a remote clock maps the other site's stamps by the link's least delay") {
@@ -173,7 +247,7 @@ TEST_CASE("the site's touch settings refuse what makes no sense") {
   CHECK_THROWS(site_motor_timing(settings, 0.0));
 }
 TEST_CASE("figures: contact to vibration per scene", "[.figures]") {
-  for (const char* scene : {"clap", "approach", "noisy-clap", "train-fast-reach"})
+  for (const char* scene : {"clap", "approach", "noisy-clap", "train-fast-reach", "fist-bump", "finger-touch"})
     for (const double time_scale : {1.0, 0.25})
       for (const bool predict : {false, true}) {
         const Played p = play(scene, with_prediction(predict), time_scale);

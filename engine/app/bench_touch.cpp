@@ -93,7 +93,7 @@ TrialResult run_trial(const Trial& trial, const Latencies& latency, bool predict
   TouchParameters touch;
   touch.max_skeleton_age_us = 200'000;
   touch.touch_hold_age_us = 1'000'000;
-  TouchLoop loop(touch, {}, std::chrono::microseconds(20'000), timing, [&](MotorCue cue, uint64_t) {
+  TouchLoop loop(touch, {}, std::chrono::microseconds(20'000), timing, [&](MotorCue cue, uint64_t, const MotorStep&, Gesture) {
     if (cue == MotorCue::Pulse)
       (void)motor.pulse(std::chrono::milliseconds(150), 200);
     else

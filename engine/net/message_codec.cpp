@@ -17,8 +17,8 @@ constexpr uint32_t kHandSize = 8 + 4 + 1 + 4 + (5 + kDigitCount * kJointsPerDigi
 constexpr uint32_t kSkeletonFixed = 8 + 1;
 constexpr double kMaxHandWidth = 1.0;  // metres: wider is not a hand or a forearm
 // Version 3 added the sending session and sequence to touch events, and their acknowledgement
-// and the ending flag to heartbeats.
-constexpr uint32_t kTouchPayload = 8 + 1 + 1 + 8 + 8;
+// and the ending flag to heartbeats. Version 4 added the touch's gesture (u8) after the site.
+constexpr uint32_t kTouchPayload = 8 + 1 + 1 + 1 + 8 + 8;
 constexpr uint32_t kHeartbeatPayload = 8 + 8 + 8 + 8 + 1;
 constexpr uint32_t kSignalFixed = 1 + 4 + 4;
 constexpr uint32_t kPortraitFixed = 8 + 8 + 4 + 4 + 4 * 8 + 16 * 8;
@@ -191,6 +191,8 @@ void encode_payload(ByteWriter& w, const Message& message, const EncodeOptions& 
           w.put<uint64_t>(m.timestamp_us);
           w.put<uint8_t>(uint8_t(m.kind));
           w.put<uint8_t>(m.site);
+          if (m.gesture > 2) invalid("touch gesture " + std::to_string(m.gesture) + " is none of palm (0), fist (1), finger (2)");
+          w.put<uint8_t>(m.gesture);
           w.put<uint64_t>(m.sender_session);
           w.put<uint64_t>(m.sequence);
         } else if constexpr (std::is_same_v<T, SignalMessage>) {
@@ -280,6 +282,8 @@ Message decode_payload(MessageType type, ByteReader& r, const DecodeOptions& opt
       m.timestamp_us = r.get<uint64_t>();
       m.kind = TouchEventMessage::Kind(get_flag(r, "touch kind"));
       m.site = get_flag(r, "touch site");
+      m.gesture = r.get<uint8_t>();
+      if (m.gesture > 2) reject(DecodeErrorKind::BadValue, "touch gesture " + std::to_string(m.gesture) + " is none of 0, 1, 2");
       m.sender_session = r.get<uint64_t>();
       m.sequence = r.get<uint64_t>();
       return m;

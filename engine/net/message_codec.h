@@ -21,8 +21,9 @@
 namespace rt::net {
 
 inline constexpr uint8_t kMagic[4] = {'R', 'T', 'N', 'M'};
-// 2: skeletons carry palm and arm widths, NaN elbows; 3: touch events are acknowledged
-inline constexpr uint16_t kProtocolVersion = 3;
+// 2: skeletons carry palm and arm widths, NaN elbows; 3: touch events are acknowledged; 4: touch
+// events name their gesture
+inline constexpr uint16_t kProtocolVersion = 4;
 inline constexpr size_t kHeaderSize = 12;
 inline constexpr uint32_t kMaxPortraitPayload = 64u << 20;  // 64 MiB
 inline constexpr uint32_t kMaxPortraitSide = 4096;          // pixels, either side

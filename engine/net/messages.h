@@ -58,6 +58,7 @@ struct TouchEventMessage {
   // after a reconnect until the peer acknowledges it; these let the receiver drop the copies.
   uint64_t sender_session = 0;
   uint64_t sequence = 0;
+  uint8_t gesture = 0;  // rt::Gesture (touch/gesture.h): 0 palm, 1 fist, 2 finger
 };
 
 struct HeartbeatMessage {

@@ -1,5 +1,6 @@
 #include "sim/hand_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -70,10 +71,11 @@ HandSkeleton build_hand(const HandPlacement& placement, bool is_left, double han
     const Eigen::Vector3d straight = std::sin(splay) * u + std::cos(splay) * v;
     // Flexing bends the digit about an axis in the palm plane, towards the palm side (+w).
     const Eigen::Vector3d flexion_axis = straight.cross(w).normalized();
+    const double curl = std::clamp(placement.curl + placement.extra_curl[size_t(d)], 0.0, 1.0);
     double flexion = 0.0;
     Eigen::Vector3d joint = joints[int(DigitJoint::Mcp)];
     for (int bone = 0; bone < 3; ++bone) {
-      flexion += placement.curl * model.max_flexion_deg[bone] * kRadiansPerDegree;
+      flexion += curl * model.max_flexion_deg[bone] * kRadiansPerDegree;
       joint += hand_scale * model.phalanges_m[bone] * (Eigen::AngleAxisd(flexion, flexion_axis) * straight);
       joints[int(DigitJoint::Pip) + bone] = joint;
     }

@@ -31,6 +31,9 @@ struct HandPlacement {
   Eigen::Vector3d palm = Eigen::Vector3d::Zero();                   // palm centre, site frame
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // hand frame (u, v, w) -> site
   double curl = 0.0;  // 0: flat, every joint in the palm plane; 1: a loose fist
+  // Added to `curl` per digit (the sum clamped to [0, 1]): a pointing hand curls all but the
+  // index finger.
+  std::array<double, kDigitCount> extra_curl{};
 };
 
 // The rotation whose columns are (direction x palm_normal, direction, palm_normal);

@@ -23,6 +23,8 @@ constexpr NamedKind kMotionNames[] = {
     {MotionKind::Approach, "approach"}, {MotionKind::TouchHold, "touch_hold"},
     {MotionKind::Retract, "retract"},   {MotionKind::Wave, "wave"},
     {MotionKind::FastApproach, "fast_approach"}, {MotionKind::Clap, "clap"},
+    {MotionKind::FistBump, "fist_bump"},         {MotionKind::FingerTouch, "finger_touch"},
+    {MotionKind::Graze, "graze"},
 };
 
 // Breathing: a slow, small forward sway of the torso, always on, so no user is a statue.
@@ -55,6 +57,8 @@ HandPlacement blend(const HandPlacement& a, const HandPlacement& b, double s) {
   hand.palm = a.palm + s * (b.palm - a.palm);
   hand.orientation = a.orientation.slerp(s, b.orientation);
   hand.curl = a.curl + s * (b.curl - a.curl);
+  for (size_t d = 0; d < hand.extra_curl.size(); ++d)
+    hand.extra_curl[d] = a.extra_curl[d] + s * (b.extra_curl[d] - a.extra_curl[d]);
   return hand;
 }
 
@@ -64,10 +68,40 @@ BodyKey blend(const BodyKey& a, const BodyKey& b, double s) {
 
 Eigen::Quaterniond palm_towards_screen() { return hand_orientation(Eigen::Vector3d::UnitY(), -Eigen::Vector3d::UnitZ()); }
 
+// What the hand does at the glass: a flat palm, a closed fist with its knuckles forward, or a
+// pointing index finger.
+enum class HandShape { Open, Fist, Point };
+
+HandShape shape_of(MotionKind kind) {
+  if (kind == MotionKind::FistBump) return HandShape::Fist;
+  if (kind == MotionKind::FingerTouch) return HandShape::Point;
+  return HandShape::Open;
+}
+
+// A fist bump's hand: the backs of the first finger bones face the glass. At full curl they
+// turn `knuckle` from the hand's direction towards the palm, so the hand's direction leans that
+// much from the screen's normal, palm down.
+Eigen::Quaterniond fist_towards_screen() {
+  const double knuckle = medium_adult_hand()[int(Digit::Middle)].max_flexion_deg[0] * std::numbers::pi / 180.0;
+  const Eigen::Vector3d towards_screen = -Eigen::Vector3d::UnitZ(), down = -Eigen::Vector3d::UnitY();
+  return hand_orientation(std::sin(knuckle) * towards_screen + std::cos(knuckle) * down,
+                          -std::cos(knuckle) * towards_screen + std::sin(knuckle) * down);
+}
+
+// A pointing hand: the index finger 50 degrees from the screen's normal, up, so that the pad of
+// its tip, not its nail or its very end, meets the glass; the palm faces down and forward.
+Eigen::Quaterniond point_towards_screen() {
+  constexpr double kFromNormal = 50.0 * std::numbers::pi / 180.0;
+  const Eigen::Vector3d towards_screen = -Eigen::Vector3d::UnitZ(), up = Eigen::Vector3d::UnitY();
+  return hand_orientation(std::cos(kFromNormal) * towards_screen + std::sin(kFromNormal) * up,
+                          std::sin(kFromNormal) * towards_screen - std::cos(kFromNormal) * up);
+}
+
 // The key poses a motion moves between; `target` is the touch spot on the glass.
 class KeyPoses {
  public:
-  KeyPoses(const BodyGeometry& body, const Eigen::Vector2d& target) : body_(body), target_(target) {}
+  KeyPoses(const BodyGeometry& body, const Eigen::Vector2d& target, HandShape shape = HandShape::Open)
+      : body_(body), target_(target), shape_(shape) {}
 
   BodyKey rest() const { return {0.0, resting_hand(body_, true), resting_hand(body_, false)}; }
 
@@ -78,15 +112,25 @@ class KeyPoses {
     key.right.palm = {target_.x() + 0.04, target_.y() - 0.06, body_.head_rest.z() - 0.24};
     key.right.orientation = palm_towards_screen();
     key.right.curl = 0.3;
+    if (shape_ != HandShape::Open) shape_hand(key.right);
     return key;
   }
 
-  // The hand flat and facing the glass at `height` above the target; the torso leans in as far
-  // as the arm needs (and at least as far as when raised, so the lean never goes back and forth).
+  // The hand aimed at the target with its part that touches (the palm, the fist's knuckles, the
+  // index tip) at `height` above it; the torso leans in as far as the arm needs (and at least as
+  // far as when raised, so the lean never goes back and forth).
   BodyKey over_target(double height_m, double curl) const {
     BodyKey key = raised();
     key.right.palm = {target_.x(), target_.y(), height_m};
     key.right.curl = curl;
+    if (shape_ != HandShape::Open) {
+      shape_hand(key.right);
+      // Placed by its nearest joints: the fist's knuckles, the index tip.
+      key.right.palm = Eigen::Vector3d::Zero();
+      const HandSkeleton at_origin = build_hand(key.right, false, body_.hand_scale);
+      const Eigen::Vector3d touching = touching_point(at_origin);
+      key.right.palm = Eigen::Vector3d(target_.x(), target_.y(), height_m) - touching;
+    }
     const HandSkeleton hand = build_hand(key.right, false, body_.hand_scale);
     const std::optional<double> lean = lean_to_reach(body_, hand.wrist, true);
     if (!lean) {
@@ -100,11 +144,16 @@ class KeyPoses {
   }
   BodyKey pre_touch() const { return over_target(kPreTouchHeightM, 0.05); }
   BodyKey touch() const {
-    BodyKey key = over_target(kTouchPalmHeightM, 0.0);
+    BodyKey key = over_target(touch_height_m(), 0.0);
     key.lean_rad = std::max(key.lean_rad, pre_touch().lean_rad);
     return key;
   }
   BodyKey lifted() const {
+    if (shape_ != HandShape::Open) {
+      BodyKey key = over_target(kLiftHeightM, 0.0);
+      key.lean_rad = std::max(key.lean_rad, touch().lean_rad);
+      return key;
+    }
     BodyKey key = touch();
     key.right.palm.z() = kLiftHeightM;
     key.right.curl = 0.1;
@@ -123,8 +172,37 @@ class KeyPoses {
   }
 
  private:
+  // The fist and the pointing hand keep their shape from the raise to the retract.
+  void shape_hand(HandPlacement& hand) const {
+    hand.curl = 1.0;
+    hand.extra_curl = {};
+    if (shape_ == HandShape::Fist) {
+      hand.orientation = fist_towards_screen();
+    } else {
+      hand.orientation = point_towards_screen();
+      hand.extra_curl[int(Digit::Index)] = -1.0;
+      hand.extra_curl[int(Digit::Thumb)] = -0.4;  // laid along the curled middle finger
+    }
+  }
+  double touch_height_m() const {
+    if (shape_ == HandShape::Fist) return kFistKnuckleHeightM;
+    if (shape_ == HandShape::Point) return kFingertipHeightM;
+    return kTouchPalmHeightM;
+  }
+  // Where the shaped hand meets the glass: x and y of its touching part, z of its nearest joint.
+  Eigen::Vector3d touching_point(const HandSkeleton& hand) const {
+    if (shape_ == HandShape::Point) return hand.joint(Digit::Index, DigitJoint::Tip);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double nearest_z = 1e9;
+    for (Digit digit : {Digit::Index, Digit::Middle, Digit::Ring, Digit::Pinky})
+      for (DigitJoint joint : {DigitJoint::Mcp, DigitJoint::Pip}) sum += hand.joint(digit, joint);
+    for (const Eigen::Vector3d& joint : hand.hand_joints()) nearest_z = std::min(nearest_z, joint.z());
+    return {sum.x() / 8, sum.y() / 8, nearest_z};
+  }
+
   const BodyGeometry& body_;
   Eigen::Vector2d target_;
+  HandShape shape_;
 };
 
 std::string known_motion_names() {
@@ -190,13 +268,13 @@ MotionTrack::MotionTrack(const MotionSpec& spec, const Seat& seat, const UserApp
   if (!(spec.speed > 0) || !std::isfinite(spec.speed)) throw std::invalid_argument("motion speed must be > 0");
   if (!(spec.hold_s >= 0) || !(spec.start_delay_s >= 0))
     throw std::invalid_argument("motion hold_s and start_delay_s must be >= 0");
-  const KeyPoses poses(body_, spec.touch_target_m);
+  const KeyPoses poses(body_, spec.touch_target_m, shape_of(spec.kind));
   const double move = 1.0 / spec.speed;
   const double hold = spec.hold_s;
-  auto retract_from_touch = [&] {
-    add(kLiftS * move, poses.lifted());
-    add(kLowerToRaisedS * move, poses.raised());
-    add(kLowerToRestS * move, poses.rest());
+  auto retract_from_touch = [&](const KeyPoses& from) {
+    add(kLiftS * move, from.lifted());
+    add(kLowerToRaisedS * move, from.raised());
+    add(kLowerToRestS * move, from.rest());
   };
   switch (spec.kind) {
     case MotionKind::Idle:
@@ -218,7 +296,7 @@ MotionTrack::MotionTrack(const MotionSpec& spec, const Seat& seat, const UserApp
       break;
     case MotionKind::Retract:
       add(0, poses.touch());
-      retract_from_touch();
+      retract_from_touch(poses);
       break;
     case MotionKind::Wave:
       add(0, poses.rest());
@@ -235,13 +313,27 @@ MotionTrack::MotionTrack(const MotionSpec& spec, const Seat& seat, const UserApp
       add(hold, poses.touch());
       break;
     case MotionKind::Clap:
+    case MotionKind::FistBump:
+    case MotionKind::FingerTouch:
       add(0, poses.rest());
       add(kRaiseS * move, poses.raised());
       add(kApproachS * move, poses.pre_touch());
       add(kPressS * move, poses.touch());
       add(hold, poses.touch());
-      retract_from_touch();
+      retract_from_touch(poses);
       break;
+    case MotionKind::Graze: {
+      // On the glass above the target, then down past it: the target is the slide's middle.
+      const KeyPoses top(body_, spec.touch_target_m + Eigen::Vector2d(0, kGrazeSlideM / 2));
+      const KeyPoses bottom(body_, spec.touch_target_m - Eigen::Vector2d(0, kGrazeSlideM / 2));
+      add(0, top.rest());
+      add(kRaiseS * move, top.raised());
+      add(kApproachS * move, top.pre_touch());
+      add(kPressS * move, top.touch());
+      add(hold, bottom.touch());
+      retract_from_touch(bottom);
+      break;
+    }
   }
   if (!(spec.repeat_every_s >= 0) || !std::isfinite(spec.repeat_every_s))
     throw std::invalid_argument("motion repeat_every_s must be >= 0");

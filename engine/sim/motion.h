@@ -26,6 +26,9 @@ enum class MotionKind {
   Wave,          // wave in front of the chest: the hand hides the body from the cameras
   FastApproach,  // from rest straight to the glass, quickly
   Clap,          // raise, approach, touch_hold, retract
+  FistBump,      // a clap with a closed fist, knuckles forward onto the glass
+  FingerTouch,   // a clap with a pointing hand: the index fingertip onto the glass
+  Graze,         // a clap whose palm slides down the glass while it is on it
 };
 const std::vector<MotionKind>& all_motion_kinds();
 const char* motion_name(MotionKind kind);
@@ -37,7 +40,7 @@ struct MotionSpec {
   // shared glass is (x, y) at site A and (-x, y) at site B.
   Eigen::Vector2d touch_target_m = Eigen::Vector2d(0.08, 0.05);
   double start_delay_s = 0.0;  // the first pose is held this long
-  double hold_s = 1.0;         // time the palm stays on the glass (touch_hold, fast_approach, clap)
+  double hold_s = 1.0;         // time the palm stays on the glass (touch_hold, fast_approach, clap, ...)
   double speed = 1.0;          // > 1 plays the moves faster (not the hold)
   // > 0: the motion starts again from its first pose this often, seconds (a long soak run of a
   // short scene); at least the motion's own length. 0: it plays once and holds its last pose.
@@ -53,6 +56,14 @@ nlohmann::json motion_to_json(const MotionSpec& spec);
 // The palm's joints at the touch sit this far in front of the glass (the skeleton runs through
 // the middle of the hand, about half a centimetre above the skin of a flat palm).
 inline constexpr double kTouchPalmHeightM = 0.005;
+// A fist bump's nearest joints (the knuckles between the first and second finger bones) sit this
+// far in front of the glass: less than a finger's half thickness, as a bump presses the knuckles'
+// skin flat on it.
+inline constexpr double kFistKnuckleHeightM = 0.005;
+// A fingertip touch's index tip joint sits this far in front of the glass: the pad pressed flat.
+inline constexpr double kFingertipHeightM = 0.004;
+// How far a graze's palm slides down the glass while on it.
+inline constexpr double kGrazeSlideM = 0.12;
 
 // A motion's keyframes, built once for a user in a seat. Throws std::invalid_argument when the
 // touch target cannot be reached from the seat.

@@ -70,9 +70,6 @@ void print_profile(const std::string& site, const nlohmann::json& gpu_ms) {
   }
 }
 
-constexpr auto kMotorPulse = std::chrono::milliseconds(150);
-constexpr int kMotorStrength = 200;
-
 net::SessionOptions session_options(const SiteRunOptions& options) {
   net::SessionOptions net_options;
   net_options.key = net::load_session_key_file(options.key_file);
@@ -109,10 +106,11 @@ class SiteRun {
   void on_touch(const TouchEvent& event);
   // The touch loop's cue to pulse the motor (ahead of a predicted contact, or at a detected touch)
   // or to cancel a predicted pulse whose touch did not come (touch/touch_loop.h).
-  void on_motor(MotorCue cue);
-  // The touch's sound: at the predicted contact for a pulse given ahead of it, else now; from
-  // where this site's hand nearest the glass is, as the seat hears it.
-  void play_touch_sound(uint64_t command_us, bool predicted);
+  // A pulse is one step of the gesture's pattern (touch/gesture.h); the first starts it.
+  void on_motor(MotorCue cue, const MotorStep& step, Gesture gesture);
+  // The touch's sound, the gesture's own: at the predicted contact for a pulse given ahead of it,
+  // else now; from where this site's hand nearest the glass is, as the seat hears it.
+  void play_touch_sound(uint64_t command_us, bool predicted, Gesture gesture);
   // audio.wav into site.mp4, where both were written and the scene played in real time (the video
   // runs on the scene's clock, the sound on the wall's).
   void put_sound_into_video();
@@ -220,7 +218,7 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
 
   touch_ = std::make_unique<SiteTouchLoop>(
       options.touch, common_.options.time_scale, [this](const TouchEvent& event) { on_touch(event); },
-      [this](MotorCue cue, uint64_t) { on_motor(cue); });
+      [this](MotorCue cue, uint64_t, const MotorStep& step, Gesture gesture) { on_motor(cue, step, gesture); });
 
   net::SessionOptions net_options = session_options(options);
   net_options.log = [this](const std::string& line) {
@@ -280,7 +278,7 @@ void SiteRun::on_message(const net::Message& message) {
     receiver_->on_portrait(*portrait, now);
   } else if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
     events_.write(touch->kind == net::TouchEventMessage::Kind::Start ? "remote_touch_start" : "remote_touch_end", now,
-                  {{"detected_by", touch->site == 0 ? "A" : "B"}});
+                  {{"detected_by", touch->site == 0 ? "A" : "B"}, {"gesture", gesture_name(Gesture(touch->gesture))}});
   } else if (std::holds_alternative<net::SignalMessage>(message) && !told_transport_mismatch_.exchange(true)) {
     // Only a direct session hands signals up: the other site is calling over WebRTC.
     std::cerr << "site " << common_.name << ": the other site runs --transport webrtc and this one "
@@ -293,12 +291,14 @@ void SiteRun::on_touch(const TouchEvent& event) {
   const bool start = event.kind == TouchEvent::Kind::Start;
   events_.write(start ? "touch_start" : "touch_end", event.timestamp_us,
                 {{"overlap_cm2", event.overlap_area_m2 * 1e4},
+                 {"gesture", gesture_name(event.gesture)},
                  {"local_capture_us", event.local_capture_us},
                  {"remote_capture_us", event.remote_capture_us}});
   net::TouchEventMessage message;
   message.timestamp_us = event.timestamp_us;
   message.kind = start ? net::TouchEventMessage::Kind::Start : net::TouchEventMessage::Kind::End;
   message.site = common_.options.site == Site::A ? 0 : 1;
+  message.gesture = uint8_t(event.gesture);
   net_->send(message);
   if (!start) {
     unpaired_start_us_.reset();
@@ -317,7 +317,7 @@ void SiteRun::on_touch(const TouchEvent& event) {
   note_touch_to_motor();
 }
 
-void SiteRun::on_motor(MotorCue cue) {
+void SiteRun::on_motor(MotorCue cue, const MotorStep& step, Gesture gesture) {
   const uint64_t command_us = monotonic_now_us();
   if (cue == MotorCue::Cancel) {
     const motor::MotorStatus status = motor_.motor->stop();
@@ -327,22 +327,32 @@ void SiteRun::on_motor(MotorCue cue) {
     sound_->cancel_touch_sound(touch_sound_id_);
     return;
   }
-  play_touch_sound(command_us, !unpaired_start_us_.has_value());
-  const motor::MotorStatus status = motor_.motor->pulse(kMotorPulse, kMotorStrength);
+  if (step.after.count() == 0) play_touch_sound(command_us, !unpaired_start_us_.has_value(), gesture);
+  const motor::MotorStatus status = motor_.motor->pulse(step.duration, step.strength);
   if (!status) {
     events_.write("motor_error", command_us, {{"error", status.error()}});
     return;
   }
+  if (step.after.count() > 0) {  // a later step of the pattern: the touch's pulse was its first
+    events_.write("motor_step", command_us,
+                  {{"duration_ms", step.duration.count()}, {"strength", step.strength}, {"gesture", gesture_name(gesture)}});
+    return;
+  }
   // A predicted contact's pulse usually leaves before the detector sees the touch.
   events_.write("motor_pulse", command_us,
-                {{"duration_ms", kMotorPulse.count()},
-                 {"strength", kMotorStrength},
+                {{"duration_ms", step.duration.count()},
+                 {"strength", step.strength},
+                 {"gesture", gesture_name(gesture)},
+                 {"steps", motor_pattern(gesture).size()},
                  {"ahead_of_detection", !unpaired_start_us_.has_value()}});
   unpaired_pulse_us_ = command_us;
   note_touch_to_motor();
 }
 
-void SiteRun::play_touch_sound(uint64_t command_us, bool predicted) {
+void SiteRun::play_touch_sound(uint64_t command_us, bool predicted, Gesture gesture) {
+  const media::TouchSound sound = gesture == Gesture::Fist     ? media::TouchSound::FistBump
+                                  : gesture == Gesture::Finger ? media::TouchSound::FingerTap
+                                                               : media::TouchSound::Clap;
   const std::vector<HandSkeleton> hands = touch_->loop().local_hands();
   const HandSkeleton* hand = hand_nearest_screen(hands);
   const Eigen::Vector3d on_glass =
@@ -351,10 +361,10 @@ void SiteRun::play_touch_sound(uint64_t command_us, bool predicted) {
   const uint64_t latency_us = uint64_t(std::llround(common_.options.touch.motor_latency_ms * 1000.0));
   const uint64_t onset_us = predicted ? command_us + latency_us : command_us;
   const media::StereoPlacement placement = media::place_between_loudspeakers(on_glass, head);
-  touch_sound_id_ = sound_->play_touch_sound(media::TouchSound::Clap, onset_us, placement);
+  touch_sound_id_ = sound_->play_touch_sound(sound, onset_us, placement);
   if (touch_sound_id_)
     events_.write("touch_sound", command_us,
-                  {{"sound", media::touch_sound_name(media::TouchSound::Clap)},
+                  {{"sound", media::touch_sound_name(sound)},
                    {"onset_us", onset_us},
                    {"azimuth_deg", placement.azimuth_rad * 180.0 / std::numbers::pi}});
 }

@@ -38,6 +38,19 @@ Eigen::Vector3d hand_centre(const HandSkeleton& hand) {
   return count ? Eigen::Vector3d(sum / count) : hand.palm;
 }
 
+// Whether every joint lies within `spread_m` of the hand's centre across the glass: a flat hand
+// facing it, whose joints all arrive at once. A fist or a pointing hand reaches the glass with
+// its knuckles or a fingertip long before its centre would.
+bool flat_to_glass(const HandSkeleton& hand, double spread_m) {
+  const double centre_z = hand_centre(hand).z();
+  for (const Eigen::Vector3d& joint : hand.hand_joints())
+    if (joint.allFinite() && std::abs(joint.z() - centre_z) > spread_m) return false;
+  return true;
+}
+
+// Joints of a flat hand further apart across the glass than this are no palm meeting it.
+constexpr double kFlatHandSpreadM = 0.02;
+
 }  // namespace
 
 void check_contact_prediction_parameters(const ContactPredictionParameters& p) {
@@ -162,7 +175,12 @@ std::optional<uint64_t> ContactPredictor::predicted_contact_us(uint64_t now_us) 
   const std::optional<Reach> local = reach(local_, now_us), remote = reach(remote_, now_us);
   if (!local || !remote) return std::nullopt;
   const HandSkeleton local_hands[] = {local->at_glass}, remote_hands[] = {remote->at_glass};
-  if (overlap_area_m2(local_hands, remote_hands, touch_.joint_distance_m) <= touch_.start_area_m2) return std::nullopt;
+  // The fit follows a palm onto the glass; under the hand-mesh rule, which also sees fists and
+  // fingertips meet, those touches are not predicted: they pulse their own pattern when seen.
+  if (touch_.rule == TouchRule::HandMeshes &&
+      (!flat_to_glass(local->at_glass, kFlatHandSpreadM) || !flat_to_glass(remote->at_glass, kFlatHandSpreadM)))
+    return std::nullopt;
+  if (touch_overlap(local_hands, remote_hands, touch_).overlap_area_m2 <= touch_.start_area_m2) return std::nullopt;
   return std::max(local->contact_us, remote->contact_us);
 }
 

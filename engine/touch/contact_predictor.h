@@ -4,7 +4,9 @@
 // hand, the network) has delivered it: both come after the fact. From each side's recent
 // skeletons this fits the palm's distance to the glass with a velocity and a deceleration, and
 // its slide along the glass with a velocity, and predicts when both palms reach the glass, and
-// whether their hands then overlap as the detector (mutual_touch.h) requires.
+// whether their hands then overlap as the detector (mutual_touch.h) requires. It models palms:
+// under the hand-mesh rule it predicts only for hands held flat to the glass, and a fist bump or
+// a fingertip touch pulses its own pattern when the detector sees it.
 #include <cstdint>
 #include <deque>
 #include <optional>

@@ -30,6 +30,21 @@ void check_touch_parameters(const TouchParameters& p) {
   if (p.end_after_ticks < 1) fail("end_after_ticks must be at least 1");
   if (p.max_skeleton_age_us == 0) fail("max_skeleton_age_us must be > 0");
   if (p.touch_hold_age_us < p.max_skeleton_age_us) fail("touch_hold_age_us must be >= max_skeleton_age_us");
+  check_mesh_contact_parameters(p.mesh);
+}
+
+TouchParameters hand_mesh_touch_parameters() {
+  TouchParameters p;
+  p.rule = TouchRule::HandMeshes;
+  p.start_area_m2 = 1e-4;
+  p.end_area_m2 = 0.25e-4;
+  return p;
+}
+
+MeshContact touch_overlap(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
+                          const TouchParameters& parameters) {
+  if (parameters.rule == TouchRule::HandMeshes) return mesh_contact(local_hands, remote_hands, parameters.mesh);
+  return {overlap_area_m2(local_hands, remote_hands, parameters.joint_distance_m), Gesture::Palm};
 }
 
 std::optional<Eigen::AlignedBox2d> contact_box(const HandSkeleton& hand, double joint_distance_m) {
@@ -73,11 +88,14 @@ std::optional<TouchEvent> MutualTouchDetector::update(uint64_t now_us, std::span
   const uint64_t max_age_us = touching_ ? parameters_.touch_hold_age_us : parameters_.max_skeleton_age_us;
   const auto local = fresh(local_hands, now_us, max_age_us, event.local_capture_us);
   const auto remote = fresh(remote_hands, now_us, max_age_us, event.remote_capture_us);
-  event.overlap_area_m2 = overlap_area_m2(local, remote, parameters_.joint_distance_m);
+  const MeshContact contact = touch_overlap(local, remote, parameters_);
+  event.overlap_area_m2 = contact.overlap_area_m2;
+  event.gesture = touching_ ? gesture_ : contact.gesture;
 
   if (!touching_) {
     if (event.overlap_area_m2 > parameters_.start_area_m2) {
       touching_ = true;
+      gesture_ = contact.gesture;
       ticks_below_end_ = 0;
       event.kind = TouchEvent::Kind::Start;
       return event;

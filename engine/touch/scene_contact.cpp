@@ -7,26 +7,46 @@
 
 namespace rt {
 
-std::vector<double> true_contact_times_s(const sim::Scene& scene, const TouchParameters& touch) {
+std::vector<TrueContact> true_contacts(const sim::Scene& scene, const TouchParameters& touch) {
   const sim::MotionTrack a = sim::make_motion_track(scene, Site::A), b = sim::make_motion_track(scene, Site::B);
+  TouchParameters exact = touch;
+  exact.joint_distance_m = kPalmMetHeightM;
+  exact.mesh.band_m = kRestingSkinBandM;
+  // Under the hand meshes, only hands come to rest on the glass take part.
+  auto resting = [&](std::vector<HandSkeleton> hands, double side) {
+    if (touch.rule != TouchRule::HandMeshes) return hands;
+    std::erase_if(hands, [&](const HandSkeleton& hand) {
+      for (const Eigen::Vector3d& joint : hand.hand_joints())
+        if (side * joint.z() <= kPalmMetHeightM) return false;
+      return true;
+    });
+    return hands;
+  };
   constexpr double kStepS = 0.001;
-  std::vector<double> starts;
+  std::vector<TrueContact> starts;
   bool met = false;
   const int64_t steps = int64_t(std::ceil(scene.duration_s() / kStepS));
   for (int64_t i = 0; i <= steps; ++i) {
     const double t = double(i) * kStepS;
     const sim::PersonPose pa = a.pose_at(t), pb = b.pose_at(t);
-    const HandSkeleton local[] = {pa.right_hand, pa.left_hand};
-    const HandSkeleton remote[] = {map_skeleton(Site::B, Site::A, pb.right_hand), map_skeleton(Site::B, Site::A, pb.left_hand)};
-    const double area = overlap_area_m2(local, remote, kPalmMetHeightM);
-    if (!met && area > touch.start_area_m2) {
+    const std::vector<HandSkeleton> local = resting({pa.right_hand, pa.left_hand}, 1.0);
+    const std::vector<HandSkeleton> remote =
+        resting({map_skeleton(Site::B, Site::A, pb.right_hand), map_skeleton(Site::B, Site::A, pb.left_hand)}, -1.0);
+    const MeshContact contact = touch_overlap(local, remote, exact);
+    if (!met && contact.overlap_area_m2 > exact.start_area_m2) {
       met = true;
-      starts.push_back(t);
-    } else if (met && area < touch.end_area_m2) {
+      starts.push_back({t, contact.gesture});
+    } else if (met && contact.overlap_area_m2 < exact.end_area_m2) {
       met = false;
     }
   }
   return starts;
+}
+
+std::vector<double> true_contact_times_s(const sim::Scene& scene, const TouchParameters& touch) {
+  std::vector<double> times;
+  for (const TrueContact& contact : true_contacts(scene, touch)) times.push_back(contact.t_s);
+  return times;
 }
 
 nlohmann::json contact_to_vibration_json(const std::vector<uint64_t>& contacts_us, const std::vector<uint64_t>& felt_us,

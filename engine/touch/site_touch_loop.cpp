@@ -21,7 +21,7 @@ uint64_t slowed(uint64_t us, double time_scale) { return uint64_t(std::llround(d
 
 TouchParameters site_touch_parameters(double time_scale) {
   check_time_scale(time_scale);
-  TouchParameters touch;
+  TouchParameters touch = hand_mesh_touch_parameters();
   touch.max_skeleton_age_us = 200'000 + slowed(sim::kTrackerPeriodUs, time_scale);
   touch.touch_hold_age_us = 1'000'000;
   return touch;

@@ -12,7 +12,7 @@
 
 namespace rt {
 
-// What the site's detector allows: a skeleton counts as lost later than by default (the tracker
+// What the site's detector allows: the hand-mesh rule, which names the gesture; a skeleton counts as lost later than by default (the tracker
 // thread shares the CPU with a CPU Vulkan driver, and a late tick is not a lost hand), later still
 // where the scene plays slowly and a tracker frame stands longer; a touch holds longer without news.
 TouchParameters site_touch_parameters(double time_scale);

@@ -47,15 +47,36 @@ std::optional<TouchEvent> TouchLoop::tick(uint64_t now_us) {
       predictor_.add_local(local);
       predictor_.add_remote(remote);
     }
-    if (on_motor_) time_motor(now_us, event);
+    if (on_motor_) {
+      fire_pattern_steps(now_us);
+      time_motor(now_us, event);
+    }
   }
   ++ticks_;
   if (event && on_event_) on_event_(*event);
   return event;
 }
 
-void TouchLoop::cue(MotorCue cue, uint64_t now_us) {
-  if (on_motor_) on_motor_(cue, now_us);
+void TouchLoop::cue(MotorCue cue, uint64_t now_us, Gesture gesture) {
+  if (!on_motor_) return;
+  if (cue == MotorCue::Cancel) {
+    pattern_steps_.clear();
+    on_motor_(cue, now_us, MotorStep{}, gesture);
+    return;
+  }
+  const std::vector<MotorStep>& pattern = motor_pattern(gesture);
+  pattern_steps_.clear();
+  for (size_t i = 1; i < pattern.size(); ++i)
+    pattern_steps_.push_back({now_us + uint64_t(pattern[i].after.count()) * 1000, pattern[i], gesture});
+  on_motor_(cue, now_us, pattern.front(), gesture);
+}
+
+void TouchLoop::fire_pattern_steps(uint64_t now_us) {
+  while (!pattern_steps_.empty() && pattern_steps_.front().due_us <= now_us) {
+    const PendingStep due = pattern_steps_.front();
+    pattern_steps_.erase(pattern_steps_.begin());
+    on_motor_(MotorCue::Pulse, now_us, due.step, due.gesture);
+  }
 }
 
 void TouchLoop::time_motor(uint64_t now_us, const std::optional<TouchEvent>& event) {
@@ -74,10 +95,11 @@ void TouchLoop::time_motor(uint64_t now_us, const std::optional<TouchEvent>& eve
         scheduled_contact_us_ = contact;
         scheduled_pulse_us_ = *contact - timing_.motor_spin_up_us;
         scheduled_seen_ = true;
+        scheduled_gesture_ = event->gesture;
         return;
       }
     ++counts_.unpredicted;
-    cue(MotorCue::Pulse, now_us);
+    cue(MotorCue::Pulse, now_us, event->gesture);
     return;
   }
   if (scheduled_seen_ && scheduled_pulse_us_) {
@@ -106,6 +128,7 @@ void TouchLoop::time_motor(uint64_t now_us, const std::optional<TouchEvent>& eve
   if (!contact) return;
   const uint64_t pulse_us = *contact > timing_.motor_spin_up_us ? *contact - timing_.motor_spin_up_us : 0;
   scheduled_contact_us_ = contact;
+  scheduled_gesture_ = Gesture::Palm;
   if (pulse_us <= now_us) {
     scheduled_pulse_us_ = now_us;
     fire_scheduled(now_us);
@@ -124,17 +147,20 @@ void TouchLoop::fire_scheduled(uint64_t now_us) {
   } else {
     unconfirmed_contact_us_ = scheduled_contact_us_;
   }
-  cue(MotorCue::Pulse, now_us);
+  cue(MotorCue::Pulse, now_us, scheduled_gesture_);
 }
 
 std::optional<uint64_t> TouchLoop::pulse_due_us() const {
   std::lock_guard lock(detector_mutex_);
-  return scheduled_pulse_us_;
+  std::optional<uint64_t> due = scheduled_pulse_us_;
+  if (!pattern_steps_.empty() && (!due || pattern_steps_.front().due_us < *due)) due = pattern_steps_.front().due_us;
+  return due;
 }
 
 void TouchLoop::fire_due(uint64_t now_us) {
   std::lock_guard lock(detector_mutex_);
   fire_scheduled(now_us);
+  if (on_motor_) fire_pattern_steps(now_us);
 }
 
 MotorTimingCounts TouchLoop::motor_counts() const {

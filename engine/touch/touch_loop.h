@@ -30,6 +30,8 @@ struct MotorTiming {
   ContactPredictionParameters prediction;
 };
 
+// Pulse: run the motor for `step` (one step of the gesture's pattern, motor_pattern in
+// gesture.h: the loop times the later steps itself). Cancel: stop it (its step is empty).
 enum class MotorCue { Pulse, Cancel };
 
 struct MotorTimingCounts {
@@ -42,7 +44,7 @@ struct MotorTimingCounts {
 class TouchLoop {
  public:
   using EventHandler = std::function<void(const TouchEvent&)>;
-  using MotorHandler = std::function<void(MotorCue, uint64_t now_us)>;
+  using MotorHandler = std::function<void(MotorCue, uint64_t now_us, const MotorStep& step, Gesture gesture)>;
 
   // `on_motor`, where given, is told when to pulse and when to cancel, as `timing` says;
   // without it the caller pulses on the start events itself.
@@ -62,7 +64,8 @@ class TouchLoop {
   // One detection step at `now_us`, as the thread runs it; for tests and for callers that
   // drive their own clock.
   std::optional<TouchEvent> tick(uint64_t now_us);
-  // A predicted pulse waiting for its time: when it is due (none: nothing scheduled). The thread
+  // A predicted pulse, or a pattern's later step, waiting for its time: when it is due (none:
+  // nothing scheduled). The thread
   // wakes for one due before its next tick; a later one waits for the ticks.
   std::optional<uint64_t> pulse_due_us() const;
   void fire_due(uint64_t now_us);
@@ -76,8 +79,9 @@ class TouchLoop {
   void run();
 
   void time_motor(uint64_t now_us, const std::optional<TouchEvent>& event);
-  void cue(MotorCue cue, uint64_t now_us);
+  void cue(MotorCue cue, uint64_t now_us, Gesture gesture = Gesture::Palm);
   void fire_scheduled(uint64_t now_us);
+  void fire_pattern_steps(uint64_t now_us);
 
   MutualTouchDetector detector_;
   EventHandler on_event_;
@@ -90,6 +94,13 @@ class TouchLoop {
   std::optional<uint64_t> scheduled_pulse_us_, scheduled_contact_us_;
   std::optional<uint64_t> unconfirmed_contact_us_;
   bool scheduled_seen_ = false;  // the scheduled pulse's touch was already detected
+  Gesture scheduled_gesture_ = Gesture::Palm;  // predictions are of palms meeting
+  struct PendingStep {
+    uint64_t due_us = 0;
+    MotorStep step;
+    Gesture gesture = Gesture::Palm;
+  };
+  std::vector<PendingStep> pattern_steps_;  // a pattern's later steps, due in order
   bool cancelled_reach_ = false;
   MotorTimingCounts counts_;
   std::mutex hands_mutex_;

@@ -4,6 +4,8 @@
 # TOUCHES: the touch starts (and motor pulses) each site must report: 1 for clap, 0 for miss/wave.
 # With --disconnect-after-ms among the extra arguments, the log must also show the link lost
 # during the run and restored, and the run must still finish with the same touches.
+# GESTURE (environment, default palm): the gesture every touch_start, motor_pulse and
+# remote_touch_start must name. Only palm touches are predicted; others pulse when seen.
 set -euo pipefail
 binary=$1 out=$2 scene=$3 frames=$4 touches=$5
 shift 5
@@ -46,9 +48,10 @@ PY
 # remote palm's arrival at the glass can only reach this site once the link is back: each pulse may
 # come late by the time this site's link was down after the contact, and by no more than the
 # slack below on top of it (the proxy's delay and jitter, a tracker period, the touch loop's tick).
-/usr/bin/python3 - "$out" "$touches" "$@" <<'PY' || fail "contact prediction not used or mistimed"
-import json, sys
+GESTURE=${GESTURE:-palm} /usr/bin/python3 - "$out" "$touches" "$@" <<'PY' || fail "contact prediction not used or mistimed"
+import json, os, sys
 out, touches, extra = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
+gesture = os.environ["GESTURE"]
 m = json.load(open(f"{out}/metrics.json"))
 events = [json.loads(line) for line in open(f"{out}/events.jsonl")]
 link_cut = any(a.startswith("--disconnect") or a.startswith("--loss") for a in extra)
@@ -78,6 +81,10 @@ for site in "AB":
     if touches == 0:
         assert timing["vibrations_without_contact"] == 0, timing
         assert pulses == {"predicted": 0, "confirmed": 0, "cancelled": 0, "unpredicted": 0}, pulses
+    elif not link_cut and gesture != "palm":
+        assert timing["vibrations_without_contact"] == 0, timing
+        assert pulses["predicted"] == 0 and pulses["unpredicted"] == touches, pulses
+        assert timing["contacts_not_felt"] == 0, timing
     elif not link_cut:
         assert timing["vibrations_without_contact"] == 0, timing
         # A link cut may hide the reach from the predictor; a clean run predicts its clap.
@@ -118,6 +125,19 @@ for site in "AB":
     assert -45 <= offset <= 125, offset
 PY
 fi
+# Every touch names its gesture, at the site that saw it, at its motor, and at the other site.
+GESTURE=${GESTURE:-palm} /usr/bin/python3 - "$out" "$touches" <<'PY' || fail "a touch event names the wrong gesture"
+import json, os, sys
+out, touches, gesture = sys.argv[1], int(sys.argv[2]), os.environ["GESTURE"]
+events = [json.loads(line) for line in open(f"{out}/events.jsonl")]
+for site in "AB":
+    for name in ("touch_start", "motor_pulse", "remote_touch_start"):
+        named = [e.get("gesture") for e in events if e["event"] == name and e.get("site") == site]
+        print(f"site {site}: {name} gestures {named}")
+        assert all(g == gesture for g in named), (site, name, named, gesture)
+        if name != "remote_touch_start":
+            assert len(named) == touches, (site, name, named)
+PY
 # Each displayed frame says what appearance the drawn hand was shaded with, and only where one was drawn.
 /usr/bin/python3 - "$out" "$touches" <<'PY' || fail "frames.jsonl: drawn_hand_appearance missing or wrong"
 import json, sys
