@@ -17,7 +17,7 @@ struct ParsedServer {
 };
 
 // The URL as an error message may show it: without its password, which would end up in logs.
-std::string shown(const std::string& url) {
+std::string url_without_password(const std::string& url) {
   std::string out = url.size() > 80 ? url.substr(0, 80) + "..." : url;
   const size_t start = out.find("://"), at = out.rfind('@');
   if (start != std::string::npos && at != std::string::npos && at > start)
@@ -27,7 +27,7 @@ std::string shown(const std::string& url) {
 
 ParsedServer parse_server(const std::string& url, const char* option, const char* form) {
   const auto refuse = [&](const std::string& why) {
-    return std::invalid_argument(std::string(option) + " '" + shown(url) + "': " + why + " (expected " + form + ")");
+    return std::invalid_argument(std::string(option) + " '" + url_without_password(url) + "': " + why + " (expected " + form + ")");
   };
   if (url.empty()) throw refuse("empty");
   if (url.size() > kMaxUrlBytes) throw refuse("longer than " + std::to_string(kMaxUrlBytes) + " bytes");
@@ -74,10 +74,10 @@ std::string parse_turn_url(const std::string& url) {
   constexpr const char* form = "turn://USER:PASS@HOST:PORT";
   ParsedServer s = parse_server(url, "--turn", form);
   if (s.scheme != "turn" && s.scheme != "turns")
-    throw std::invalid_argument("--turn '" + shown(url) + "': the scheme must be turn or turns, not '" + s.scheme +
+    throw std::invalid_argument("--turn '" + url_without_password(url) + "': the scheme must be turn or turns, not '" + s.scheme +
                                 "' (expected " + form + ")");
   if (s.user.empty() || s.password.empty())
-    throw std::invalid_argument("--turn '" + shown(url) + "': a TURN relay needs a user and a password (expected " +
+    throw std::invalid_argument("--turn '" + url_without_password(url) + "': a TURN relay needs a user and a password (expected " +
                                 std::string(form) + ")");
   if (s.port == GST_URI_NO_PORT) s.port = s.scheme == "turns" ? 5349 : 3478;
   return s.scheme + "://" + s.user + ":" + s.password + "@" + s.host + ":" + std::to_string(s.port);
