@@ -12,7 +12,7 @@ namespace rt::media {
 struct BitrateRuleOptions {
   int start_kbps = 2500;
   int floor_kbps = 300;
-  int ceiling_kbps = 3000;
+  int ceiling_kbps = 2500;  // the start: a clean path keeps the call within its budget (docs/webrtc.md)
   double loss_high = 0.02;   // above: lower the rate
   double loss_clean = 0.01;  // below (and a short round trip): raise it
   double round_trip_high_s = 0.4;  // above: the path is queueing; lower as for loss

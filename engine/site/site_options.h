@@ -15,7 +15,7 @@ namespace rt::site {
 
 // The WebRTC call's network (--transport webrtc only; media/webrtc_peer.h).
 struct CallNetworkOptions {
-  int bitrate_floor_kbps = 300, bitrate_ceiling_kbps = 3000;  // the colour track's; depth's ceiling follows
+  int bitrate_floor_kbps = 300, bitrate_ceiling_kbps = 2500;  // the colour track's; depth's ceiling follows
   // Tests and the demo only: GStreamer's netsim drops this fraction of the outgoing RTP. Negative: none.
   double simulated_loss = -1;
   std::string stun;  // stun://HOST:PORT, for the address a NAT shows (media/ice_servers.h)
@@ -23,7 +23,7 @@ struct CallNetworkOptions {
   bool relay_only = false;  // ICE through the TURN relay only (ice-transport-policy relay)
   bool any_given() const {
     return simulated_loss >= 0 || !stun.empty() || !turn.empty() || relay_only || bitrate_floor_kbps != 300 ||
-           bitrate_ceiling_kbps != 3000;
+           bitrate_ceiling_kbps != 2500;
   }
 };
 
