@@ -35,6 +35,10 @@ add_test(NAME session_demo_webrtc
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_demo_webrtc.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-webrtc clap 115 1)
 add_test(NAME session_demo_webrtc_miss
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_demo_webrtc.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-webrtc-miss miss 115 0)
+# The clap over a WebRTC call whose video loses 2 % of its packets (netsim): the same touches, each
+# touch event received once, the loss seen and each broken track recovered within 500 ms.
+add_test(NAME session_demo_webrtc_loss
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_demo_webrtc_loss.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-webrtc-loss clap 115 1)
 # A site stopped by SIGTERM mid-run writes its metrics; SIGINT while waiting for a peer ends the wait.
 add_test(NAME session_site_signal
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_signal.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-signal)
@@ -51,7 +55,7 @@ add_test(NAME session_site_refused_then_listener
 add_cli_test(session_site_bad_config 1 "remotetouch: error: .*site_config_bad\\.json: unknown field 'peers'"
              ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
 set_tests_properties(session_demo_clap session_demo_fist_bump session_demo_miss session_demo_seat session_demo_wave session_demo_disconnect session_demo_outage session_demo_lossy
-                     session_demo_webrtc session_demo_webrtc_miss
+                     session_demo_webrtc session_demo_webrtc_miss session_demo_webrtc_loss
                      session_site_wrong_key session_site_refused_then_listener
                      PROPERTIES TIMEOUT 300
                      # Two site processes each on a real-time scene clock, sharing the CPU with a CPU
@@ -83,6 +87,17 @@ file(CHMOD ${CMAKE_BINARY_DIR}/test-out/keygen/bad.key PERMISSIONS OWNER_READ OW
 add_cli_test(session_site_bad_key_file 1 "remotetouch: error: .*bad\\.key: session key: expected 64 hex digits"
              ${rt} site --site A --key-file ${CMAKE_BINARY_DIR}/test-out/keygen/bad.key
                    --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-bad-key)
+# The WebRTC call's servers: a bad --turn is refused naming what is wrong, without its password;
+# the call's options on the direct transport are refused (the key is a test's, not a secret).
+file(WRITE ${CMAKE_BINARY_DIR}/test-out/keygen/call.key "8f3a1c9e47b2d06f5e18a7c3b94d2e60f1a8c5b7e3d9024a6c1f8e5b3a7d9c02\n")
+file(CHMOD ${CMAKE_BINARY_DIR}/test-out/keygen/call.key PERMISSIONS OWNER_READ OWNER_WRITE)
+add_cli_test(session_site_bad_turn 1 "remotetouch: error: --turn 'turn://alice:\\*\\*\\*@127.0.0.1:99999': port 99999 is not from 1 to 65535"
+             ${rt} site --site A --key-file ${CMAKE_BINARY_DIR}/test-out/keygen/call.key --transport webrtc
+                   --turn turn://alice:hunter2@127.0.0.1:99999
+                   --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-bad-turn)
+add_cli_test(session_site_stun_needs_webrtc 1 "remotetouch: error: --stun, --turn.*need --transport webrtc"
+             ${rt} site --site A --key-file ${CMAKE_BINARY_DIR}/test-out/keygen/call.key --stun stun://127.0.0.1
+                   --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-stun-direct)
 # A site replaying a recording (`site --replay`): site B of clap recorded once by `simulate`
 # (tiny: 115 frames at a tenth of the cameras' resolution, ground truth at the display's size),
 # then played against a simulated site A; an image unreadable mid-run; bad inputs.

@@ -41,6 +41,10 @@ class DemoCommand : public Command {
                          "the portraits as H.264 video and the rest on sealed data channels (site --transport)")
         ->check(CLI::IsMember({"direct", "webrtc"}))
         ->capture_default_str();
+    command_->add_option("--packet-loss", options_.packet_loss,
+                         "With --transport webrtc: each site's video loses this fraction of its RTP packets at random "
+                         "(GStreamer's netsim; retransmission and keyframes repair it)")
+        ->check(CLI::Range(0.0, 0.5));
     command_->add_option("--replay-a", options_.replay_a, "Site A plays this recording instead of the scene (site --replay)");
     command_->add_option("--replay-b", options_.replay_b, "Site B plays this recording instead of the scene (site --replay)");
     command_->add_option("--display", options_.display,
@@ -75,6 +79,8 @@ class DemoCommand : public Command {
         (disconnect_after_ms_ >= 0 || options_.delay_ms > 0 || options_.jitter_ms > 0 || options_.loss > 0))
       throw CLI::ValidationError("--transport webrtc",
                                  "the fault options act on the direct session's TCP connection, not on a WebRTC call");
+    if (options_.packet_loss >= 0 && options_.transport != "webrtc")
+      throw CLI::ValidationError("--packet-loss", "simulates loss on a WebRTC call's video: it needs --transport webrtc");
     // The video tracks are 4:2:0: both sides even.
     if (options_.transport == "webrtc" && (options_.run.width % 2 || options_.run.height % 2))
       throw CLI::ValidationError("--transport webrtc", "--width and --height must be even (the video is 4:2:0)");

@@ -27,6 +27,23 @@ class SiteCommand : public Command {
                          "the portraits as H.264 video and the rest on sealed data channels (the same at both sites)")
         ->check(CLI::IsMember({"direct", "webrtc"}))
         ->capture_default_str();
+    command_->add_option("--bitrate-floor-kbps", options_.call.bitrate_floor_kbps,
+                         "--transport webrtc: the colour track's lowest bitrate under loss (kbit/s)")
+        ->check(CLI::Range(50, 100000))
+        ->capture_default_str();
+    command_->add_option("--bitrate-ceiling-kbps", options_.call.bitrate_ceiling_kbps,
+                         "--transport webrtc: the colour track's highest bitrate on a clean path (kbit/s)")
+        ->check(CLI::Range(50, 100000))
+        ->capture_default_str();
+    command_->add_option("--simulated-loss", options_.call.simulated_loss,
+                         "--transport webrtc, tests and the demo: drop this fraction of the outgoing RTP packets "
+                         "(GStreamer's netsim)")
+        ->check(CLI::Range(0.0, 1.0));
+    command_->add_option("--stun", options_.call.stun, "--transport webrtc: a STUN server, stun://HOST:PORT");
+    command_->add_option("--turn", options_.call.turn,
+                         "--transport webrtc: a TURN relay, turn://USER:PASS@HOST:PORT (coturn)");
+    command_->add_flag("--relay-only", options_.call.relay_only,
+                       "--transport webrtc: ICE through the --turn relay only (ice-transport-policy relay)");
     command_->add_option("--site", site_, "Which site this is")->check(CLI::IsMember({"A", "B"}))->capture_default_str();
     command_->add_option("--scene", options_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
     add_run_options(*command_, options_.run, "");
@@ -126,6 +143,12 @@ class SiteCommand : public Command {
       if (given("--listen")) options_.listen = flags.listen;
       if (given("--key-file")) options_.key_file = flags.key_file;
       if (given("--transport")) options_.transport = flags.transport;
+      if (given("--bitrate-floor-kbps")) options_.call.bitrate_floor_kbps = flags.call.bitrate_floor_kbps;
+      if (given("--bitrate-ceiling-kbps")) options_.call.bitrate_ceiling_kbps = flags.call.bitrate_ceiling_kbps;
+      if (given("--simulated-loss")) options_.call.simulated_loss = flags.call.simulated_loss;
+      if (given("--stun")) options_.call.stun = flags.call.stun;
+      if (given("--turn")) options_.call.turn = flags.call.turn;
+      if (given("--relay-only")) options_.call.relay_only = flags.call.relay_only;
       if (given("--scene")) options_.scene = flags.scene;
       if (given("--time-scale")) options_.time_scale = flags.time_scale;
       if (given("--resolution-scale")) options_.resolution_scale = flags.resolution_scale;

@@ -203,6 +203,7 @@ int run_two_site_demo(const DemoOptions& options) {
                                      // Two sites on one machine cannot share one motor board.
                                      "--motor", "simulated", "--progress-lines", "--transport", options.transport};
     if (options.frames_given) args.insert(args.end(), {"--frames", std::to_string(options.run.frames)});
+    if (options.packet_loss >= 0) args.insert(args.end(), {"--simulated-loss", std::to_string(options.packet_loss)});
     if (options.time_scale > 0) args.insert(args.end(), {"--time-scale", std::to_string(options.time_scale)});
     if (options.resolution_scale > 0) args.insert(args.end(), {"--resolution-scale", std::to_string(options.resolution_scale)});
     if (!options.run.device.empty()) args.insert(args.end(), {"--device", options.run.device});
@@ -358,6 +359,7 @@ int run_two_site_demo(const DemoOptions& options) {
   nlohmann::json metrics;
   metrics["scene"] = options.scene;
   metrics["transport"] = options.transport;
+  if (options.packet_loss >= 0) metrics["packet_loss"] = options.packet_loss;
   metrics["width"] = options.run.width;
   metrics["height"] = options.run.height;
   metrics["quality"] = options.quality;

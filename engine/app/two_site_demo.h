@@ -24,6 +24,9 @@ struct DemoOptions {
   double loss = 0.0;
   // direct: everything over the session; webrtc: a WebRTC call set up over it (site --transport).
   std::string transport = "direct";
+  // webrtc only: each site's outgoing RTP loses this fraction of its packets (site --simulated-loss,
+  // GStreamer's netsim); negative: no simulated network.
+  double packet_loss = -1;
   std::filesystem::path replay_a, replay_b;  // a site that plays a recording (site --replay)
   // Each site's window (site --display): the demo's report reads the frames, so a window always
   // comes with them (both); auto is a window where a display is present.

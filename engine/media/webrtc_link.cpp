@@ -32,6 +32,15 @@ net::PortraitMessage blank_portrait(uint32_t width, uint32_t height) {
   return p;
 }
 
+// One track's figures for metrics.json: what it is sent at, what its codecs cost, what the network
+// took from what it receives.
+nlohmann::json track_json(int target_kbps, double encode_ms, double decode_ms, const WebRtcCounters::TrackLoss& loss) {
+  return {{"bitrate_target_kbps", target_kbps}, {"encode_ms_median", encode_ms}, {"decode_ms_median", decode_ms},
+          {"frames_lost", loss.frames_lost}, {"packets_lost_past_repair", loss.packets_lost},
+          {"losses", loss.episodes}, {"recovered", loss.recovered}, {"recovery_ms_median", loss.recovery_ms_median},
+          {"recovery_ms_max", loss.recovery_ms_max}, {"keyframes_asked", loss.keyframes_asked}};
+}
+
 const char* signal_kind_name(net::SignalMessage::Kind kind) {
   return kind == net::SignalMessage::Kind::Offer ? "offer" : kind == net::SignalMessage::Kind::Answer ? "answer" : "candidate";
 }
@@ -39,7 +48,7 @@ const char* signal_kind_name(net::SignalMessage::Kind kind) {
 }  // namespace
 
 WebRtcLink::WebRtcLink(net::SessionOptions session, WebRtcPeerOptions peer)
-    : session_options_(std::move(session)), width_(peer.width), height_(peer.height) {
+    : session_options_(std::move(session)), width_(peer.width), height_(peer.height), simulated_loss_(peer.simulated_loss) {
   const bool connector = session_options_.role == net::Role::Connector;
   peer.offerer = connector;
   peer.name = session_options_.name + " webrtc";
@@ -246,6 +255,12 @@ nlohmann::json WebRtcLink::transport_json() const {
           {"codec_ms_median", {{"color_encode", call.color_encode_ms}, {"depth_alpha_encode", call.depth_encode_ms},
                                {"color_decode", call.color_decode_ms}, {"depth_alpha_decode", call.depth_decode_ms}}},
           {"keyframes", {{"asked_by_us", call.keyframes_asked}, {"asked_of_us", call.keyframes_asked_of_us}}},
+          {"tracks", {{"color", track_json(call.color_kbps_now, call.color_encode_ms, call.color_decode_ms, call.color_loss)},
+                      {"depth_alpha", track_json(call.depth_kbps_now, call.depth_encode_ms, call.depth_decode_ms, call.depth_loss)}}},
+          {"network", {{"bitrate_decisions", call.bitrate_decisions}, {"reported_loss", call.reported_fraction_lost},
+                       {"round_trip_ms", call.round_trip_ms >= 0 ? nlohmann::json(call.round_trip_ms) : nlohmann::json()},
+                       {"bitrate_lowered", call.bitrate_lowered}, {"bitrate_raised", call.bitrate_raised},
+                       {"portraits_lost", call.portraits_lost}, {"simulated_loss", simulated_loss_ >= 0 ? nlohmann::json(simulated_loss_) : nlohmann::json()}}},
           {"data_channels_sealed", guard_->ready()},
           {"last_error", peer_->last_error()}};
 }

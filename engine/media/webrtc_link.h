@@ -46,6 +46,7 @@ class WebRtcLink : public net::Transport {
 
   net::SessionOptions session_options_;
   uint32_t width_ = 0, height_ = 0;
+  double simulated_loss_ = -1;
   std::shared_ptr<ChannelGuard> guard_;
   std::unique_ptr<WebRtcPeer> peer_;
   std::unique_ptr<net::Session> session_;

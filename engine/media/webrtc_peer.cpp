@@ -23,6 +23,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "media/bitrate_follower.h"
+#include "media/call_feedback.h"
 #include "media/codec_probes.h"
 #include "media/portrait_frame.h"
 #include "time/monotonic_clock.h"
@@ -35,6 +37,12 @@ constexpr size_t kMaxSdpBytes = 256 * 1024;
 constexpr size_t kMaxPendingFrames = 16;  // RTP timestamps waiting for their other parts
 constexpr const char* kFastLabel = "rt-fast";
 constexpr const char* kReliableLabel = "rt-reliable";
+// RTP's default of one report in five seconds would leave the bitrate seconds behind the network,
+// and under AVPF a NACK or a keyframe request goes early only once between regular reports, so the
+// rest wait for the next: past the jitter buffer's patience for a NACK, a picture late for a PLI.
+// At these rates ten small packets a second cost nothing (RTP's share for RTCP and its random
+// spread keep them a few hundred ms apart in practice; the first still comes after five seconds).
+constexpr GstClockTime kRtcpInterval = 100 * GST_MSECOND;
 
 void require_element(const char* name, const char* package) {
   GstElementFactory* factory = gst_element_factory_find(name);
@@ -64,6 +72,7 @@ struct IncomingChain {
   bool color = false;  // payload type 96; 97 is depth and alpha
   CodecClock decode;
   KeyframeRequests asked;  // by its depayloader, of the other peer's encoder
+  TrackLosses losses;
 };
 
 struct ByteCount {
@@ -89,6 +98,8 @@ struct WebRtcPeer::Impl {
   GstElement* depth_src = nullptr;
   GstElement* color_enc = nullptr;
   GstElement* depth_enc = nullptr;
+  GstElement* netsim = nullptr;  // the simulated network, when the options ask for one
+  std::unique_ptr<BitrateFollower> bitrate;
   GstWebRTCDataChannel* fast = nullptr;
   GstWebRTCDataChannel* reliable = nullptr;
   GstVideoInfo color_info{}, depth_info{};
@@ -112,13 +123,15 @@ struct WebRtcPeer::Impl {
   // and frees what it made.
   ~Impl() {
     if (!pipeline) return;
+    if (bitrate) bitrate->stop();  // it reads webrtcbin's statistics
     g_signal_handlers_disconnect_by_data(webrtc, this);
     for (GstWebRTCDataChannel* channel : {fast, reliable})
       if (channel) g_signal_handlers_disconnect_by_data(channel, this);
     gst_element_set_state(pipeline, GST_STATE_NULL);
     for (GstWebRTCDataChannel* channel : {fast, reliable})
       if (channel) gst_object_unref(channel);
-    for (GstElement* e : {webrtc, color_src, depth_src, color_enc, depth_enc})
+    bitrate.reset();
+    for (GstElement* e : {webrtc, color_src, depth_src, color_enc, depth_enc, netsim})
       if (e) gst_object_unref(e);
     gst_object_unref(pipeline);
   }
@@ -135,6 +148,8 @@ struct WebRtcPeer::Impl {
 
   // ---- offer and answer ----
   void maybe_offer();
+  // NACK and retransmission on every transceiver, before the offer or answer names them.
+  void ask_for_retransmission();
   static void on_offer_created(GstPromise* promise, gpointer data);
   void announce_local(GstWebRTCSessionDescription* description, const char* type);
 
@@ -145,7 +160,7 @@ struct WebRtcPeer::Impl {
   bool send_on_channel(bool on_fast, std::span<const uint8_t> bytes);
   bool channels_open() const;
   void link_incoming(GstPad* pad);
-  void on_sample(GstAppSink* sink);
+  void on_sample(GstAppSink* sink, IncomingChain& chain);
   void store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes, std::optional<PortraitFrame> frame);
   static ReceivedPortrait assemble(PendingFrame part);
 };
@@ -161,8 +176,19 @@ void WebRtcPeer::Impl::maybe_offer() {
     if (!ready || offered || !options.offerer) return;
     offered = true;
   }
+  ask_for_retransmission();
   GstPromise* promise = gst_promise_new_with_change_func(&Impl::on_offer_created, this, nullptr);
   g_signal_emit_by_name(webrtc, "create-offer", nullptr, promise);
+}
+
+void WebRtcPeer::Impl::ask_for_retransmission() {
+  if (!options.retransmit) return;
+  GArray* transceivers = nullptr;
+  g_signal_emit_by_name(webrtc, "get-transceivers", &transceivers);
+  if (!transceivers) return;
+  for (guint i = 0; i < transceivers->len; ++i)
+    g_object_set(g_array_index(transceivers, GstWebRTCRTPTransceiver*, i), "do-nack", TRUE, nullptr);
+  g_array_unref(transceivers);
 }
 
 void WebRtcPeer::Impl::on_offer_created(GstPromise* promise, gpointer data) {
@@ -283,10 +309,11 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   g_object_set(sink, "sync", FALSE, "max-buffers", 8u, "drop", FALSE, nullptr);
   GstAppSinkCallbacks callbacks{};
   callbacks.new_sample = +[](GstAppSink* s, gpointer d) {
-    static_cast<Impl*>(d)->on_sample(s);
+    auto* c = static_cast<IncomingChain*>(d);
+    c->impl->on_sample(s, *c);
     return GST_FLOW_OK;
   };
-  gst_app_sink_set_callbacks(GST_APP_SINK(sink), &callbacks, this, nullptr);
+  gst_app_sink_set_callbacks(GST_APP_SINK(sink), &callbacks, chain.get(), nullptr);
   gst_bin_add_many(GST_BIN(pipeline), depay, decoder, sink, nullptr);
   gst_element_link_many(depay, decoder, sink, nullptr);
 
@@ -299,6 +326,7 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
                       GstRTPBuffer rtp = GST_RTP_BUFFER_INIT;
                       if (gst_rtp_buffer_map(buffer, GST_MAP_READ, &rtp)) {
                         c->last_rtp = gst_rtp_buffer_get_timestamp(&rtp);
+                        c->losses.on_packet(gst_rtp_buffer_get_seq(&rtp));
                         c->pts_to_rtp[c->next++ % c->pts_to_rtp.size()] = {GST_BUFFER_PTS(buffer), c->last_rtp};
                         gst_rtp_buffer_unmap(&rtp);
                       }
@@ -339,9 +367,10 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   chains.push_back(std::move(chain));
 }
 
-void WebRtcPeer::Impl::on_sample(GstAppSink* sink) {
+void WebRtcPeer::Impl::on_sample(GstAppSink* sink, IncomingChain& chain) {
   GstSample* sample = gst_app_sink_pull_sample(sink);
   if (!sample) return;
+  chain.losses.on_picture();
   GstVideoInfo info;
   GstCaps* caps = gst_sample_get_caps(sample);
   GstBuffer* buffer = gst_sample_get_buffer(sample);
@@ -423,6 +452,11 @@ void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::
                                    [](const auto& a, const auto& b) { return a.second.order < b.second.order; });
     counters.frames_unpaired += (oldest->second.rgb.empty() ? 0 : 1) + (oldest->second.codes.empty() ? 0 : 1) +
                                 (oldest->second.has_frame ? 1 : 0);
+    if (oldest->second.has_frame) {
+      ++counters.portraits_lost;
+      counters.color_loss.frames_lost += oldest->second.rgb.empty() ? 1 : 0;
+      counters.depth_loss.frames_lost += oldest->second.codes.empty() ? 1 : 0;
+    }
     pending.erase(oldest);
   }
 }
@@ -462,6 +496,10 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
       o.depth_quality < 0 || o.depth_quality > 50)
     throw std::runtime_error("the WebRTC link's rate, bitrates (>= 100 kbit/s), depth quality (0..50) or keyframe interval are out of range");
   if (const std::string why = check_depth_range(o.depth_range); !why.empty()) throw std::runtime_error(why);
+  const BitrateRuleOptions color_rate{.start_kbps = o.color_kbps, .floor_kbps = o.color_floor_kbps, .ceiling_kbps = o.color_ceiling_kbps};
+  if (const std::string why = check_bitrate_rule(color_rate); !why.empty()) throw std::runtime_error("colour: " + why);
+  if (!(o.simulated_loss <= 1.0))
+    throw std::runtime_error("the simulated network's loss must be a fraction between 0 and 1, not " + std::to_string(o.simulated_loss));
   static std::once_flag once;
   std::call_once(once, [] { gst_init(nullptr, nullptr); });
   require_element("webrtcbin", "gstreamer1.0-plugins-bad");
@@ -472,6 +510,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   require_element("rtph264pay", "gstreamer1.0-plugins-good");
   require_element("avdec_h264", "gstreamer1.0-libav");
   require_element("appsrc", "gstreamer1.0-plugins-base");
+  if (o.simulated_loss >= 0) require_element("netsim", "gstreamer1.0-plugins-bad");
 
   const std::string size = "width=" + std::to_string(o.width) + ",height=" + std::to_string(o.height) +
                            ",framerate=" + std::to_string(o.fps) + "/1";
@@ -522,6 +561,10 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   gst_video_info_set_format(&m.color_info, GST_VIDEO_FORMAT_I420, o.width, o.height);
   gst_video_info_set_format(&m.depth_info, GST_VIDEO_FORMAT_I420_10LE, o.width, o.height);
 
+  if (o.relay_only && o.turn_server.empty()) throw std::runtime_error("a relay-only call needs a TURN server (--turn)");
+  if (!o.stun_server.empty()) g_object_set(m.webrtc, "stun-server", o.stun_server.c_str(), nullptr);
+  if (!o.turn_server.empty()) g_object_set(m.webrtc, "turn-server", o.turn_server.c_str(), nullptr);
+  if (o.relay_only) g_object_set(m.webrtc, "ice-transport-policy", GST_WEBRTC_ICE_TRANSPORT_POLICY_RELAY, nullptr);
   // libnice gathers on every interface but loopback unless told its addresses: name them.
   GObject* ice = nullptr;
   g_object_get(m.webrtc, "ice-agent", &ice, nullptr);
@@ -561,6 +604,25 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
     gst_object_unref(pay);
   }
 
+  if (o.simulated_loss >= 0)
+    // webrtcbin puts the element it is given between its RTP session (retransmissions included)
+    // and the network: the loss is the network's, which NACK can repair, not the encoder's.
+    g_signal_connect(m.webrtc, "request-aux-sender", G_CALLBACK(+[](GstElement*, GObject*, gpointer d) -> GstElement* {
+                       auto* impl = static_cast<Impl*>(d);
+                       GstElement* netsim = gst_element_factory_make("netsim", nullptr);
+                       if (!netsim) return nullptr;
+                       g_object_set(netsim, "drop-probability", gfloat(impl->options.simulated_loss), nullptr);
+                       std::lock_guard lock(impl->mutex);
+                       if (!impl->netsim) impl->netsim = GST_ELEMENT(gst_object_ref(netsim));
+                       return netsim;
+                     }),
+                     &m);
+  g_signal_connect(m.pipeline, "deep-element-added", G_CALLBACK(+[](GstBin*, GstBin*, GstElement* element, gpointer) {
+                     GstElementFactory* factory = gst_element_get_factory(element);
+                     if (factory && std::string(GST_OBJECT_NAME(factory)) == "rtpsession")
+                       g_object_set(element, "rtcp-min-interval", guint64(kRtcpInterval), nullptr);
+                   }),
+                   nullptr);
   g_signal_connect(m.webrtc, "on-ice-candidate", G_CALLBACK(+[](GstElement*, guint mline, gchar* candidate, gpointer d) {
                      auto* impl = static_cast<Impl*>(d);
                      if (impl->signalling.on_candidate) impl->signalling.on_candidate(mline, candidate);
@@ -599,6 +661,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
 
   if (gst_element_set_state(m.pipeline, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
     throw std::runtime_error("the WebRTC pipeline would not start: " + last_error());
+  m.bitrate = std::make_unique<BitrateFollower>(m.webrtc, m.color_enc, m.depth_enc, color_rate, o.depth_kbps, o.adapt_bitrate);
   if (o.offerer) {
     // Unordered without retransmits: a skeleton or an eye late is a skeleton or an eye stale.
     GstStructure* fast = gst_structure_new("config", "ordered", G_TYPE_BOOLEAN, FALSE, "max-retransmits", G_TYPE_INT, 0, nullptr);
@@ -649,6 +712,7 @@ std::string WebRtcPeer::set_remote_description(const std::string& type, const st
   gst_promise_unref(promise);
   gst_webrtc_session_description_free(description);
   if (!why.empty() || !offer) return why;
+  m.ask_for_retransmission();
 
   promise = gst_promise_new();
   g_signal_emit_by_name(m.webrtc, "create-answer", nullptr, promise);
@@ -835,6 +899,14 @@ void WebRtcPeer::request_keyframe() {
     gst_element_send_event(encoder, gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 0));
 }
 
+bool WebRtcPeer::set_simulated_loss(double fraction) {
+  if (!(fraction >= 0 && fraction <= 1)) throw std::invalid_argument("a loss is a fraction between 0 and 1");
+  std::lock_guard lock(impl_->mutex);
+  if (!impl_->netsim) return false;
+  g_object_set(impl_->netsim, "drop-probability", gfloat(fraction), nullptr);
+  return true;
+}
+
 std::optional<ReceivedPortrait> WebRtcPeer::take_portrait() {
   PendingFrame part;
   {
@@ -861,6 +933,24 @@ WebRtcCounters WebRtcPeer::counters() const {
   for (const auto& chain : m.chains) {
     (chain->color ? out.color_decode_ms : out.depth_decode_ms) = chain->decode.median_ms();
     out.keyframes_asked += chain->asked.count();
+    const TrackLosses::Summary loss = chain->losses.summary();
+    WebRtcCounters::TrackLoss& track = chain->color ? out.color_loss : out.depth_loss;
+    track.packets_lost = loss.packets_lost;
+    track.episodes = loss.episodes;
+    track.recovered = loss.recovered;
+    track.keyframes_asked = chain->asked.count();
+    track.recovery_ms_median = loss.recovery_ms_median;
+    track.recovery_ms_max = loss.recovery_ms_max;
+  }
+  if (m.bitrate) {
+    const BitrateFollowerState rate = m.bitrate->state();
+    out.color_kbps_now = rate.color_kbps;
+    out.depth_kbps_now = rate.depth_kbps;
+    out.reported_fraction_lost = rate.fraction_lost;
+    out.round_trip_ms = rate.round_trip_ms;
+    out.bitrate_decisions = rate.decisions;
+    out.bitrate_lowered = rate.lowered;
+    out.bitrate_raised = rate.raised;
   }
   return out;
 }

@@ -57,7 +57,7 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
     value = static_cast<std::remove_reference_t<decltype(value)>>(json[name].get<double>());
   };
   for (const auto& [key, value] : json.items())
-    if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "transport" && key != "time_scale" &&
+    if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "transport" && key != "stun" && key != "turn" && key != "relay_only" && key != "time_scale" &&
         key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" && key != "site_file" &&
         key != "motor" &&  key != "tracker" && key != "display" && key != "monitor" &&
         key != "present_mode" && key != "ibr" && key != "hand" && key != "touch" && key != "audio_in" && key != "audio_out")
@@ -71,6 +71,12 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   string_field("peer", options.peer);
   string_field("key_file", key_file);
   string_field("transport", options.transport);
+  string_field("stun", options.call.stun);
+  string_field("turn", options.call.turn);
+  if (json.contains("relay_only")) {
+    if (!json["relay_only"].is_boolean()) throw std::runtime_error(config.string() + ": 'relay_only' must be true or false");
+    options.call.relay_only = json["relay_only"].get<bool>();
+  }
   if (options.transport != "direct" && options.transport != "webrtc")
     throw std::runtime_error(config.string() + ": 'transport' must be \"direct\" or \"webrtc\"");
   if (!key_file.empty()) options.key_file = std::filesystem::path(key_file).is_absolute() ? std::filesystem::path(key_file) : base / key_file;

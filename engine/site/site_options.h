@@ -13,6 +13,20 @@
 
 namespace rt::site {
 
+// The WebRTC call's network (--transport webrtc only; media/webrtc_peer.h).
+struct CallNetworkOptions {
+  int bitrate_floor_kbps = 300, bitrate_ceiling_kbps = 2500;  // the colour track's; depth's ceiling follows
+  // Tests and the demo only: GStreamer's netsim drops this fraction of the outgoing RTP. Negative: none.
+  double simulated_loss = -1;
+  std::string stun;  // stun://HOST:PORT, for the address a NAT shows (media/ice_servers.h)
+  std::string turn;  // turn://USER:PASS@HOST:PORT, a relay for networks that let nothing else through
+  bool relay_only = false;  // ICE through the TURN relay only (ice-transport-policy relay)
+  bool any_given() const {
+    return simulated_loss >= 0 || !stun.empty() || !turn.empty() || relay_only || bitrate_floor_kbps != 300 ||
+           bitrate_ceiling_kbps != 2500;
+  }
+};
+
 struct SiteRunOptions {
   pipeline::RunOptions run;             // out (this site's folder), device, validation, width x height, frames
   bool frames_given = false;  // else the scene's own frame count
@@ -24,6 +38,7 @@ struct SiteRunOptions {
   // How portraits and messages travel: "direct" (everything over the session) or "webrtc" (the
   // session sets up a WebRTC call, media/webrtc_link.h). Both sites need the same.
   std::string transport = "direct";
+  CallNetworkOptions call;
   double time_scale = 0.0;             // scene seconds per wall-clock second; 0 = by the device (site_run.cpp)
   double resolution_scale = 0.0;       // of the cameras; 0 = the scene's own
   bool write_truth = true;             // this site's user seen from the remote eye, over the background

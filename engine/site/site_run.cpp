@@ -15,6 +15,7 @@
 #include "display/glfw_window.h"
 #include "media/sound_into_video.h"
 #include "media/touch_sound.h"
+#include "media/ice_servers.h"
 #include "media/webrtc_link.h"
 #include "net/session.h"
 #include "pipeline/demo_layers.h"
@@ -229,9 +230,19 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
     media::WebRtcPeerOptions call;
     call.width = options.run.width;
     call.height = options.run.height;
+    call.color_floor_kbps = options.call.bitrate_floor_kbps;
+    call.color_ceiling_kbps = options.call.bitrate_ceiling_kbps;
+    call.color_kbps = std::clamp(call.color_kbps, call.color_floor_kbps, call.color_ceiling_kbps);
+    call.simulated_loss = options.call.simulated_loss;
+    call.stun_server = options.call.stun.empty() ? "" : media::parse_stun_url(options.call.stun);
+    call.turn_server = options.call.turn.empty() ? "" : media::parse_turn_url(options.call.turn);
+    call.relay_only = options.call.relay_only;
     net_ = std::make_unique<media::WebRtcLink>(net_options, call);
     std::cerr << "site " << common_.name << ": transport webrtc (the session sets up the call; portraits as H.264 video)\n";
   } else if (options.transport == "direct") {
+    if (options.call.any_given())
+      throw std::invalid_argument("--stun, --turn, --relay-only, --simulated-loss and the bitrate's floor and ceiling "
+                                  "are the WebRTC call's: they need --transport webrtc");
     net_ = std::make_unique<net::Session>(net_options);
   } else {
     throw std::invalid_argument("--transport must be direct or webrtc, not '" + options.transport + "'");
