@@ -78,6 +78,31 @@ TEST_CASE("guards with different keys refuse each other, and nothing is sealed")
   CHECK_FALSE(listener.seal(GuardedChannel::Reliable, guard_bytes("touch")));
 }
 
+TEST_CASE("the guards drop a record that overtook the handshake's last frame, and open the next") {
+  const net::SessionKey key = net::random_session_key();
+  ChannelGuard connector(key, net::Role::Connector, kGuardTestLimit), listener(key, net::Role::Listener, kGuardTestLimit);
+  const auto listener_hello = listener.receive(GuardedChannel::Reliable, connector.start());
+  REQUIRE(listener_hello.kind == ChannelGuard::Received::Kind::Handshake);
+  const auto connector_proof = connector.receive(GuardedChannel::Reliable, listener_hello.reply);
+  REQUIRE(connector_proof.kind == ChannelGuard::Received::Kind::Handshake);
+  const auto listener_proof = listener.receive(GuardedChannel::Reliable, connector_proof.reply);
+  REQUIRE(listener_proof.kind == ChannelGuard::Received::Kind::Handshake);
+  REQUIRE(listener.ready());
+  REQUIRE_FALSE(connector.ready());
+  // The listener's first skeleton, on the fast channel, before its proof on the reliable one.
+  const auto first = listener.seal(GuardedChannel::Fast, guard_bytes("skeleton 1"));
+  REQUIRE(first);
+  const auto early = connector.receive(GuardedChannel::Fast, *first);
+  CHECK(early.kind == ChannelGuard::Received::Kind::Early);
+  CHECK(early.message.empty());
+  REQUIRE(connector.receive(GuardedChannel::Reliable, listener_proof.reply).kind == ChannelGuard::Received::Kind::Handshake);
+  REQUIRE(connector.ready());
+  const auto second = listener.seal(GuardedChannel::Fast, guard_bytes("skeleton 2"));
+  const auto opened = connector.receive(GuardedChannel::Fast, *second);
+  REQUIRE(opened.kind == ChannelGuard::Received::Kind::Message);
+  CHECK(opened.message == guard_bytes("skeleton 2"));
+}
+
 TEST_CASE("the guards' handshake refuses frames out of place") {
   const net::SessionKey key = net::random_session_key();
   {

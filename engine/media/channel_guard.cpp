@@ -131,8 +131,7 @@ ChannelGuard::Received ChannelGuard::receive(GuardedChannel channel, std::span<c
     return handshake_frame(bytes[4], bytes.subspan(5));
   }
   if (!seal_fast_) {
-    // The fast channel may bring a record sealed just after the handshake, before its last frame
-    // arrived here on the other channel: it is refused like any record that cannot be opened.
+    out.kind = Received::Kind::Early;
     out.reason = std::string("a message on ") + guard_channel_name(channel) + " before the handshake completed";
     return out;
   }

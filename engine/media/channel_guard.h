@@ -40,7 +40,10 @@ class ChannelGuard {
   std::vector<uint8_t> start();
 
   struct Received {
-    enum class Kind { Message, Handshake, Refused } kind = Kind::Refused;
+    // Early: a record before this side's handshake completed, dropped: the other side has its keys
+    // first and its first records on the fast channel may overtake the handshake's last frame on
+    // the reliable one. Not a refusal: a start under load brings a few.
+    enum class Kind { Message, Handshake, Early, Refused } kind = Kind::Refused;
     std::vector<uint8_t> message;  // Message: the opened bytes
     std::vector<uint8_t> reply;    // Handshake: a frame to send back on the reliable channel (may be empty)
     std::string reason;            // Refused: why

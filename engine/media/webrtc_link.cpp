@@ -251,7 +251,7 @@ nlohmann::json WebRtcLink::transport_json() const {
                               {"data_channels", kbps(call.channel_bytes_sent)}}},
           {"portraits", {{"sent", call.portraits_sent}, {"received", call.portraits_received},
                          {"dropped", call.portraits_dropped}, {"frames_unpaired", call.frames_unpaired}}},
-          {"messages", {{"sent", call.messages_sent}, {"received", call.messages_received}, {"refused", call.messages_refused}}},
+          {"messages", {{"sent", call.messages_sent}, {"received", call.messages_received}, {"refused", call.messages_refused}, {"early_dropped", call.messages_early}}},
           {"codec_ms_median", {{"color_encode", call.color_encode_ms}, {"depth_alpha_encode", call.depth_encode_ms},
                                {"color_decode", call.color_decode_ms}, {"depth_alpha_decode", call.depth_decode_ms}}},
           {"keyframes", {{"asked_by_us", call.keyframes_asked}, {"asked_of_us", call.keyframes_asked_of_us}}},

@@ -253,6 +253,11 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
       if (!opened.reply.empty()) send_on_channel(false, opened.reply);
       return refuse(options.name + ": " + opened.reason);
     }
+    if (opened.kind == ChannelGuard::Received::Kind::Early) {
+      std::lock_guard lock(mutex);
+      ++counters.messages_early;
+      return;
+    }
     if (opened.kind == ChannelGuard::Received::Kind::Handshake) {
       if (!opened.reply.empty()) send_on_channel(false, opened.reply);
       return;

@@ -85,6 +85,7 @@ struct WebRtcCounters {
   uint64_t portraits_sent = 0, portraits_received = 0, portraits_dropped = 0;
   uint64_t frames_unpaired = 0;  // a track's frame, or a frame record, that found no partner in time
   uint64_t messages_sent = 0, messages_received = 0, messages_refused = 0;
+  uint64_t messages_early = 0;  // before this side's handshake completed: dropped
   uint64_t color_bytes_sent = 0, depth_bytes_sent = 0, channel_bytes_sent = 0;  // encoded payload bytes
   // The codecs (media/codec_probes.h): median ms a picture spends in each encoder and decoder
   // (0 before any), and the keyframes asked: by this peer's depayloaders of the other peer after a

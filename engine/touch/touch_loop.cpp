@@ -90,12 +90,19 @@ void TouchLoop::time_motor(uint64_t now_us, const std::optional<TouchEvent>& eve
     // The detector's band reaches out from the glass, so a hand that slows onto it is seen
     // touching before its palm meets the glass: a pulse predicted for later waits for its time.
     if (timing_.predict)
-      if (const std::optional<uint64_t> contact = predictor_.predicted_contact_us(now_us);
-          contact && *contact > now_us + timing_.motor_spin_up_us) {
-        scheduled_contact_us_ = contact;
-        scheduled_pulse_us_ = *contact - timing_.motor_spin_up_us;
-        scheduled_seen_ = true;
-        scheduled_gesture_ = event->gesture;
+      if (const std::optional<uint64_t> contact = predictor_.predicted_contact_us(now_us)) {
+        if (*contact > now_us + timing_.motor_spin_up_us) {
+          scheduled_contact_us_ = contact;
+          scheduled_pulse_us_ = *contact - timing_.motor_spin_up_us;
+          scheduled_seen_ = true;
+          scheduled_gesture_ = event->gesture;
+          return;
+        }
+        // Seen as the prediction comes due (within the motor's latency of the contact): the
+        // pulse leaves now, as the prediction says it should, and its touch is already seen.
+        ++counts_.predicted;
+        ++counts_.confirmed;
+        cue(MotorCue::Pulse, now_us, event->gesture);
         return;
       }
     ++counts_.unpredicted;

