@@ -151,6 +151,14 @@ TEST_CASE("latency stats: median, p90, max; empty gives nulls; NaN ignored") {
   REQUIRE(json["p90_ms"].get<double>() == Approx(10.0));
   REQUIRE(json["max_ms"].get<double>() == Approx(11.0));
   REQUIRE(json["mean_ms"].get<double>() == Approx(6.0));
+  // The recent median follows the newest samples only, and takes all of them when asked for more.
+  REQUIRE(stats.recent_median(3) == Approx(10.0));
+  REQUIRE(stats.recent_median(1) == Approx(11.0));
+  REQUIRE(stats.recent_median(1000) == Approx(6.0));
+  REQUIRE(std::isnan(LatencyStats().recent_median(5)));
+  for (int i = 0; i < 5; ++i) stats.add(100.0);
+  REQUIRE(stats.recent_median(5) == Approx(100.0));
+  REQUIRE(stats.median() == Approx(9.0));
 }
 
 TEST_CASE("closest in time: nearest timestamp either side, earlier on a tie, end when empty") {

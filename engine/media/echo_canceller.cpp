@@ -1,7 +1,6 @@
 #include "media/echo_canceller.h"
 
 #include <gst/app/gstappsink.h>
-#include <gst/app/gstappsrc.h>
 #include <gst/gst.h>
 
 #include <algorithm>
@@ -31,21 +30,48 @@ void require_dsp_element(const char* name) {
 
 GstElement* child(GstElement* pipeline, const char* name) { return gst_bin_get_by_name(GST_BIN(pipeline), name); }
 
-void push_block(GstElement* source, std::span<const float> block, uint64_t& samples) {
+// A source pad of our own on the pipeline's first element. A buffer pushed on it runs the whole
+// chain in the calling thread, up to the appsink: no streaming thread to wake and wait for each
+// 10 ms, and the canceller's CPU is spent in, and counted for, the sound thread.
+GstPad* feed_pad(GstElement* pipeline, const char* first, const std::string& stream) {
+  GstElement* head = child(pipeline, first);
+  GstPad* sink = head ? gst_element_get_static_pad(head, "sink") : nullptr;
+  GstPad* pad = GST_PAD(gst_object_ref_sink(gst_pad_new("feed", GST_PAD_SRC)));
+  const bool linked = sink && gst_pad_set_active(pad, TRUE) && gst_pad_link(pad, sink) == GST_PAD_LINK_OK;
+  if (sink) gst_object_unref(sink);
+  if (head) gst_object_unref(head);
+  if (!linked) {
+    gst_object_unref(pad);
+    throw std::runtime_error("echo canceller: cannot feed the pipeline's " + std::string(first));
+  }
+  // The sticky events a stream begins with, in the order the elements expect them.
+  gst_pad_push_event(pad, gst_event_new_stream_start(stream.c_str()));
+  GstCaps* caps = gst_caps_from_string(kFloatCaps);
+  gst_pad_push_event(pad, gst_event_new_caps(caps));
+  gst_caps_unref(caps);
+  GstSegment segment;
+  gst_segment_init(&segment, GST_FORMAT_TIME);
+  gst_pad_push_event(pad, gst_event_new_segment(&segment));
+  return pad;
+}
+
+void push_block(GstPad* feed, std::span<const float> block, uint64_t& samples) {
   GstBuffer* buffer = gst_buffer_new_allocate(nullptr, block.size_bytes(), nullptr);
   gst_buffer_fill(buffer, 0, block.data(), block.size_bytes());
   GST_BUFFER_PTS(buffer) = gst_util_uint64_scale(samples, GST_SECOND, 48000);
   GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale(block.size(), GST_SECOND, 48000);
   samples += block.size();
-  if (gst_app_src_push_buffer(GST_APP_SRC(source), buffer) != GST_FLOW_OK)
-    throw std::runtime_error("echo canceller: the pipeline stopped taking audio");
+  if (const GstFlowReturn flow = gst_pad_push(feed, buffer); flow != GST_FLOW_OK)
+    throw std::runtime_error(std::string("echo canceller: the pipeline stopped taking audio (") +
+                             gst_flow_get_name(flow) + ")");
 }
 
-// One block out of `sink`; webrtcdsp hands back each 10 ms it was given.
+// One block out of `sink`: it is there already, since the push ran the chain to the appsink;
+// webrtcdsp hands back each 10 ms it was given.
 std::vector<float> pull_block(GstElement* sink, GstElement* pipeline) {
-  GstSample* sample = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), 2 * GST_SECOND);
+  GstSample* sample = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), 0);
   if (!sample) {
-    std::string why = "no audio came out within 2 s";
+    std::string why = "no audio came out of the block pushed in";
     GstBus* bus = gst_element_get_bus(pipeline);
     if (GstMessage* message = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR)) {
       GError* error = nullptr;
@@ -73,7 +99,8 @@ void start(GstElement* pipeline) {
     throw std::runtime_error("echo canceller: the pipeline would not start");
 }
 
-void release(GstElement*& pipeline, std::initializer_list<GstElement**> elements) {
+void release(GstElement*& pipeline, GstPad*& feed, std::initializer_list<GstElement**> elements) {
+  if (feed) gst_pad_set_active(feed, FALSE), gst_object_unref(feed), feed = nullptr;
   if (pipeline) gst_element_set_state(pipeline, GST_STATE_NULL);
   for (GstElement** e : elements)
     if (*e) gst_object_unref(*e), *e = nullptr;
@@ -92,45 +119,46 @@ EchoCanceller::EchoCanceller(const EchoCancellerOptions& options) {
   const std::string probe = "rt_echo_probe_" + std::to_string(next_probe++);
   const std::string sinks = " sync=false async=false max-buffers=64";
   try {
-    far_pipeline_ = audio::parse_pipeline(std::string("appsrc name=source format=time caps=") + kFloatCaps + " ! audioconvert ! " +
+    far_pipeline_ = audio::parse_pipeline(std::string("audioconvert name=head ! ") +
                            kDspCaps + " ! webrtcechoprobe name=" + probe + " ! appsink name=sink" + sinks);
-    far_source_ = child(far_pipeline_, "source");
     far_sink_ = child(far_pipeline_, "sink");
-    near_pipeline_ = audio::parse_pipeline(std::string("appsrc name=source format=time caps=") + kFloatCaps + " ! audioconvert ! " +
+    near_pipeline_ = audio::parse_pipeline(std::string("audioconvert name=head ! ") +
                             kDspCaps + " ! webrtcdsp name=dsp probe=" + probe +
                             " echo-cancel=true delay-agnostic=true extended-filter=true"
                             " echo-suppression-level=high noise-suppression=" +
                             (options.noise_suppression ? "true" : "false") +
                             " gain-control=" + (options.gain_control ? "true" : "false") +
                             " high-pass-filter=true ! audioconvert ! " + kFloatCaps + " ! appsink name=sink" + sinks);
-    near_source_ = child(near_pipeline_, "source");
     near_sink_ = child(near_pipeline_, "sink");
     start(far_pipeline_);
     start(near_pipeline_);
+    far_feed_ = feed_pad(far_pipeline_, "head", probe + "_played");
+    near_feed_ = feed_pad(near_pipeline_, "head", probe + "_captured");
   } catch (...) {
-    release(near_pipeline_, {&near_source_, &near_sink_});
-    release(far_pipeline_, {&far_source_, &far_sink_});
+    release(near_pipeline_, near_feed_, {&near_sink_});
+    release(far_pipeline_, far_feed_, {&far_sink_});
     throw;
   }
 }
 
 EchoCanceller::~EchoCanceller() {
-  release(near_pipeline_, {&near_source_, &near_sink_});
-  release(far_pipeline_, {&far_source_, &far_sink_});
+  release(near_pipeline_, near_feed_, {&near_sink_});
+  release(far_pipeline_, far_feed_, {&far_sink_});
 }
 
 void EchoCanceller::played(std::span<const float> block) {
   if (block.size() != kBlockSamples)
     throw std::invalid_argument("echo canceller: a played block is 480 samples, not " + std::to_string(block.size()));
-  push_block(far_source_, block, far_samples_);
-  // Read back, so that the probe has taken the block before the microphone's reaches the canceller.
+  push_block(far_feed_, block, far_samples_);
+  // Read back (the probe has taken the block: the push ran through it), so that the appsink's
+  // queue does not grow.
   pull_block(far_sink_, far_pipeline_);
 }
 
 std::vector<float> EchoCanceller::captured(std::span<const float> block) {
   if (block.size() != kBlockSamples)
     throw std::invalid_argument("echo canceller: a captured block is 480 samples, not " + std::to_string(block.size()));
-  push_block(near_source_, block, near_samples_);
+  push_block(near_feed_, block, near_samples_);
   std::vector<float> out = pull_block(near_sink_, near_pipeline_);
   out.resize(kBlockSamples, 0.0f);
   return out;

@@ -5,14 +5,16 @@
 // loudspeaker played through a webrtcechoprobe; noise suppression and gain control are knobs.
 //
 // Synchronous, 10 ms at a time: played() a block, then captured() the block recorded while it
-// played. The two branches are separate pipelines, each driven to completion per block, so the
-// probe always holds the played block before the microphone's block reaches the canceller.
+// played. The two branches are separate pipelines, each run to completion per block in the
+// calling thread (buffers pushed on a pad of our own, no appsrc), so the probe always holds the
+// played block before the microphone's block reaches the canceller.
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
 typedef struct _GstElement GstElement;
+typedef struct _GstPad GstPad;
 
 namespace rt::media {
 
@@ -39,10 +41,10 @@ class EchoCanceller {
 
  private:
   GstElement* far_pipeline_ = nullptr;
-  GstElement* far_source_ = nullptr;
+  GstPad* far_feed_ = nullptr;
   GstElement* far_sink_ = nullptr;
   GstElement* near_pipeline_ = nullptr;
-  GstElement* near_source_ = nullptr;
+  GstPad* near_feed_ = nullptr;
   GstElement* near_sink_ = nullptr;
   uint64_t far_samples_ = 0, near_samples_ = 0;
 };

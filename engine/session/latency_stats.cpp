@@ -30,6 +30,12 @@ double LatencyStats::median() const {
   return percentile(samples_, 0.5);
 }
 
+double LatencyStats::recent_median(size_t newest) const {
+  std::lock_guard lock(mutex_);
+  const size_t n = std::min(newest, samples_.size());
+  return percentile(std::vector<double>(samples_.end() - std::ptrdiff_t(n), samples_.end()), 0.5);
+}
+
 nlohmann::json LatencyStats::to_json() const {
   std::lock_guard lock(mutex_);
   nlohmann::json out = {{"count", samples_.size()}};

@@ -13,6 +13,9 @@ class LatencyStats {
   void add(double ms);
   size_t count() const;
   double median() const;  // NaN when empty
+  // The median of the newest `newest` samples only: what a stage costs now, not over the whole
+  // run, at a cost that does not grow with the run. NaN when empty.
+  double recent_median(size_t newest) const;
   // {"count", "mean_ms", "median_ms", "p90_ms", "max_ms"}; nulls when empty.
   nlohmann::json to_json() const;
 

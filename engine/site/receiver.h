@@ -42,8 +42,13 @@ class Receiver {
   uint64_t first_video_frame_us() const { return first_video_frame_us_; }
   // The portraits' median capture-to-screen latency so far (NaN: none shown yet).
   double portrait_latency_ms() const { return portrait_on_screen_.median(); }
+  // The same over the last few seconds of portraits: what the far voice is held to now.
+  double recent_portrait_latency_ms() const { return portrait_on_screen_.recent_median(kRecentPortraits); }
 
  private:
+  // About three seconds of a 30 fps stream: long enough that one late portrait does not move
+  // the voice, short enough to follow the link when it changes.
+  static constexpr size_t kRecentPortraits = 90;
   struct ReceivedPortrait {
     net::PortraitMessage message;
     uint64_t arrival_us = 0;

@@ -441,7 +441,7 @@ void SiteRun::monitor(const std::atomic<bool>& display_finished) {
     // The far voice waits for the far portrait: lips and words together.
     if (common_.options.sound.lip_sync && now - last_hold_us >= 500'000) {
       last_hold_us = now;
-      sound_->hold_voice_to(receiver_->portrait_latency_ms());
+      sound_->hold_voice_to(receiver_->recent_portrait_latency_ms());
     }
     const bool quit = window_quit();
     const net::ConnectionStatus status = net_->status();

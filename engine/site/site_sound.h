@@ -150,7 +150,7 @@ class SiteSound {
   // blocks after the first two seconds that held echo alone.
   double erle_in_ = 0.0, erle_out_ = 0.0;
   uint64_t erle_blocks_ = 0;
-  double encode_ms_ = 0.0, loop_ms_ = 0.0;
+  double encode_ms_ = 0.0, loop_ms_ = 0.0, cpu_ms_ = 0.0;
 };
 
 }  // namespace rt::site
