@@ -2,7 +2,7 @@
 add_test(NAME cli_eval_ibr_outputs
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/eval_ibr_outputs.sh $<TARGET_FILE:remotetouch> ${CMAKE_BINARY_DIR}/test-out/eval-ibr)
 set(rt $<TARGET_FILE:remotetouch>)
-add_cli_test(cli_eval_ibr_unknown_scene 1 "remotetouch: error: unknown scene 'no-such-scene': the scenes are approach, clap"
+add_cli_test(cli_eval_ibr_unknown_scene 1 "remotetouch: error: unknown scene 'no-such-scene': the scenes are approach, av-marker, clap"
              ${rt} eval ibr --scene no-such-scene --frames 1)
 add_cli_test(cli_eval_ibr_unknown_camera 1 "remotetouch: error: no camera named 'no-such-camera'"
              ${rt} eval ibr --frames 1 --cameras top-centre,no-such-camera)
@@ -29,7 +29,7 @@ add_cli_test(cli_eval_dual_past_end 1 "eval dual: --first-frame 100000 is past t
 add_test(NAME cli_bench_accuracy_outputs
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/bench_accuracy_outputs.sh $<TARGET_FILE:remotetouch> ${CMAKE_BINARY_DIR}/test-out/bench-accuracy)
 add_cli_test(cli_bench_accuracy_bad_grid 105 "--grid: huge not in" ${rt} bench accuracy --grid huge)
-add_cli_test(cli_bench_accuracy_unknown_scene 1 "remotetouch: error: unknown scene 'no-such-scene': the scenes are approach, clap"
+add_cli_test(cli_bench_accuracy_unknown_scene 1 "remotetouch: error: unknown scene 'no-such-scene': the scenes are approach, av-marker, clap"
              ${rt} bench accuracy --grid tiny --scenes wave,no-such-scene --frames 1 --no-plot
              --out ${CMAKE_BINARY_DIR}/test-out/bench-accuracy-unknown-scene)
 add_cli_test(cli_quality_unknown_preset 105 "--quality: .*no preset 'ultra' \\(known: balanced, best, fast\\)"

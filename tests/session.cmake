@@ -4,6 +4,8 @@
 set(rt $<TARGET_FILE:remotetouch>)
 set(session_demo ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_demo.sh)
 add_test(NAME session_demo_clap COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-clap clap 115 1)
+add_test(NAME session_demo_av_marker
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/session_demo_av_marker.sh ${rt} ${CMAKE_BINARY_DIR}/test-out/session-av-marker)
 # A fist bump: one touch per site named "fist" at its start, its motor and the other site.
 add_test(NAME session_demo_fist_bump COMMAND ${session_demo} ${rt} ${CMAKE_BINARY_DIR}/test-out/session-fist-bump fist-bump 115 1)
 set_tests_properties(session_demo_fist_bump PROPERTIES ENVIRONMENT GESTURE=fist)
@@ -54,7 +56,7 @@ add_test(NAME session_site_refused_then_listener
                  ${CMAKE_BINARY_DIR}/test-out/session-refused-then-listener)
 add_cli_test(session_site_bad_config 1 "remotetouch: error: .*site_config_bad\\.json: unknown field 'peers'"
              ${rt} site --config ${CMAKE_CURRENT_SOURCE_DIR}/data/site_config_bad.json --out ${CMAKE_BINARY_DIR}/test-out/site-bad-config)
-set_tests_properties(session_demo_clap session_demo_fist_bump session_demo_miss session_demo_seat session_demo_wave session_demo_disconnect session_demo_outage session_demo_lossy
+set_tests_properties(session_demo_clap session_demo_av_marker session_demo_fist_bump session_demo_miss session_demo_seat session_demo_wave session_demo_disconnect session_demo_outage session_demo_lossy
                      session_demo_webrtc session_demo_webrtc_miss session_demo_webrtc_loss
                      session_site_wrong_key session_site_refused_then_listener
                      PROPERTIES TIMEOUT 300

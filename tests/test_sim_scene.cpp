@@ -19,7 +19,8 @@ using Catch::Matchers::Contains;
 namespace {
 
 const std::filesystem::path kScenesSimScene = rt::config::assets_dir() / "scenes";
-const char* const kShippedScenes[] = {"clap", "miss", "wave", "approach", "noisy-clap", "train-fast-reach", "train-raise-hold"};
+const char* const kShippedScenes[] = {"clap", "miss", "wave", "approach", "noisy-clap", "train-fast-reach", "train-raise-hold",
+                                      "av-marker"};
 
 struct Touch {
   Eigen::Vector3d palm_global = Eigen::Vector3d::Zero();
@@ -148,6 +149,25 @@ TEST_CASE("effects are off unless listed; noisy-clap lists them all with their p
   CHECK(effects_to_json(again) == effects_to_json(effects));
 }
 
+TEST_CASE("av-marker: each flash lasts its flash_ms from its time, the markers read back the same", "[sim][scene]") {
+  const Effects effects = load_scene(kScenesSimScene / "av-marker.json").effects;
+  REQUIRE(effects.av_marker);
+  const AvMarker& marker = *effects.av_marker;
+  REQUIRE(marker.times_s == std::vector<double>{0.6, 1.7, 2.8});
+  CHECK_FALSE(marker.flashing_at(0.0));
+  CHECK_FALSE(marker.flashing_at(0.5999));
+  CHECK(marker.flashing_at(18.0 / 30.0));  // the frame at the marker's time flashes
+  CHECK(marker.flashing_at(0.6 + marker.flash_ms / 1000.0 - 1e-6));
+  CHECK_FALSE(marker.flashing_at(0.6 + marker.flash_ms / 1000.0));
+  CHECK(marker.flashing_at(2.9));
+  CHECK_FALSE(marker.flashing_at(100.0));
+  // Nothing else: a marker scene asks for no other imperfection.
+  CHECK_FALSE(effects.room_echo);
+  CHECK_FALSE(effects.depth_noise);
+  const Effects again = effects_from_json(effects_to_json(effects), "again", {});
+  CHECK(effects_to_json(again) == effects_to_json(effects));
+}
+
 TEST_CASE("bad scenes name the field", "[sim][scene]") {
   SECTION("missing frame count") {
     nlohmann::json json = clap_json();
@@ -198,6 +218,24 @@ TEST_CASE("bad scenes name the field", "[sim][scene]") {
     nlohmann::json json = clap_json();
     json["effects"]["tracker_dropouts"] = {{"probability", 0.9}, {"mean_length_frames", 2}};
     require_error(json, "'tracker_dropouts'", "'mean_length_frames' longer");
+  }
+  SECTION("a marker time that is not a time") {
+    nlohmann::json json = clap_json();
+    json["effects"]["av_marker"] = {{"times_s", {1.0, "soon"}}, {"flash_ms", 200}};
+    require_error(json, "'av_marker'", "times_s[1] must be a time in seconds within [0, 3600], is \"soon\"");
+    json["effects"]["av_marker"] = {{"times_s", {-1.0}}, {"flash_ms", 200}};
+    require_error(json, "'av_marker'", "times_s[0] must be a time in seconds");
+  }
+  SECTION("markers too close to be told apart, none, or too many") {
+    nlohmann::json json = clap_json();
+    json["effects"]["av_marker"] = {{"times_s", {1.0, 1.3}}, {"flash_ms", 200}};
+    require_error(json, "'av_marker'", "closer than two flashes (400 ms)");
+    json["effects"]["av_marker"] = {{"times_s", nlohmann::json::array()}, {"flash_ms", 200}};
+    require_error(json, "'av_marker'", "times_s");
+    json["effects"]["av_marker"] = {{"times_s", std::vector<double>(65, 1.0)}, {"flash_ms", 200}};
+    require_error(json, "'av_marker'", "times_s");
+    json["effects"]["av_marker"] = {{"times_s", {1.0}}, {"flash_ms", 0}};
+    require_error(json, "'av_marker'", "'flash_ms' must be in [10, 2000]");
   }
   SECTION("color gain for a camera the sites do not have") {
     nlohmann::json json = clap_json();

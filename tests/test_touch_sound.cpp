@@ -4,10 +4,12 @@
 // for, whatever the blocks' sizes, and withdrawn only before it has begun.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "media/marker_claps.h"
 #include "media/touch_sound.h"
 
 using namespace rt;
@@ -150,4 +152,29 @@ TEST_CASE("touch sound: mixed in at its sample whatever the blocks, withdrawn on
   for (size_t i = 0; i < TouchSoundMixer::kMaxSounds; ++i) busy.schedule(TouchSound::FingerTap, 1000 + i, {});
   CHECK(busy.pending() == TouchSoundMixer::kMaxSounds);
   CHECK(busy.dropped() == 1);
+}
+
+TEST_CASE("marker claps: each at its sample whatever the blocks, nothing elsewhere, clamped", "[sound][marker]") {
+  const std::vector<float> clap = synthesize_touch_sound(TouchSound::Clap);
+  const std::vector<uint64_t> onsets = {1000, 1000 + clap.size() + 7, 30000};
+  const MarkerClaps claps({onsets[2], onsets[0], onsets[1]});  // any order
+  CHECK(claps.onsets() == onsets);
+  // The microphone's stream in odd blocks, over a quiet hum.
+  std::vector<float> stream(40000, 0.01f);
+  for (size_t first = 0, size = 1; first < stream.size(); first += size, size = size * 3 % 997 + 1)
+    claps.add_into(std::span<float>(stream).subspan(first, std::min(size, stream.size() - first)), first);
+  for (size_t n = 0; n < stream.size(); ++n) {
+    float expected = 0.01f;
+    for (const uint64_t onset : onsets)
+      if (n >= onset && n < onset + clap.size()) expected = std::clamp(expected + clap[n - onset], -1.0f, 1.0f);
+    REQUIRE(stream[n] == Approx(expected).margin(1e-7));
+  }
+  // A loud room does not push the sum past full scale.
+  std::vector<float> loud(clap.size(), 0.99f);
+  claps.add_into(loud, onsets[0]);
+  for (const float s : loud) REQUIRE((s <= 1.0f && s >= -1.0f && std::isfinite(s)));
+  // No onset: the block is untouched.
+  std::vector<float> untouched(480, 0.5f);
+  MarkerClaps({}).add_into(untouched, 0);
+  CHECK(std::all_of(untouched.begin(), untouched.end(), [](float s) { return s == 0.5f; }));
 }

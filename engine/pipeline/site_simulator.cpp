@@ -31,6 +31,13 @@ std::optional<Camera> ground_truth_view(const sim::Scene& scene, Site site, uint
   return target_view_camera(eye, scene.at(site).site.screen, width, height);
 }
 
+// The user as a marker's flash shows them: the shirt white, so that the whole torso brightens in
+// every camera and in the portrait the other site shows.
+sim::UserAppearance flashed(sim::UserAppearance user) {
+  user.shirt_rgb = user.shirt_stripe_rgb = Eigen::Vector3f::Ones();
+  return user;
+}
+
 }  // namespace
 
 RgbdCameraSpec camera_spec(const sim::RgbdCamera& camera, const sim::Effects& effects, double resolution_scale) {
@@ -92,7 +99,10 @@ std::optional<sim::RgbdFrame> SiteSimulator::next_frame() {
   const uint64_t index = next_++;
   const double t_s = double(index) / scene_.fps;
   pose_ = motion_.pose_at(t_s);
-  const auto mesh = sim::person_mesh(pose_, scene_.at(site_).user);
+  const sim::UserAppearance& user = scene_.at(site_).user;
+  const auto mesh = scene_.effects.av_marker && scene_.effects.av_marker->flashing_at(t_s)
+                        ? sim::person_mesh(pose_, flashed(user))
+                        : sim::person_mesh(pose_, user);
   renderer_.render(mesh, uint32_t(scene_.seed * 1000003u + index * 2u + (site_ == Site::A ? 0u : 1u)));
 
   sim::RgbdFrame frame;

@@ -110,11 +110,38 @@ const std::vector<EffectParser>& parsers() {
          e.room_echo = RoomEcho{require_in_range(j, "delay_ms", w, 10.0, 500.0), require_in_range(j, "gain_db", w, -60.0, 0.0),
                                 require_in_range(j, "reverb_ms", w, 0.0, 1000.0), require_in_range(j, "reverb_db", w, -80.0, 0.0)};
        }},
+      {"av_marker",
+       [](const nlohmann::json& j, const std::string& w, const auto&, Effects& e) {
+         reject_unknown_fields(j, {"times_s", "flash_ms"}, w);
+         AvMarker marker;
+         marker.flash_ms = require_in_range(j, "flash_ms", w, 10.0, 2000.0);
+         const nlohmann::json& times = require_array(j, "times_s", w, 1, 64);
+         for (size_t i = 0; i < times.size(); ++i) {
+           const std::string at = w + ": times_s[" + std::to_string(i) + "]";
+           if (!times[i].is_number() || !(times[i].get<double>() >= 0.0 && times[i].get<double>() <= 3600.0))
+             throw JsonError(at + " must be a time in seconds within [0, 3600], is " + times[i].dump());
+           marker.times_s.push_back(times[i].get<double>());
+         }
+         std::sort(marker.times_s.begin(), marker.times_s.end());
+         // Apart by more than a flash, so that each flash and each click is told from the next.
+         for (size_t i = 1; i < marker.times_s.size(); ++i)
+           if (marker.times_s[i] - marker.times_s[i - 1] < 2.0 * marker.flash_ms / 1000.0)
+             throw JsonError(w + ": times_s " + format_number(marker.times_s[i - 1]) + " and " +
+                             format_number(marker.times_s[i]) + " are closer than two flashes (" +
+                             format_number(2.0 * marker.flash_ms) + " ms)");
+         e.av_marker = marker;
+       }},
   };
   return table;
 }
 
 }  // namespace
+
+bool AvMarker::flashing_at(double t_s) const {
+  // The first marker after t, then the one before it: the times are sorted.
+  const auto after = std::upper_bound(times_s.begin(), times_s.end(), t_s);
+  return after != times_s.begin() && t_s < *std::prev(after) + flash_ms / 1000.0;
+}
 
 CameraColor ColorGain::for_camera(const std::string& name) const {
   const auto it = cameras.find(name);
@@ -123,7 +150,7 @@ CameraColor ColorGain::for_camera(const std::string& name) const {
 
 bool Effects::any() const {
   return depth_noise || flying_pixels || near_cutoff || skin_depth_bias || color_gain || misregistration ||
-         camera_timing_jitter || tracker.jitter || tracker.latency || tracker.dropouts || room_echo;
+         camera_timing_jitter || tracker.jitter || tracker.latency || tracker.dropouts || room_echo || av_marker;
 }
 
 const std::vector<std::string>& effect_names() {
@@ -182,6 +209,7 @@ nlohmann::json effects_to_json(const Effects& e) {
                          {"gain_db", e.room_echo->gain_db},
                          {"reverb_ms", e.room_echo->reverb_ms},
                          {"reverb_db", e.room_echo->reverb_db}};
+  if (e.av_marker) json["av_marker"] = {{"times_s", e.av_marker->times_s}, {"flash_ms", e.av_marker->flash_ms}};
   return json;
 }
 

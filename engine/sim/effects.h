@@ -76,6 +76,16 @@ struct RoomEcho {
   double reverb_db = -18.0;  // the last reflection, below the direct path
 };
 
+// A marker for sound against picture, as film's clapperboard: at each time the user claps (a click
+// in the simulated microphone, placed at the sample captured then) and their shirt flashes white
+// for flash_ms in the cameras. The users say nothing else, so that the click stands alone.
+struct AvMarker {
+  std::vector<double> times_s;
+  double flash_ms = 200.0;
+  // Whether the shirt is flashing at scene time t_s.
+  bool flashing_at(double t_s) const;
+};
+
 struct TrackerEffects {
   std::optional<TrackerJitter> jitter;
   std::optional<TrackerLatency> latency;
@@ -92,6 +102,7 @@ struct Effects {
   std::optional<CameraTimingJitter> camera_timing_jitter;
   TrackerEffects tracker;  // tracker_jitter, tracker_latency, tracker_dropouts
   std::optional<RoomEcho> room_echo;
+  std::optional<AvMarker> av_marker;
 
   bool any() const;
 };

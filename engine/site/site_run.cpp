@@ -115,6 +115,9 @@ class SiteRun {
   // audio.wav into site.mp4, where both were written and the scene played in real time (the video
   // runs on the scene's clock, the sound on the wall's).
   void put_sound_into_video();
+  // When the user claps each of the scene's sound-against-picture markers: the capture time of
+  // the first camera frame that shows its flash, so that the clap and the flash are one instant.
+  std::vector<uint64_t> marker_claps_us() const;
   // The touch-to-motor latencies, once a touch has both its start and its pulse.
   void note_touch_to_motor();
   // Each true contact of the scene against the vibrations felt, where the truth is known: this
@@ -261,6 +264,16 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
                                        });
   std::cerr << "site " << common_.name << ": sound: " << sound_->description() << "\n";
   events_.write("sound", monotonic_now_us(), {{"sound", sound_->description()}});
+}
+
+std::vector<uint64_t> SiteRun::marker_claps_us() const {
+  std::vector<uint64_t> at_us;
+  if (!common_.scene.effects.av_marker) return at_us;
+  for (const double t_s : common_.scene.effects.av_marker->times_s) {
+    const double first_frame = std::ceil(t_s * common_.scene.fps - 1e-9);
+    at_us.push_back(common_.wall_us_at_scene_time(first_frame / common_.scene.fps));
+  }
+  return at_us;
 }
 
 void SiteRun::on_message(const net::Message& message) {
@@ -552,7 +565,7 @@ int SiteRun::run() {
   std::cout << "connected" << std::endl;
 
   touch_->loop().start();
-  sound_->start();
+  sound_->start(marker_claps_us());
   // A stage that throws ends the run cleanly: the others see `stopping` and the error is reported.
   std::atomic<bool> failed{false};
   auto guarded = [&](const char* stage, auto loop) {

@@ -65,7 +65,8 @@ SiteSound::SiteSound(const SoundOptions& options, Site site, const sim::Effects&
   std::string in_description, out_description;
   if (simulated_in || simulated_out) {
     std::vector<float> speech;
-    if (simulated_in) {
+    // A marker scene's users clap instead of speaking, so that the clap stands alone.
+    if (simulated_in && !effects.av_marker) {
       try {
         const std::vector<float> sentence = speak_with_espeak(simulated_sentence(site), out);
         speech_delay_samples_ = size_t(simulated_sentence_start_s(site) * audio::kSampleRate);
@@ -131,10 +132,17 @@ SiteSound::~SiteSound() {
   }
 }
 
-void SiteSound::start() {
+void SiteSound::start(const std::vector<uint64_t>& marker_claps_us) {
   if (started_ || (!in_ && !out_)) return;
   started_ = true;
   start_us_ = monotonic_now_us();
+  if (room_ && in_ && !marker_claps_us.empty()) {
+    std::vector<uint64_t> samples;
+    for (const uint64_t at_us : marker_claps_us)
+      samples.push_back(at_us > start_us_ ? (at_us - start_us_) * uint64_t(audio::kSampleRate) / 1'000'000 : 0);
+    marker_claps_ = std::make_unique<media::MarkerClaps>(std::move(samples));
+    marker_claps_us_ = marker_claps_us;
+  }
   thread_ = std::thread([this] { loop(); });
 }
 
@@ -277,6 +285,7 @@ void SiteSound::tick(uint64_t block_index, uint64_t play_us) {
   if (!in_) return;
   std::vector<float> heard(kBlock);
   in_->read(heard);
+  if (marker_claps_) marker_claps_->add_into(heard, block_index * kBlock);
   const std::vector<float> cleaned = canceller_ ? canceller_->captured(heard) : heard;
   if (canceller_ && room_ && block_index * kBlock >= 2 * size_t(audio::kSampleRate)) {
     // Echo at least -50 dBFS and the near user silent: the blocks the figure is about.
@@ -308,6 +317,7 @@ nlohmann::json SiteSound::metrics() const {
   nlohmann::json m;
   m["devices"] = description_;
   m["ticks"] = ticks_;
+  if (marker_claps_) m["marker_claps_us"] = marker_claps_us_;
   m["late_ticks"] = late_ticks_;
   const double seconds = double(ticks_) * double(kBlock) / audio::kSampleRate;
   m["seconds"] = seconds;

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "audio/audio_device.h"
+#include "media/marker_claps.h"
 #include "media/touch_sound.h"
 #include "media/voice_hold.h"
 #include "geometry/site_frames.h"
@@ -61,7 +62,9 @@ class SiteSound {
             net::Transport& transport, std::function<void(const std::string&)> log);
   ~SiteSound();
 
-  void start();  // at connect
+  // At connect. `marker_claps_us`: when the simulated user claps a sound-against-picture marker
+  // (this site's monotonic clock); a simulated microphone hears them, any other ignores them.
+  void start(const std::vector<uint64_t>& marker_claps_us = {});
   void stop();   // joins the thread, completes the files
 
   // A voice frame from the other site (the transport's thread): held until the sound thread takes
@@ -128,6 +131,8 @@ class SiteSound {
   std::unique_ptr<audio::WavFileOutput> heard_file_;  // audio.wav: what the loudspeaker played
   std::filesystem::path heard_path_;
   std::unique_ptr<media::EchoCanceller> canceller_;
+  std::unique_ptr<media::MarkerClaps> marker_claps_;
+  std::vector<uint64_t> marker_claps_us_;
   std::unique_ptr<media::VoiceEncoder> encoder_;
   std::unique_ptr<media::VoiceDecoder> decoder_;
   std::unique_ptr<media::VoiceJitterBuffer> jitter_;

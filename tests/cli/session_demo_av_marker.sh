@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# The av-marker scene end to end: session_demo.sh's checks (no touch anywhere), then each
+# marker's clap against its flash at both sites, on screen and in site.mp4.
+#   session_demo_av_marker.sh BINARY OUT
+set -euo pipefail
+binary=$1 out=$2
+"$(dirname "$0")/session_demo.sh" "$binary" "$out" av-marker 115 0
+/usr/bin/python3 "$(dirname "$0")/check_av_marker.py" "$out"
