@@ -153,13 +153,15 @@ TEST_CASE("av-marker: each flash lasts its flash_ms from its time, the markers r
   const Effects effects = load_scene(kScenesSimScene / "av-marker.json").effects;
   REQUIRE(effects.av_marker);
   const AvMarker& marker = *effects.av_marker;
-  REQUIRE(marker.times_s == std::vector<double>{0.6, 1.7, 2.8});
+  REQUIRE(marker.times_s == std::vector<double>{1.0, 2.1, 3.2});
   CHECK_FALSE(marker.flashing_at(0.0));
-  CHECK_FALSE(marker.flashing_at(0.5999));
-  CHECK(marker.flashing_at(18.0 / 30.0));  // the frame at the marker's time flashes
-  CHECK(marker.flashing_at(0.6 + marker.flash_ms / 1000.0 - 1e-6));
-  CHECK_FALSE(marker.flashing_at(0.6 + marker.flash_ms / 1000.0));
-  CHECK(marker.flashing_at(2.9));
+  CHECK_FALSE(marker.flashing_at(0.9999));
+  CHECK(marker.flashing_at(30.0 / 30.0));  // the frame at the marker's time flashes
+  CHECK(marker.flashing_at(1.0 + marker.flash_ms / 1000.0 - 1e-6));
+  CHECK_FALSE(marker.flashing_at(1.0 + marker.flash_ms / 1000.0));
+  CHECK_FALSE(marker.flashing_at(2.0));
+  CHECK(marker.flashing_at(63.0 / 30.0));
+  CHECK(marker.flashing_at(3.3));
   CHECK_FALSE(marker.flashing_at(100.0));
   // Nothing else: a marker scene asks for no other imperfection.
   CHECK_FALSE(effects.room_echo);

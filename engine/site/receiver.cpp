@@ -79,21 +79,35 @@ void Receiver::display_loop() {
   vk::Image& portrait = compositor->portrait;
   cv::VideoWriter video;
   if (common_.write_frames)
-    video.open(common_.out / "site.mp4", cv::VideoWriter::fourcc('m', 'p', '4', 'v'), common_.scene.fps,
-               cv::Size(int(common_.width), int(common_.height)));
+    // At the pace the scene's frames came on the wall's clock: the video lasts as long as the
+    // display showed it, slowed with the scene where it played slower than real time, so that the
+    // sound heard meanwhile fits under it.
+    video.open(common_.out / "site.mp4", cv::VideoWriter::fourcc('m', 'p', '4', 'v'),
+               common_.scene.fps * common_.options.time_scale, cv::Size(int(common_.width), int(common_.height)));
   if (common_.write_frames && !video.isOpened()) common_.events->write("warning", monotonic_now_us(), {{"message", "OpenCV cannot write site.mp4 here"}});
   std::ofstream frames_log(common_.out / "frames.jsonl");
-  std::optional<uint64_t> last_video_frame;
   const HostImage no_portrait(common_.width, common_.height, PixelFormat::RGBA32F);
   uint64_t last_shown_us = 0;
   uint64_t portraits_shown = 0;
-  // A displayed frame: PNG, `video_repeat` frames of the MP4, a line of frames.jsonl.
-  auto write_frame = [&](const cv::Mat& bgr, nlohmann::json entry, uint64_t video_repeat) {
+  // The video shows what the screen showed, when it showed it: its slot n covers the wall's
+  // [first + n / rate, first + (n + 1) / rate), and each shown frame stays in the slots until the
+  // next one's display time. A frame shown within a slot already written waits for the next.
+  const double video_rate = common_.scene.fps * common_.options.time_scale;
+  uint64_t video_slots = 0;
+  cv::Mat video_held;
+  // A displayed frame: PNG, its slots of the MP4, a line of frames.jsonl.
+  auto write_frame = [&](const cv::Mat& bgr, nlohmann::json entry) {
     const uint64_t display_index = frames_displayed_++;
     if (common_.write_frames) cv::imwrite((common_.out / "frames" / frame_name(display_index)).string(), bgr);
     if (video.isOpened()) {
-      if (first_video_frame_us_ == 0) first_video_frame_us_ = entry["t_us"].get<uint64_t>();
-      for (uint64_t i = 0; i < video_repeat; ++i) video.write(bgr);
+      const uint64_t shown_us = entry["t_us"].get<uint64_t>();
+      if (first_video_frame_us_ == 0) first_video_frame_us_ = shown_us;
+      const uint64_t since_us = shown_us > first_video_frame_us_ ? shown_us - first_video_frame_us_ : 0;
+      const uint64_t slot = uint64_t(double(since_us) * 1e-6 * video_rate);
+      // Bounded by the run's length: the display ends with the scene, or 30 s after it.
+      for (; !video_held.empty() && video_slots < slot; ++video_slots) video.write(video_held);
+      if (video_slots <= slot) video.write(bgr), ++video_slots;
+      video_held = bgr;
     }
     entry["display"] = display_index;
     frames_log << entry.dump() << "\n";
@@ -130,7 +144,7 @@ void Receiver::display_loop() {
         label_link_lost(bgr, common_.net->status().reason);
         ++link_lost_frames_;
         const uint64_t display_index = frames_displayed_;
-        write_frame(bgr, {{"portrait_frame", nullptr}, {"t_us", now}, {"link_lost", true}}, 1);
+        write_frame(bgr, {{"portrait_frame", nullptr}, {"t_us", now}, {"link_lost", true}});
         if (window) {  // the notice is drawn on the CPU: the screen shows it as the file does
           window->take_keys();
           session::UrgentTurn turn(common_.gpu_turn);
@@ -234,9 +248,6 @@ void Receiver::display_loop() {
       skeleton_gap_ms = double(at.gap_us[drawn_index]) / 1000.0;
       skeleton_to_portrait_gap_.add(*skeleton_gap_ms);
     }
-    // The video plays in scene time: each displayed frame stays up until the next one's scene frame.
-    const uint64_t repeat = last_video_frame ? std::clamp<uint64_t>(message.frame_index - *last_video_frame, 1, 90) : 1;
-    last_video_frame = message.frame_index;
     const char* hand_pose = !with_hand ? (at.stale() ? "no skeleton near" : drawn ? "not posed" : "no hand")
                             : at.interpolated[drawn_index] ? "interpolated" : "held";
     write_frame(common_.write_frames ? to_bgr8(shown) : cv::Mat(),
@@ -248,8 +259,7 @@ void Receiver::display_loop() {
                                                                   : nlohmann::json()},
                  {"appearance_fitted_from_this_frame", adapted},
                  {"drawn_hand_appearance", drawn_appearance},
-                 {"hand_distance_m", std::isfinite(hand_distance_m) ? nlohmann::json(hand_distance_m) : nlohmann::json()}},
-                repeat);
+                 {"hand_distance_m", std::isfinite(hand_distance_m) ? nlohmann::json(hand_distance_m) : nlohmann::json()}});
   }
   {
     std::lock_guard lock(appearance_mutex_);

@@ -112,8 +112,8 @@ class SiteRun {
   // The touch's sound, the gesture's own: at the predicted contact for a pulse given ahead of it,
   // else now; from where this site's hand nearest the glass is, as the seat hears it.
   void play_touch_sound(uint64_t command_us, bool predicted, Gesture gesture);
-  // audio.wav into site.mp4, where both were written and the scene played in real time (the video
-  // runs on the scene's clock, the sound on the wall's).
+  // audio.wav into site.mp4, where both were written: the video runs at the scene's pace on the
+  // wall's clock, as the sound does.
   void put_sound_into_video();
   // When the user claps each of the scene's sound-against-picture markers: the capture time of
   // the first camera frame that shows its flash, so that the clap and the flash are one instant.
@@ -397,11 +397,6 @@ void SiteRun::put_sound_into_video() {
   const std::filesystem::path video = common_.out / "site.mp4", sound = sound_->heard_path();
   const uint64_t video_start_us = receiver_->first_video_frame_us(), sound_start_us = sound_->heard_start_us();
   if (sound.empty() || !video_start_us || !sound_start_us || !std::filesystem::exists(video)) return;
-  if (common_.options.time_scale != 1.0) {
-    events_.write("sound_in_video", monotonic_now_us(),
-                  {{"muxed", false}, {"why", "the scene played at another speed than the sound: audio.wav holds it"}});
-    return;
-  }
   const int64_t offset_us = int64_t(sound_start_us) - int64_t(video_start_us);
   const std::string error = media::put_sound_into_video(video, sound, offset_us);
   if (!error.empty()) std::cerr << "site " << common_.name << ": site.mp4 stays silent: " << error << "\n";

@@ -6,8 +6,8 @@
 Each user claps and their shirt flashes white at the same instants (the scene's av_marker). At
 each site, the other user's flashes are found in what the site showed (the mean brightness of
 its frames, each at its display time in frames.jsonl) and the claps in what it played
-(audio.wav, each sample at its play time); where the scene played in real time, both are found
-again in site.mp4, its picture and its sound on the file's own clock. Each marker's sound minus
+(audio.wav, each sample at its play time); both are found again in site.mp4, its picture and
+its sound on the file's own clock. Each marker's sound minus
 picture is printed. Every marker must be seen and heard. The offset is judged against ITU-R
 BT.1359's window (sound at most 45 ms early, 125 ms late) where the site showed the other user
 smoothly enough for the window to mean anything: at least MIN_DISPLAY_FPS frames a second and
@@ -29,7 +29,9 @@ MIN_DISPLAY_FPS, MAX_PORTRAIT_LATENCY_MS = 20.0, 350.0
 # any motion of an idle user moves it.
 FLASH_JUMP = 3.0                      # of 255, mean over the frame
 SMALL = (32, 18)                      # the video, scaled down to this to be read
-SCENE_FPS = 30                        # the av-marker scene's, which site.mp4 keeps
+PAUSE_MS = 300                        # between two claps or two flashes, at least
+PAIR_MS = 500                         # a clap this far from its flash is another marker's
+SCENE_FPS = 30                        # the av-marker scene's: site.mp4 runs at it times the time scale
 
 
 def ms_energies(samples, channels):
@@ -41,32 +43,29 @@ def ms_energies(samples, channels):
     return out
 
 
-def clap_onsets(energies, count):
-    """The `count` strongest onsets, each the millisecond whose energy first passes a tenth of the
-    loudest millisecond after silence, at least 300 ms apart: the claps, in order of time."""
+def clap_onsets(energies):
+    """The milliseconds where the energy first passes a tenth of the loudest millisecond after at
+    least PAUSE_MS below it: the claps (the users say nothing else)."""
     peak = max(energies) if energies else 0.0
     if peak <= 0.0:
         return []
-    threshold = peak / 10.0
     onsets, last = [], -10 ** 9
     for ms, e in enumerate(energies):
-        if e >= threshold and ms - last > 300:
-            onsets.append(ms)
+        if e >= peak / 10.0:
+            if ms - last > PAUSE_MS:
+                onsets.append(ms)
             last = ms
-        elif e >= threshold:
-            last = ms
-    strongest = sorted(onsets, key=lambda ms: -max(energies[ms:ms + 20]))[:count]
-    return sorted(strongest)
+    return onsets
 
 
-def flash_onsets(brightness, times_ms, count):
+def flash_onsets(brightness, times_ms):
     """The times of the frames where the brightness jumps up by FLASH_JUMP over the frame before:
     the first frame of each flash shown."""
     onsets = []
     for i in range(1, len(brightness)):
-        if brightness[i] - brightness[i - 1] >= FLASH_JUMP and (not onsets or times_ms[i] - onsets[-1] > 300):
+        if brightness[i] - brightness[i - 1] >= FLASH_JUMP and (not onsets or times_ms[i] - onsets[-1] > PAUSE_MS):
             onsets.append(times_ms[i])
-    return onsets[:count] if len(onsets) >= count else onsets
+    return onsets
 
 
 def read_wav(path):
@@ -93,8 +92,14 @@ def decode(video, folder):
 
 
 def pair(flashes_ms, claps_ms):
-    """Each flash with the clap nearest it: sound minus picture, ms."""
-    return [min((c - f for c in claps_ms), key=abs) for f in flashes_ms] if claps_ms else []
+    """Each flash with the clap nearest it, within half the markers' spacing: sound minus picture
+    in ms; a flash without one is not counted."""
+    offsets = []
+    for f in flashes_ms:
+        nearest = min((c - f for c in claps_ms), key=abs, default=None)
+        if nearest is not None and abs(nearest) <= PAIR_MS:
+            offsets.append(nearest)
+    return offsets
 
 
 def judge(site, what, offsets, markers, smooth, failures):
@@ -139,20 +144,18 @@ def main():
         brightness = [sum(data[i:i + size]) / size for i in range(0, len(data) - size + 1, size)]
         channels, samples = read_wav(f"{out}/site_{site}/audio.wav")
         start_ms = m["sound"]["audio_wav"]["start_us"] / 1000.0
-        claps = [start_ms + ms for ms in clap_onsets(ms_energies(samples, channels), markers)]
-        judge(site, "on screen and from the loudspeakers", pair(flash_onsets(brightness, shown_ms, markers), claps), markers, smooth,
+        claps = [start_ms + ms for ms in clap_onsets(ms_energies(samples, channels))]
+        judge(site, "on screen and from the loudspeakers", pair(flash_onsets(brightness, shown_ms), claps), markers, smooth,
               failures)
-        if m["time_scale"] != 1:
-            continue
         with tempfile.TemporaryDirectory() as folder:
             decoded = decode(f"{out}/site_{site}/site.mp4", folder)
         if not decoded:
             failures.append(f"site {site}: site.mp4's picture or sound could not be decoded")
             continue
         brightness, (v_channels, v_samples) = decoded
-        video_ms = [i * 1000.0 / SCENE_FPS for i in range(len(brightness))]
-        claps = clap_onsets(ms_energies(v_samples, v_channels), markers)
-        judge(site, "in site.mp4", pair(flash_onsets(brightness, video_ms, markers), claps), markers, smooth, failures)
+        video_ms = [i * 1000.0 / (SCENE_FPS * m["time_scale"]) for i in range(len(brightness))]
+        claps = clap_onsets(ms_energies(v_samples, v_channels))
+        judge(site, "in site.mp4", pair(flash_onsets(brightness, video_ms), claps), markers, smooth, failures)
     for failure in failures:
         print("FAIL:", failure, file=sys.stderr)
     sys.exit(1 if failures else 0)
