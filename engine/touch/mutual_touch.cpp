@@ -42,8 +42,8 @@ TouchParameters hand_mesh_touch_parameters() {
 }
 
 MeshContact touch_overlap(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
-                          const TouchParameters& parameters) {
-  if (parameters.rule == TouchRule::HandMeshes) return mesh_contact(local_hands, remote_hands, parameters.mesh);
+                          const TouchParameters& parameters, ContactPatchCache* cache) {
+  if (parameters.rule == TouchRule::HandMeshes) return mesh_contact(local_hands, remote_hands, parameters.mesh, cache);
   return {overlap_area_m2(local_hands, remote_hands, parameters.joint_distance_m), Gesture::Palm};
 }
 
@@ -88,7 +88,7 @@ std::optional<TouchEvent> MutualTouchDetector::update(uint64_t now_us, std::span
   const uint64_t max_age_us = touching_ ? parameters_.touch_hold_age_us : parameters_.max_skeleton_age_us;
   const auto local = fresh(local_hands, now_us, max_age_us, event.local_capture_us);
   const auto remote = fresh(remote_hands, now_us, max_age_us, event.remote_capture_us);
-  const MeshContact contact = touch_overlap(local, remote, parameters_);
+  const MeshContact contact = touch_overlap(local, remote, parameters_, &patch_cache_);
   event.overlap_area_m2 = contact.overlap_area_m2;
   event.gesture = touching_ ? gesture_ : contact.gesture;
 

@@ -54,9 +54,10 @@ std::optional<Eigen::AlignedBox2d> contact_box(const HandSkeleton& hand, double 
 double overlap_area_m2(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
                        double joint_distance_m);
 
-// The overlap by the parameters' rule and its gesture (always palm under the joint boxes).
+// The overlap by the parameters' rule and its gesture (always palm under the joint boxes);
+// `cache`, where given, keeps the hand-mesh rule's patches for the next call.
 MeshContact touch_overlap(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
-                          const TouchParameters& parameters);
+                          const TouchParameters& parameters, ContactPatchCache* cache = nullptr);
 
 struct TouchEvent {
   enum class Kind { Start, End };
@@ -87,6 +88,7 @@ class MutualTouchDetector {
   bool touching_ = false;
   Gesture gesture_ = Gesture::Palm;
   int ticks_below_end_ = 0;
+  ContactPatchCache patch_cache_;  // a tracker frame stands for several ticks: skinned once
 };
 
 }  // namespace rt
