@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "touch/mesh_contact.h"
 #include "tracking/hand_skeleton.h"
@@ -34,6 +35,10 @@ struct TouchParameters {
   // that stop arriving for a moment (a stalled thread, a burst of network delay) say nothing
   // about the hands parting, and ending there gave one clap two starts.
   uint64_t touch_hold_age_us = 500'000;
+  // A side whose hands vanish during a touch (the tracker lost them for a few frames: a dropout)
+  // keeps its last hands until they are this old: a dropout says nothing about the hands parting,
+  // and ending there started a second touch. Hands that are tracked leaving still end it.
+  uint64_t dropout_hold_us = 250'000;
   MeshContactParameters mesh;  // the hand-mesh rule's band and grid
 };
 
@@ -89,6 +94,7 @@ class MutualTouchDetector {
   Gesture gesture_ = Gesture::Palm;
   int ticks_below_end_ = 0;
   ContactPatchCache patch_cache_;  // a tracker frame stands for several ticks: skinned once
+  std::vector<HandSkeleton> last_local_, last_remote_;  // each side's last hands seen
 };
 
 }  // namespace rt
