@@ -102,9 +102,33 @@ TEST_CASE("tracking lost mid-touch ends the touch once", "[touch]") {
   for (int i = 0; i < 20; ++i) script.tick({}, {remote_hand(-0.2, 0.1, 0.005, script.now)});
   REQUIRE(script.events.size() == 2);
   CHECK(script.events[1].kind == TouchEvent::Kind::End);
-  // Started on tick 0, lost from tick 10: ends on the end_after_ticks-th tick without a hand.
-  const uint64_t ticks_between = 10 + uint64_t(script.detector.parameters().end_after_ticks) - 1;
+  // Started on tick 0, lost from tick 10: the last hand (tick 9's) stands through the dropout
+  // hold, then the touch ends on the end_after_ticks-th tick without one.
+  const TouchParameters& p = script.detector.parameters();
+  const uint64_t ticks_between = 9 + p.dropout_hold_us / kTickUs + uint64_t(p.end_after_ticks);
   CHECK(script.events[1].timestamp_us - script.events[0].timestamp_us == ticks_between * kTickUs);
+}
+
+TEST_CASE("a tracker dropout mid-touch, shorter than the hold, neither ends the touch nor starts another", "[touch]") {
+  Script script;
+  for (int i = 0; i < 10; ++i)
+    script.tick({test::flat_hand(0.2, 0.1, 0.005, script.now)}, {remote_hand(-0.2, 0.1, 0.005, script.now)});
+  REQUIRE(script.events.size() == 1);
+  // Eight ticks (160 ms) without the local hand, then the remote one's, then both again.
+  for (int i = 0; i < 8; ++i) script.tick({}, {remote_hand(-0.2, 0.1, 0.005, script.now)});
+  for (int i = 0; i < 8; ++i) script.tick({test::flat_hand(0.2, 0.1, 0.005, script.now)}, {});
+  for (int i = 0; i < 10; ++i)
+    script.tick({test::flat_hand(0.2, 0.1, 0.005, script.now)}, {remote_hand(-0.2, 0.1, 0.005, script.now)});
+  CHECK(script.events.size() == 1);
+  // Before a touch nothing is held: a hand that was never seen touching starts nothing.
+  Script before;
+  before.tick({test::flat_hand(0.2, 0.1, 0.005, before.now)}, {});
+  before.tick({}, {remote_hand(-0.2, 0.1, 0.005, before.now)});
+  CHECK(before.events.empty());
+  // A hold longer than the touch's own hold age makes no sense.
+  TouchParameters bad;
+  bad.dropout_hold_us = bad.touch_hold_age_us + 1;
+  CHECK_THROWS_WITH(MutualTouchDetector(bad), Catch::Contains("dropout_hold_us"));
 }
 
 TEST_CASE("a stale skeleton counts as lost tracking", "[touch]") {

@@ -7,7 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "config/assets.h"
 #include "geometry/site_frames.h"
+#include "hand/hand_template.h"
+#include "hand/shape_adaption.h"
+#include "hand/skinning.h"
 #include "sim/scene.h"
 #include "support/hands.h"
 #include "touch/mesh_contact.h"
@@ -107,6 +111,70 @@ TEST_CASE("a flat palm's skin on the glass is a palm-sized patch; a hand off the
   CHECK(contact.overlap_area_m2 > 30e-4);
   CHECK(contact.gesture == Gesture::Palm);
   CHECK_THROWS(check_mesh_contact_parameters({0.0, 0.004}));
+}
+
+TEST_CASE("the detector's skin, positions alone, is where the receiver's full skinning puts it, to the bit") {
+  // The clap's hands at every 0.1 s: shaped to their bones and posed, with and without normals.
+  const sim::Scene scene = gesture_scene("clap");
+  const sim::MotionTrack track = sim::make_motion_track(scene, Site::A);
+  size_t compared = 0;
+  for (double t = 0; t <= scene.duration_s(); t += 0.1) {
+    const HandSkeleton skeleton = track.pose_at(t).right_hand;
+    const hand::HandTemplate hand = hand::load_hand_template(config::assets_dir() / "hand", skeleton.is_left);
+    const hand::BoneScales scales = hand::bone_scales(skeleton, hand.rest, {hand.palm_width_m, hand.arm_width_m});
+    REQUIRE(scales.ok());
+    const hand::RestSkeleton rest = hand::adapted_rest_skeleton(hand.rest, scales);
+    const auto full = hand::adapt_rest_mesh(hand.vertices, hand.rest, rest, scales);
+    const auto positions = hand::adapt_rest_positions(hand.vertices, hand.rest, rest, scales);
+    REQUIRE(full.size() == positions.size());
+    for (size_t i = 0; i < full.size(); ++i) REQUIRE(full[i].position_u == positions[i].position_u);
+    const hand::BonePose pose = hand::pose_bones(skeleton, rest);
+    REQUIRE(pose.ok());
+    const auto matrices = hand::skinning_matrices(pose.frames, rest);
+    const auto skinned = hand::skin_vertices(full, matrices);
+    const auto skinned_positions = hand::skin_positions(positions, matrices);
+    REQUIRE(skinned.size() == skinned_positions.size());
+    for (size_t i = 0; i < skinned.size(); ++i) REQUIRE(skinned[i].position_u == skinned_positions[i]);
+    ++compared;
+  }
+  CHECK(compared > 20);
+}
+
+TEST_CASE("a patch cache skins each hand once and gives the patches and contacts skinning gives") {
+  const sim::Scene scene = gesture_scene("clap");
+  const sim::MotionTrack a = sim::make_motion_track(scene, Site::A), b = sim::make_motion_track(scene, Site::B);
+  MeshContactParameters mesh;
+  ContactPatchCache cache;
+  size_t compared = 0;
+  for (double t = 2.3; t <= 2.8; t += 0.02) {
+    const HandSkeleton local[] = {a.pose_at(t).right_hand};
+    const HandSkeleton remote[] = {map_skeleton(Site::B, Site::A, b.pose_at(t).right_hand)};
+    // Each tick twice, as a tracker frame standing for two ticks: the second is all hits.
+    for (int again = 0; again < 2; ++again) {
+      const MeshContact cached = mesh_contact(local, remote, mesh, &cache), fresh = mesh_contact(local, remote, mesh);
+      CHECK(cached.overlap_area_m2 == fresh.overlap_area_m2);
+      CHECK(cached.gesture == fresh.gesture);
+    }
+    const ContactPatch& patch = cache.patch(local[0], 1.0, mesh);
+    CHECK(patch.cells == contact_patch(local[0], 1.0, mesh).cells);
+    ++compared;
+  }
+  REQUIRE(compared > 20);
+  // At most the two new hands of each tick skinned (fewer where a hand holds still).
+  CHECK(cache.misses() <= 2 * compared);
+  CHECK(cache.hits() + cache.misses() == 5 * compared);
+  // A joint moved by a hair, the other side of the glass, another band: each skinned anew.
+  const HandSkeleton hand = a.pose_at(2.6).right_hand;
+  HandSkeleton moved = hand;
+  moved.digits[2][3].z() += 1e-9;
+  (void)cache.patch(hand, 1.0, mesh);
+  const uint64_t misses = cache.misses();
+  (void)cache.patch(moved, 1.0, mesh);
+  (void)cache.patch(hand, -1.0, mesh);
+  (void)cache.patch(hand, 1.0, {0.02, 0.004});
+  CHECK(cache.misses() == misses + 3);
+  (void)cache.patch(hand, 1.0, mesh);
+  CHECK(cache.misses() == misses + 3);
 }
 
 TEST_CASE("figures: skin on the glass per scene", "[.figures]") {

@@ -81,16 +81,31 @@ std::array<Eigen::Matrix4d, kBoneCount> shape_matrices(const RestSkeleton& templ
   return matrices;
 }
 
+namespace {
+
+// Eq. 2's blended matrix for one vertex; the mesh and its positions alone share it, so that both
+// give the same positions.
+Eigen::Matrix4d blended_shape(const HandVertex& v, const std::array<Eigen::Matrix4d, kBoneCount>& matrices) {
+  Eigen::Matrix4d blended = Eigen::Matrix4d::Zero();
+  for (int k = 0; k < 4; ++k)
+    if (v.weights[k] > 0) blended += double(v.weights[k]) * matrices[size_t(std::clamp(int(v.joints[k]), 0, kBoneCount - 1))];
+  return blended;
+}
+
+void set_shaped_position(HandVertex& v, const Eigen::Matrix4d& blended) {
+  const Eigen::Vector4d p = blended * Eigen::Vector4d(v.position_u[0], v.position_u[1], v.position_u[2], 1.0);
+  for (int c = 0; c < 3; ++c) v.position_u[c] = float(p[c]);
+}
+
+}  // namespace
+
 std::vector<HandVertex> adapt_rest_mesh(std::span<const HandVertex> template_vertices, const RestSkeleton& template_rest,
                                         const RestSkeleton& adapted, const BoneScales& scales) {
   const auto matrices = shape_matrices(template_rest, adapted, scales);
   std::vector<HandVertex> out(template_vertices.begin(), template_vertices.end());
   for (HandVertex& v : out) {
-    Eigen::Matrix4d blended = Eigen::Matrix4d::Zero();
-    for (int k = 0; k < 4; ++k)
-      if (v.weights[k] > 0) blended += double(v.weights[k]) * matrices[size_t(std::clamp(int(v.joints[k]), 0, kBoneCount - 1))];
-    const Eigen::Vector4d p = blended * Eigen::Vector4d(v.position_u[0], v.position_u[1], v.position_u[2], 1.0);
-    for (int c = 0; c < 3; ++c) v.position_u[c] = float(p[c]);
+    const Eigen::Matrix4d blended = blended_shape(v, matrices);
+    set_shaped_position(v, blended);
     // Each term's linear part is R_j S_j R_j^T with S_j > 0, so the blend is symmetric positive
     // definite and invertible; the check guards against weights that are all zero.
     const Eigen::Matrix3d linear = blended.topLeftCorner<3, 3>();
@@ -100,6 +115,15 @@ std::vector<HandVertex> adapt_rest_mesh(std::span<const HandVertex> template_ver
     const Eigen::Vector3d unit = n.normalized();
     for (int c = 0; c < 3; ++c) v.normal_v[c] = float(unit[c]);
   }
+  return out;
+}
+
+std::vector<HandVertex> adapt_rest_positions(std::span<const HandVertex> template_vertices,
+                                             const RestSkeleton& template_rest, const RestSkeleton& adapted,
+                                             const BoneScales& scales) {
+  const auto matrices = shape_matrices(template_rest, adapted, scales);
+  std::vector<HandVertex> out(template_vertices.begin(), template_vertices.end());
+  for (HandVertex& v : out) set_shaped_position(v, blended_shape(v, matrices));
   return out;
 }
 

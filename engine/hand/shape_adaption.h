@@ -63,5 +63,10 @@ std::array<Eigen::Matrix4d, kBoneCount> shape_matrices(const RestSkeleton& templ
 // inverted keeps its normal.
 std::vector<HandVertex> adapt_rest_mesh(std::span<const HandVertex> template_vertices, const RestSkeleton& template_rest,
                                         const RestSkeleton& adapted, const BoneScales& scales);
+// The same positions without the normals (left as the template's), for those who need only
+// where the skin is: the touch detector, every tick.
+std::vector<HandVertex> adapt_rest_positions(std::span<const HandVertex> template_vertices,
+                                             const RestSkeleton& template_rest, const RestSkeleton& adapted,
+                                             const BoneScales& scales);
 
 }  // namespace rt::hand

@@ -19,5 +19,7 @@ using SkinningMatrices = std::array<std::array<float, 16>, kBoneCount>;
 // coordinates carried through. A bone index out of range is clamped, a normal the blend
 // collapses keeps its rest direction.
 std::vector<SkinnedVertex> skin_vertices(std::span<const HandVertex> rest, const SkinningMatrices& bones);
+// The positions alone (as skin_vertices gives them), for those who need only where the skin is.
+std::vector<std::array<float, 4>> skin_positions(std::span<const HandVertex> rest, const SkinningMatrices& bones);
 
 }  // namespace rt::hand

@@ -180,7 +180,7 @@ std::optional<uint64_t> ContactPredictor::predicted_contact_us(uint64_t now_us) 
   if (touch_.rule == TouchRule::HandMeshes &&
       (!flat_to_glass(local->at_glass, kFlatHandSpreadM) || !flat_to_glass(remote->at_glass, kFlatHandSpreadM)))
     return std::nullopt;
-  if (touch_overlap(local_hands, remote_hands, touch_).overlap_area_m2 <= touch_.start_area_m2) return std::nullopt;
+  if (touch_overlap(local_hands, remote_hands, touch_, &patch_cache_).overlap_area_m2 <= touch_.start_area_m2) return std::nullopt;
   return std::max(local->contact_us, remote->contact_us);
 }
 

@@ -68,6 +68,8 @@ class ContactPredictor {
   ContactPredictionParameters parameters_;
   TouchParameters touch_;
   Track local_, remote_;
+  // The hands predicted at the glass stay the same between new samples: skinned once.
+  mutable ContactPatchCache patch_cache_;
 };
 
 }  // namespace rt

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
@@ -70,18 +71,21 @@ const ContactMesh& contact_mesh(bool is_left) {
 
 int64_t cell_key(int64_t ix, int64_t iy) { return (ix << 32) ^ (iy & 0xffffffffLL); }
 
-// The hand's skin in the skeleton's frame, shaped to its bones as the receiver draws it.
-std::vector<hand::SkinnedVertex> skin(const HandSkeleton& skeleton, const hand::HandTemplate& hand) {
+// Where the hand's skin is, in the skeleton's frame, shaped to its bones as the receiver draws it
+// (the receiver's positions; the normals, which the detector never reads, are not computed).
+std::vector<std::array<float, 4>> skin(const HandSkeleton& skeleton, const hand::HandTemplate& hand) {
   const hand::BoneScales scales = hand::bone_scales(skeleton, hand.rest, {hand.palm_width_m, hand.arm_width_m});
   hand::RestSkeleton rest = hand.rest;
-  std::vector<hand::HandVertex> vertices = hand.vertices;
+  std::vector<hand::HandVertex> adapted;
+  std::span<const hand::HandVertex> vertices = hand.vertices;
   if (scales.ok()) {
     rest = hand::adapted_rest_skeleton(hand.rest, scales);
-    vertices = hand::adapt_rest_mesh(hand.vertices, hand.rest, rest, scales);
+    adapted = hand::adapt_rest_positions(hand.vertices, hand.rest, rest, scales);
+    vertices = adapted;
   }
   const hand::BonePose pose = hand::pose_bones(skeleton, rest);
   if (!pose.ok()) return {};
-  return hand::skin_vertices(vertices, hand::skinning_matrices(pose.frames, rest));
+  return hand::skin_positions(vertices, hand::skinning_matrices(pose.frames, rest));
 }
 
 void rasterize(ContactPatch& patch, const Eigen::Vector2d (&p)[3], HandPart part) {
@@ -102,6 +106,19 @@ void rasterize(ContactPatch& patch, const Eigen::Vector2d (&p)[3], HandPart part
       }
       if (inside) patch.cells.try_emplace(cell_key(ix, iy), part);
     }
+}
+
+template <typename T>
+bool same_bits(const T& a, const T& b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+// Every field contact_patch reads, compared by its bits (a NaN elbow equals itself).
+bool same_hand_shape(const HandSkeleton& a, const HandSkeleton& b) {
+  return a.is_left == b.is_left && same_bits(a.wrist, b.wrist) && same_bits(a.palm, b.palm) &&
+         same_bits(a.elbow, b.elbow) && same_bits(a.palm_normal, b.palm_normal) && same_bits(a.direction, b.direction) &&
+         same_bits(a.digits, b.digits) && same_bits(a.palm_width_m, b.palm_width_m) &&
+         same_bits(a.arm_width_m, b.arm_width_m);
 }
 
 int severity(Gesture gesture) { return gesture == Gesture::Finger ? 2 : gesture == Gesture::Fist ? 1 : 0; }
@@ -126,10 +143,10 @@ ContactPatch contact_patch(const HandSkeleton& skeleton, double side, const Mesh
   if (!(nearest <= parameters.band_m + kSkinBeyondJointM)) return patch;
   patch.fingers_curled = knuckle_bend_rad(skeleton) > kCurledKnuckleRad;
   const ContactMesh& mesh = contact_mesh(skeleton.is_left);
-  const std::vector<hand::SkinnedVertex> skinned = skin(skeleton, mesh.hand);
+  const std::vector<std::array<float, 4>> skinned = skin(skeleton, mesh.hand);
   if (skinned.empty()) return patch;
   auto touching = [&](uint32_t i) {
-    const float z = skinned[i].position_u[2];
+    const float z = skinned[i][2];
     return std::isfinite(z) && side * double(z) <= parameters.band_m;
   };
   const std::vector<uint32_t>& indices = mesh.hand.indices;
@@ -139,12 +156,31 @@ ContactPatch contact_patch(const HandSkeleton& skeleton, double side, const Mesh
     Eigen::Vector2d p[3];
     uint32_t nearest = i[0];
     for (int k = 0; k < 3; ++k) {
-      p[k] = {skinned[i[k]].position_u[0], skinned[i[k]].position_u[1]};
-      if (side * skinned[i[k]].position_u[2] < side * skinned[nearest].position_u[2]) nearest = i[k];
+      p[k] = {skinned[i[k]][0], skinned[i[k]][1]};
+      if (side * skinned[i[k]][2] < side * skinned[nearest][2]) nearest = i[k];
     }
     rasterize(patch, p, mesh.part_of_vertex[nearest]);
   }
   return patch;
+}
+
+const ContactPatch& ContactPatchCache::patch(const HandSkeleton& hand, double side,
+                                             const MeshContactParameters& parameters) {
+  for (auto entry = entries_.begin(); entry != entries_.end(); ++entry)
+    if (entry->side == side && entry->parameters.band_m == parameters.band_m &&
+        entry->parameters.cell_m == parameters.cell_m && same_hand_shape(entry->hand, hand)) {
+      ++hits_;
+      if (entry != entries_.begin()) {
+        Entry found = std::move(*entry);
+        entries_.erase(entry);
+        entries_.push_front(std::move(found));
+      }
+      return entries_.front().patch;
+    }
+  ++misses_;
+  entries_.push_front({hand, side, parameters, contact_patch(hand, side, parameters)});
+  if (entries_.size() > kEntries) entries_.pop_back();
+  return entries_.front().patch;
 }
 
 Gesture hand_gesture(const ContactPatch& patch, const ContactPatch& other) {
@@ -160,13 +196,16 @@ Gesture hand_gesture(const ContactPatch& patch, const ContactPatch& other) {
 }
 
 MeshContact mesh_contact(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
-                         const MeshContactParameters& parameters) {
+                         const MeshContactParameters& parameters, ContactPatchCache* cache) {
   MeshContact best;
   if (local_hands.empty() || remote_hands.empty()) return best;
+  auto patch_of = [&](const HandSkeleton& hand, double side) {
+    return cache ? cache->patch(hand, side, parameters) : contact_patch(hand, side, parameters);
+  };
   std::vector<ContactPatch> remote;
-  for (const HandSkeleton& hand : remote_hands) remote.push_back(contact_patch(hand, -1.0, parameters));
+  for (const HandSkeleton& hand : remote_hands) remote.push_back(patch_of(hand, -1.0));
   for (const HandSkeleton& hand : local_hands) {
-    const ContactPatch local = contact_patch(hand, 1.0, parameters);
+    const ContactPatch local = patch_of(hand, 1.0);
     if (local.cells.empty()) continue;
     for (const ContactPatch& other : remote) {
       size_t shared = 0;

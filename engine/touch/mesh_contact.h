@@ -8,6 +8,7 @@
 // the palm (a clap, a high five). The paper's joint boxes (mutual_touch.h) see a fist bump or
 // two fingertips as too small a touch (under its 50 cm^2).
 #include <cstdint>
+#include <deque>
 #include <span>
 #include <unordered_map>
 
@@ -47,6 +48,28 @@ struct ContactPatch {
 // An empty patch where the skeleton cannot be posed.
 ContactPatch contact_patch(const HandSkeleton& hand, double side, const MeshContactParameters& parameters);
 
+// The patches of the last few hands skinned. A tracker frame stands for several of the detector's
+// ticks (more where a scene plays slowly), and the same skeleton gives the same patch, so a
+// detector that keeps one skins each skeleton once. Hands are the same when every field the
+// skinning reads is the same to the bit (their capture times may differ).
+class ContactPatchCache {
+ public:
+  const ContactPatch& patch(const HandSkeleton& hand, double side, const MeshContactParameters& parameters);
+  uint64_t hits() const { return hits_; }
+  uint64_t misses() const { return misses_; }
+
+ private:
+  struct Entry {
+    HandSkeleton hand;
+    double side = 1.0;
+    MeshContactParameters parameters;
+    ContactPatch patch;
+  };
+  static constexpr size_t kEntries = 8;  // two sides' hands, as seen and as predicted at the glass
+  std::deque<Entry> entries_;  // newest first
+  uint64_t hits_ = 0, misses_ = 0;
+};
+
 struct MeshContact {
   double overlap_area_m2 = 0.0;    // of the pair of hands that overlap most
   Gesture gesture = Gesture::Palm;  // what that pair's overlap is made of
@@ -55,8 +78,9 @@ struct MeshContact {
 // The largest overlap between a local hand's patch and a remote hand's (hands in the local site
 // frame), and its gesture: each hand's own (hand_gesture), the more pointed of the two where they
 // differ (a fingertip on a palm is a fingertip touch, a fist into a palm a fist bump).
+// `cache`, where given, keeps the patches for the next call.
 MeshContact mesh_contact(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
-                         const MeshContactParameters& parameters);
+                         const MeshContactParameters& parameters, ContactPatchCache* cache = nullptr);
 
 // The gesture a hand makes with the cells of its patch that `other` covers too: finger where
 // fingers' second and last bones make three quarters of them (a fingertip), else fist where its

@@ -1,5 +1,6 @@
 #include "touch/mutual_touch.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -30,6 +31,7 @@ void check_touch_parameters(const TouchParameters& p) {
   if (p.end_after_ticks < 1) fail("end_after_ticks must be at least 1");
   if (p.max_skeleton_age_us == 0) fail("max_skeleton_age_us must be > 0");
   if (p.touch_hold_age_us < p.max_skeleton_age_us) fail("touch_hold_age_us must be >= max_skeleton_age_us");
+  if (p.dropout_hold_us > p.touch_hold_age_us) fail("dropout_hold_us must be <= touch_hold_age_us");
   check_mesh_contact_parameters(p.mesh);
 }
 
@@ -42,8 +44,8 @@ TouchParameters hand_mesh_touch_parameters() {
 }
 
 MeshContact touch_overlap(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
-                          const TouchParameters& parameters) {
-  if (parameters.rule == TouchRule::HandMeshes) return mesh_contact(local_hands, remote_hands, parameters.mesh);
+                          const TouchParameters& parameters, ContactPatchCache* cache) {
+  if (parameters.rule == TouchRule::HandMeshes) return mesh_contact(local_hands, remote_hands, parameters.mesh, cache);
   return {overlap_area_m2(local_hands, remote_hands, parameters.joint_distance_m), Gesture::Palm};
 }
 
@@ -86,9 +88,21 @@ std::optional<TouchEvent> MutualTouchDetector::update(uint64_t now_us, std::span
   TouchEvent event;
   event.timestamp_us = now_us;
   const uint64_t max_age_us = touching_ ? parameters_.touch_hold_age_us : parameters_.max_skeleton_age_us;
-  const auto local = fresh(local_hands, now_us, max_age_us, event.local_capture_us);
-  const auto remote = fresh(remote_hands, now_us, max_age_us, event.remote_capture_us);
-  const MeshContact contact = touch_overlap(local, remote, parameters_);
+  // During a touch, a side without hands stands on its last ones through a short dropout.
+  auto held = [&](std::span<const HandSkeleton> hands, std::vector<HandSkeleton>& last) {
+    if (!hands.empty()) {
+      last.assign(hands.begin(), hands.end());
+      return std::vector<HandSkeleton>(hands.begin(), hands.end());
+    }
+    std::vector<HandSkeleton> standing;
+    if (touching_)
+      for (const HandSkeleton& hand : last)
+        if (hand.timestamp_us + parameters_.dropout_hold_us >= now_us) standing.push_back(hand);
+    return standing;
+  };
+  const auto local = fresh(held(local_hands, last_local_), now_us, max_age_us, event.local_capture_us);
+  const auto remote = fresh(held(remote_hands, last_remote_), now_us, max_age_us, event.remote_capture_us);
+  const MeshContact contact = touch_overlap(local, remote, parameters_, &patch_cache_);
   event.overlap_area_m2 = contact.overlap_area_m2;
   event.gesture = touching_ ? gesture_ : contact.gesture;
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "touch/mesh_contact.h"
 #include "tracking/hand_skeleton.h"
@@ -34,6 +35,10 @@ struct TouchParameters {
   // that stop arriving for a moment (a stalled thread, a burst of network delay) say nothing
   // about the hands parting, and ending there gave one clap two starts.
   uint64_t touch_hold_age_us = 500'000;
+  // A side whose hands vanish during a touch (the tracker lost them for a few frames: a dropout)
+  // keeps its last hands until they are this old: a dropout says nothing about the hands parting,
+  // and ending there started a second touch. Hands that are tracked leaving still end it.
+  uint64_t dropout_hold_us = 250'000;
   MeshContactParameters mesh;  // the hand-mesh rule's band and grid
 };
 
@@ -54,9 +59,10 @@ std::optional<Eigen::AlignedBox2d> contact_box(const HandSkeleton& hand, double 
 double overlap_area_m2(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
                        double joint_distance_m);
 
-// The overlap by the parameters' rule and its gesture (always palm under the joint boxes).
+// The overlap by the parameters' rule and its gesture (always palm under the joint boxes);
+// `cache`, where given, keeps the hand-mesh rule's patches for the next call.
 MeshContact touch_overlap(std::span<const HandSkeleton> local_hands, std::span<const HandSkeleton> remote_hands,
-                          const TouchParameters& parameters);
+                          const TouchParameters& parameters, ContactPatchCache* cache = nullptr);
 
 struct TouchEvent {
   enum class Kind { Start, End };
@@ -87,6 +93,8 @@ class MutualTouchDetector {
   bool touching_ = false;
   Gesture gesture_ = Gesture::Palm;
   int ticks_below_end_ = 0;
+  ContactPatchCache patch_cache_;  // a tracker frame stands for several ticks: skinned once
+  std::vector<HandSkeleton> last_local_, last_remote_;  // each side's last hands seen
 };
 
 }  // namespace rt

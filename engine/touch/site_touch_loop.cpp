@@ -24,6 +24,7 @@ TouchParameters site_touch_parameters(double time_scale) {
   TouchParameters touch = hand_mesh_touch_parameters();
   touch.max_skeleton_age_us = 200'000 + slowed(sim::kTrackerPeriodUs, time_scale);
   touch.touch_hold_age_us = 1'000'000;
+  touch.dropout_hold_us = std::min(touch.touch_hold_age_us, slowed(touch.dropout_hold_us, time_scale));
   return touch;
 }
 
