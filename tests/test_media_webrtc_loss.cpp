@@ -1,6 +1,6 @@
 // A loopback WebRTC call under a simulated network (GStreamer's netsim between the offerer's RTP
 // session and the network): with 2 % of its packets lost at random the portraits keep coming
-// (retransmission repairs most, a keyframe the rest), after a burst that loses everything the
+// (retransmission repairs nearly all, a keyframe the rest), after a burst that loses everything the
 // stream shows a correct portrait again within 500 ms, and the bitrate follows the receiver's
 // feedback: not down while it is clean, down when it reports loss.
 #include <catch2/catch.hpp>
