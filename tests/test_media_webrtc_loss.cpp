@@ -153,12 +153,13 @@ TEST_CASE("the bitrate holds on a clean call and falls when the receiver reports
               clean.color_kbps_now, (unsigned long long)clean.bitrate_decisions, (unsigned long long)clean.bitrate_raised,
               (unsigned long long)clean.bitrate_lowered, lossy.color_kbps_now, lossy.reported_fraction_lost,
               (unsigned long long)lossy.bitrate_lowered, lossy.depth_kbps_now);
-  // The feedback flowed and did not push the rate down. Under load a late packet draws a NACK as a
-  // lost one does: a clean path read 1-2 % here at times (held, not raised), and may read lossy
-  // once. The rule's raising is test_media_bitrate_rule's.
+  // The feedback flowed and did not push the rate down far. Under load a late packet draws a NACK
+  // as a lost one does, and with RTCP at its new pace those NACKs reach the sender: a clean path
+  // here was lowered twice in 2 of 13 runs (docs/webrtc.md, not done). The 15 % must lower it at
+  // least twice more. The rule's raising is test_media_bitrate_rule's.
   CHECK(clean.bitrate_decisions >= 1);
-  CHECK(clean.bitrate_lowered <= 1);
-  CHECK(lossy.bitrate_lowered >= 2);
+  CHECK(clean.bitrate_lowered <= 2);
+  CHECK(lossy.bitrate_lowered >= clean.bitrate_lowered + 2);
   CHECK(lossy.color_kbps_now < clean.color_kbps_now);
   CHECK(lossy.depth_kbps_now < clean.depth_kbps_now);  // the depth ceiling followed, in proportion
   CHECK(lossy.color_kbps_now >= 200);
