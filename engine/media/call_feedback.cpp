@@ -115,4 +115,41 @@ TrackLosses::Summary TrackLosses::summary() const {
   return out;
 }
 
+RetransmissionWatch::~RetransmissionWatch() {
+  for (GstElement* element : jitterbuffers_) gst_object_unref(element);
+  for (GstElement* element : senders_) gst_object_unref(element);
+}
+
+void RetransmissionWatch::watch(GstElement* element) {
+  GstElementFactory* factory = gst_element_get_factory(element);
+  if (!factory) return;
+  const std::string kind = GST_OBJECT_NAME(factory);
+  std::lock_guard lock(mutex_);
+  if (kind == "rtpjitterbuffer") jitterbuffers_.push_back(GST_ELEMENT(gst_object_ref(element)));
+  else if (kind == "rtprtxsend") senders_.push_back(GST_ELEMENT(gst_object_ref(element)));
+}
+
+RepairCounters RetransmissionWatch::read() const {
+  std::lock_guard lock(mutex_);
+  RepairCounters out;
+  for (GstElement* jitterbuffer : jitterbuffers_) {
+    GstStructure* stats = nullptr;
+    g_object_get(jitterbuffer, "stats", &stats, nullptr);
+    if (!stats) continue;
+    guint64 value = 0;
+    if (gst_structure_get_uint64(stats, "num-lost", &value)) out.packets_given_up += value;
+    if (gst_structure_get_uint64(stats, "num-late", &value)) out.packets_late += value;
+    if (gst_structure_get_uint64(stats, "rtx-count", &value)) out.retransmissions_asked += value;
+    if (gst_structure_get_uint64(stats, "rtx-success-count", &value)) out.retransmissions_arrived += value;
+    gst_structure_free(stats);
+  }
+  for (GstElement* sender : senders_) {
+    guint requests = 0, packets = 0;
+    g_object_get(sender, "num-rtx-requests", &requests, "num-rtx-packets", &packets, nullptr);
+    out.retransmissions_requested_of_us += requests;
+    out.retransmissions_sent += packets;
+  }
+  return out;
+}
+
 }  // namespace rt::media

@@ -8,6 +8,9 @@
 #include <mutex>
 #include <vector>
 
+#include "media/repair_counters.h"
+#include "media/stalled_track.h"
+
 namespace rt::media {
 
 // One outgoing RTP stream: what this peer sent and the NACKs it was sent back (both as webrtcbin
@@ -52,6 +55,22 @@ class TrackLosses {
   uint64_t packets_lost_ = 0, episodes_ = 0, recovered_ = 0;
   uint64_t episode_started_us_ = 0;  // 0: none open
   std::vector<float> recovery_ms_;
+};
+
+// The elements that retransmit, as webrtcbin makes them: give it every element added inside the
+// pipeline; it keeps the jitter buffers and retransmission senders and reads their counts.
+class RetransmissionWatch {
+ public:
+  RetransmissionWatch() = default;
+  RetransmissionWatch(const RetransmissionWatch&) = delete;
+  RetransmissionWatch& operator=(const RetransmissionWatch&) = delete;
+  ~RetransmissionWatch();
+  void watch(GstElement* element);  // any element: the others are ignored
+  RepairCounters read() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<GstElement*> jitterbuffers_, senders_;  // a reference held on each
 };
 
 }  // namespace rt::media

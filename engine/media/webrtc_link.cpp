@@ -261,6 +261,10 @@ nlohmann::json WebRtcLink::transport_json() const {
                        {"round_trip_ms", call.round_trip_ms >= 0 ? nlohmann::json(call.round_trip_ms) : nlohmann::json()},
                        {"bitrate_lowered", call.bitrate_lowered}, {"bitrate_raised", call.bitrate_raised},
                        {"portraits_lost", call.portraits_lost}, {"simulated_loss", simulated_loss_ >= 0 ? nlohmann::json(simulated_loss_) : nlohmann::json()}}},
+          {"retransmission", {{"asked", call.repair.retransmissions_asked}, {"arrived", call.repair.retransmissions_arrived},
+                              {"given_up", call.repair.packets_given_up}, {"late", call.repair.packets_late},
+                              {"asked_of_us", call.repair.retransmissions_requested_of_us},
+                              {"resent", call.repair.retransmissions_sent}}},
           {"data_channels_sealed", guard_->ready()},
           {"last_error", peer_->last_error()}};
 }

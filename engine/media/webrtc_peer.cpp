@@ -37,12 +37,20 @@ constexpr size_t kMaxSdpBytes = 256 * 1024;
 constexpr size_t kMaxPendingFrames = 16;  // RTP timestamps waiting for their other parts
 constexpr const char* kFastLabel = "rt-fast";
 constexpr const char* kReliableLabel = "rt-reliable";
-// RTP's default of one report in five seconds would leave the bitrate seconds behind the network,
-// and under AVPF a NACK or a keyframe request goes early only once between regular reports, so the
-// rest wait for the next: past the jitter buffer's patience for a NACK, a picture late for a PLI.
-// At these rates ten small packets a second cost nothing (RTP's share for RTCP and its random
-// spread keep them a few hundred ms apart in practice; the first still comes after five seconds).
-constexpr GstClockTime kRtcpInterval = 100 * GST_MSECOND;
+// RTCP's pace decides whether retransmission works at all. Under AVPF a NACK (or a keyframe
+// request) may go early, alone, only once between two regular reports; every later one waits for
+// the next regular report. RTP spaces those by its share (5 %) of the session's bandwidth, which
+// rtpsession, left to guess, put so low that they went 0.7 to 1 s apart: far past the jitter
+// buffer's patience, so most NACKs expired unsent and a lost packet became a lost picture. Told the
+// call's real bandwidth (its ceilings), RTCP's share allows a report at this floor, so a NACK waits
+// at most about one floor, within the jitter buffer's patience. Some twenty small packets a second
+// each way: a few tens of kbit/s, about 1 % of the call.
+constexpr GstClockTime kRtcpInterval = 50 * GST_MSECOND;
+// How long the jitter buffer waits for a missing packet (its retransmission) before giving it up.
+// Only a gap waits: with the appsink not syncing, packets in order pass at once. 100 ms sufficed on
+// a quiet machine; on CI's two cores under a build, a starved sender or receiver delays everything
+// in flight, retransmissions too, by more than that, and a third of a call's portraits went.
+constexpr int kJitterBufferMs = 200;
 
 void require_element(const char* name, const char* package) {
   GstElementFactory* factory = gst_element_factory_find(name);
@@ -73,6 +81,7 @@ struct IncomingChain {
   CodecClock decode;
   KeyframeRequests asked;  // by its depayloader, of the other peer's encoder
   TrackLosses losses;
+  StalledTrack stalled;
 };
 
 struct ByteCount {
@@ -107,6 +116,7 @@ struct WebRtcPeer::Impl {
   KeyframeRequests asked_of_us;
   std::vector<std::unique_ptr<IncomingChain>> chains;
   std::deque<ByteCount> byte_counts;  // a deque: the probes hold pointers into it
+  RetransmissionWatch retransmission;
 
   mutable std::mutex mutex;
   bool offered = false;
@@ -152,6 +162,9 @@ struct WebRtcPeer::Impl {
   void ask_for_retransmission();
   static void on_offer_created(GstPromise* promise, gpointer data);
   void announce_local(GstWebRTCSessionDescription* description, const char* type);
+
+  // webrtcbin's inner elements as it makes them: RTCP's pace, and the repair's counters.
+  void on_element_added(GstElement* element);
 
   // ---- receiving ----
   void adopt_channel(GstWebRTCDataChannel* channel);
@@ -282,6 +295,20 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   messages.push_back(std::move(*result.message));
 }
 
+void WebRtcPeer::Impl::on_element_added(GstElement* element) {
+  GstElementFactory* factory = gst_element_get_factory(element);
+  if (!factory) return;
+  const std::string kind = GST_OBJECT_NAME(factory);
+  if (kind == "rtpsession") {
+    // The property says bytes a second; rtpsession computes with it as bits a second (a ceiling of
+    // 3.7 Mbit/s given as bytes spaced reports 180 ms apart, where bits give the floor).
+    const double bits_per_second = 1000.0 * (std::max(options.color_kbps, options.color_ceiling_kbps) + options.depth_kbps);
+    g_object_set(element, "rtcp-min-interval", guint64(kRtcpInterval), "bandwidth", bits_per_second, nullptr);
+  } else {
+    retransmission.watch(element);
+  }
+}
+
 void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   if (GST_PAD_DIRECTION(pad) != GST_PAD_SRC) return;
   GstCaps* caps = gst_pad_get_current_caps(pad);
@@ -325,13 +352,16 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   // The RTP time of each packet going in, by its presentation time; the depayloaded picture takes
   // it as its own presentation time, which the decoder keeps: the appsink reads it back.
   GstPad* depay_sink = gst_element_get_static_pad(depay, "sink");
-  gst_pad_add_probe(depay_sink, GST_PAD_PROBE_TYPE_BUFFER, +[](GstPad*, GstPadProbeInfo* info, gpointer d) {
+  gst_pad_add_probe(depay_sink, GST_PAD_PROBE_TYPE_BUFFER, +[](GstPad* pad, GstPadProbeInfo* info, gpointer d) {
                       auto* c = static_cast<IncomingChain*>(d);
                       GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
                       GstRTPBuffer rtp = GST_RTP_BUFFER_INIT;
                       if (gst_rtp_buffer_map(buffer, GST_MAP_READ, &rtp)) {
                         c->last_rtp = gst_rtp_buffer_get_timestamp(&rtp);
                         c->losses.on_packet(gst_rtp_buffer_get_seq(&rtp));
+                        if (c->stalled.on_packet(c->last_rtp, monotonic_now_us()))
+                          // Upstream from the depayloader: RTCP carries it to the sender as a PLI.
+                          gst_pad_push_event(pad, gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 0));
                         c->pts_to_rtp[c->next++ % c->pts_to_rtp.size()] = {GST_BUFFER_PTS(buffer), c->last_rtp};
                         gst_rtp_buffer_unmap(&rtp);
                       }
@@ -376,6 +406,7 @@ void WebRtcPeer::Impl::on_sample(GstAppSink* sink, IncomingChain& chain) {
   GstSample* sample = gst_app_sink_pull_sample(sink);
   if (!sample) return;
   chain.losses.on_picture();
+  chain.stalled.on_picture();
   GstVideoInfo info;
   GstCaps* caps = gst_sample_get_caps(sample);
   GstBuffer* buffer = gst_sample_get_buffer(sample);
@@ -536,7 +567,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
            std::to_string(pt) + " mtu=1200 ! application/x-rtp,media=video,encoding-name=H264,clock-rate=90000,payload=" +
            std::to_string(pt) + " ! webrtc.";
   };
-  const std::string description = "webrtcbin name=webrtc bundle-policy=max-bundle latency=100 " +
+  const std::string description = "webrtcbin name=webrtc bundle-policy=max-bundle latency=" + std::to_string(kJitterBufferMs) + " " +
                                   track("color", "I420", "high", "ultrafast", o.color_kbps, 96, "") + " " +
                                   track("depth", "I420_10LE", "high-10", "ultrafast", o.depth_kbps, 97,
                                         " pass=qual quantizer=" + std::to_string(o.depth_quality));
@@ -622,12 +653,10 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
                        return netsim;
                      }),
                      &m);
-  g_signal_connect(m.pipeline, "deep-element-added", G_CALLBACK(+[](GstBin*, GstBin*, GstElement* element, gpointer) {
-                     GstElementFactory* factory = gst_element_get_factory(element);
-                     if (factory && std::string(GST_OBJECT_NAME(factory)) == "rtpsession")
-                       g_object_set(element, "rtcp-min-interval", guint64(kRtcpInterval), nullptr);
+  g_signal_connect(m.pipeline, "deep-element-added", G_CALLBACK(+[](GstBin*, GstBin*, GstElement* element, gpointer d) {
+                     static_cast<Impl*>(d)->on_element_added(element);
                    }),
-                   nullptr);
+                   &m);
   g_signal_connect(m.webrtc, "on-ice-candidate", G_CALLBACK(+[](GstElement*, guint mline, gchar* candidate, gpointer d) {
                      auto* impl = static_cast<Impl*>(d);
                      if (impl->signalling.on_candidate) impl->signalling.on_candidate(mline, candidate);
@@ -930,8 +959,10 @@ std::vector<net::Message> WebRtcPeer::take_messages() {
 
 WebRtcCounters WebRtcPeer::counters() const {
   const Impl& m = *impl_;
+  const RepairCounters repair = m.retransmission.read();
   std::lock_guard lock(m.mutex);
   WebRtcCounters out = m.counters;
+  out.repair = repair;
   out.color_encode_ms = m.color_encode.median_ms();
   out.depth_encode_ms = m.depth_encode.median_ms();
   out.keyframes_asked_of_us = m.asked_of_us.count();

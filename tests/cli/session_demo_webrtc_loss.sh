@@ -32,11 +32,11 @@ for site, other in (("A", "B"), ("B", "A")):
         assert sent == touches and received == sent, (site, kind, sent, received)
     for name, t in tracks.items():
         assert t["recovered"] + 1 >= t["losses"], (site, name, t)  # at most the last still open at the end
-        # The goal is a correct picture within 500 ms of a break. At this size RTCP, RTP's share of
-        # a few kbit/s, goes a second or more apart, and a keyframe request with it: one break of
-        # the depth track took 1.1 s (docs/webrtc.md). Held to 2 s, which a track that never
-        # recovered, or waited for the periodic keyframe, fails.
-        assert t["recovery_ms_max"] <= 2000, (site, name, t)
+        # The goal is a correct picture within 500 ms of a break; with RTCP told the call's
+        # bandwidth a keyframe request goes within tens of ms, and the breaks seen took 70-240 ms
+        # (docs/webrtc.md). Held to 1 s, twice the goal, for the sites' loaded cores; while RTCP
+        # went a second apart at this size breaks took 1.1 and 1.4 s, which this fails.
+        assert t["recovery_ms_max"] <= 1000, (site, name, t)
 # The loss happened: between the two sites' four incoming tracks some packets went missing (what
 # retransmission repaired is not counted there, so the sender's view from the receiver reports
 # counts too).
