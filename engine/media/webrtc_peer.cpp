@@ -39,17 +39,16 @@ constexpr const char* kFastLabel = "rt-fast";
 constexpr const char* kReliableLabel = "rt-reliable";
 // RTCP's pace decides whether retransmission works at all. Under AVPF a NACK (or a keyframe
 // request) may go early, alone, only once between two regular reports; every later one waits for
-// the next regular report. RTP spaces those by its share (5 %) of the session's bandwidth, which
-// rtpsession, left to guess, put so low that they went 0.7 to 1 s apart: far past the jitter
-// buffer's patience, so most NACKs expired unsent and a lost packet became a lost picture. Told the
-// call's real bandwidth (its ceilings), RTCP's share allows a report at this floor, so a NACK waits
-// at most about one floor, within the jitter buffer's patience. Some twenty small packets a second
-// each way: a few tens of kbit/s, about 1 % of the call.
+// the next regular report. RTP spaces those by its share of the session's bandwidth, which
+// rtpsession, left to guess, put so low that they went far past the jitter buffer's patience, so
+// most NACKs expired unsent and a lost packet became a lost picture. Told the call's real
+// bandwidth (its ceilings), RTCP's share allows a report at this floor, so a NACK waits at most
+// about one floor, within the jitter buffer's patience, for a small share of the call's bits.
 constexpr GstClockTime kRtcpInterval = 50 * GST_MSECOND;
 // How long the jitter buffer waits for a missing packet (its retransmission) before giving it up.
-// Only a gap waits: with the appsink not syncing, packets in order pass at once. 100 ms sufficed on
-// a quiet machine; on CI's two cores under a build, a starved sender or receiver delays everything
-// in flight, retransmissions too, by more than that, and a third of a call's portraits went.
+// Only a gap waits: with the appsink not syncing, packets in order pass at once. A starved sender
+// or receiver on a loaded machine delays everything in flight, retransmissions too, so the wait
+// must cover that as well as the round trip (docs/webrtc.md has what shorter waits lost).
 constexpr int kJitterBufferMs = 200;
 
 void require_element(const char* name, const char* package) {
@@ -300,8 +299,8 @@ void WebRtcPeer::Impl::on_element_added(GstElement* element) {
   if (!factory) return;
   const std::string kind = GST_OBJECT_NAME(factory);
   if (kind == "rtpsession") {
-    // The property says bytes a second; rtpsession computes with it as bits a second (a ceiling of
-    // 3.7 Mbit/s given as bytes spaced reports 180 ms apart, where bits give the floor).
+    // The property says bytes a second; rtpsession computes with it as bits a second (given as
+    // bytes, the reports stayed too far apart for the floor to hold).
     const double bits_per_second = 1000.0 * (std::max(options.color_kbps, options.color_ceiling_kbps) + options.depth_kbps);
     g_object_set(element, "rtcp-min-interval", guint64(kRtcpInterval), "bandwidth", bits_per_second, nullptr);
   } else {
