@@ -60,9 +60,9 @@ struct WebRtcPeerOptions {
   // can still use them; a picture that retransmission could not repair asks for a keyframe.
   bool retransmit = true;
   // The voice track's own: NACK for the voice, and how long its jitter buffer waits for a missing
-  // packet before giving it up (the voice's jitter buffer then conceals it); docs/sound.md says why.
+  // packet before giving it up (the site's jitter buffer then conceals it); docs/sound.md says why.
   bool voice_retransmit = true;
-  int voice_jitter_buffer_ms = 40;
+  int voice_jitter_buffer_ms = 20;
   // Tests and benches only: GStreamer's netsim on the outgoing RTP, after retransmission and before
   // the network, dropping this fraction of packets at random (set_simulated_loss changes it).
   // Negative: no simulator in the path at all.
