@@ -1,6 +1,8 @@
 #include "media/ice_servers.h"
 
 #include <gst/gst.h>
+#include <gst/webrtc/webrtc.h>
+#include <nice/agent.h>
 
 #include <algorithm>
 #include <memory>
@@ -81,6 +83,30 @@ std::string parse_turn_url(const std::string& url) {
                                 std::string(form) + ")");
   if (s.port == GST_URI_NO_PORT) s.port = s.scheme == "turns" ? 5349 : 3478;
   return s.scheme + "://" + s.user + ":" + s.password + "@" + s.host + ":" + std::to_string(s.port);
+}
+
+void configure_ice(GstElement* webrtc, const std::string& stun_server, const std::string& turn_server, bool relay_only,
+                   const std::vector<std::string>& local_addresses) {
+  if (relay_only && turn_server.empty()) throw std::runtime_error("a relay-only call needs a TURN server (--turn)");
+  if (!stun_server.empty()) g_object_set(webrtc, "stun-server", stun_server.c_str(), nullptr);
+  if (!turn_server.empty()) g_object_set(webrtc, "turn-server", turn_server.c_str(), nullptr);
+  if (relay_only) g_object_set(webrtc, "ice-transport-policy", GST_WEBRTC_ICE_TRANSPORT_POLICY_RELAY, nullptr);
+  // libnice gathers on every interface but loopback unless told its addresses: name them.
+  GObject* ice = nullptr;
+  g_object_get(webrtc, "ice-agent", &ice, nullptr);
+  NiceAgent* agent = nullptr;
+  if (ice) g_object_get(ice, "agent", &agent, nullptr);
+  if (!agent) throw std::runtime_error("webrtcbin has no libnice agent (gstreamer1.0-nice)");
+  g_object_set(ice, "ice-tcp", FALSE, nullptr);  // UDP only: nothing here needs TCP candidates
+  for (const std::string& address : local_addresses) {
+    NiceAddress nice;
+    nice_address_init(&nice);
+    if (!nice_address_set_from_string(&nice, address.c_str()))
+      throw std::runtime_error("not an IP address for ICE: '" + address + "'");
+    nice_agent_add_local_address(agent, &nice);
+  }
+  g_object_unref(agent);
+  g_object_unref(ice);
 }
 
 }  // namespace rt::media

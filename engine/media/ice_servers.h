@@ -7,10 +7,19 @@
 // Parsed by GStreamer's GstUri. Each returns the URL as webrtcbin's stun-server / turn-server
 // properties take it, or throws std::invalid_argument naming what is wrong.
 #include <string>
+#include <vector>
+
+typedef struct _GstElement GstElement;
 
 namespace rt::media {
 
 std::string parse_stun_url(const std::string& url);
 std::string parse_turn_url(const std::string& url);
+
+// webrtcbin's ICE: the servers (checked by the two above), relay only or not, and the local
+// addresses libnice gathers on (it skips loopback unless named). Throws std::runtime_error for a
+// relay-only call without a TURN server, an address that is not one, or no libnice agent.
+void configure_ice(GstElement* webrtc, const std::string& stun_server, const std::string& turn_server, bool relay_only,
+                   const std::vector<std::string>& local_addresses);
 
 }  // namespace rt::media

@@ -70,4 +70,24 @@ std::optional<PortraitFrame> decode_portrait_frame(std::span<const uint8_t> byte
   return f;
 }
 
+net::PortraitMessage portrait_of_planes(const PortraitFrame& f, std::span<const uint8_t> rgb,
+                                        std::span<const uint16_t> codes) {
+  net::PortraitMessage p;
+  p.frame_index = f.frame_index;
+  p.capture_timestamp_us = f.capture_timestamp_us;
+  p.width = f.width;
+  p.height = f.height;
+  p.fx = f.fx;
+  p.fy = f.fy;
+  p.cx = f.cx;
+  p.cy = f.cy;
+  p.camera_from_site = f.camera_from_site;
+  p.color = HostImage(f.width, f.height, PixelFormat::RGBA32F);
+  p.depth = HostImage(f.width, f.height, PixelFormat::R32F);
+  for (size_t i = 0, n = size_t(f.width) * f.height; i < n; ++i)
+    for (size_t c = 0; c < 3; ++c) p.color.texels[i * 4 + c] = float(rgb[i * 3 + c]) * (1.0f / 255.0f);
+  decode_depth_alpha_plane(codes, f.width, f.depth_range, p.color, p.depth);
+  return p;
+}
+
 }  // namespace rt::media

@@ -1,5 +1,6 @@
 #include "media/voice_jitter_buffer.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace rt::media {
@@ -69,6 +70,7 @@ VoiceJitterBuffer::Playout VoiceJitterBuffer::pop() {
     out.frame = std::move(first->second);
     frames_.erase(first);
     ++counters_.played;
+    counters_.longest_concealed_run = std::max<uint64_t>(counters_.longest_concealed_run, lost_in_row_);
     lost_in_row_ = 0;
   } else {
     out.slot = Slot::Lost;

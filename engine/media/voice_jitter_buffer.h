@@ -26,6 +26,9 @@ std::string check_jitter_buffer(const JitterBufferOptions& options);
 
 struct JitterCounters {
   uint64_t played = 0, lost = 0, late = 0, duplicate = 0, overflow_dropped = 0, rebuffers = 0;
+  // The longest run of lost frames that the voice came back after (a dropout, concealed); a run
+  // that ends with the talker's frames stopping for good is no dropout.
+  uint64_t longest_concealed_run = 0;
 };
 
 class VoiceJitterBuffer {

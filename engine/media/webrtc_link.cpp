@@ -41,6 +41,16 @@ nlohmann::json track_json(int target_kbps, double encode_ms, double decode_ms, c
           {"recovery_ms_max", loss.recovery_ms_max}, {"keyframes_asked", loss.keyframes_asked}};
 }
 
+// The voice track's: what it sent (Opus payload, as the sound's own figure counts it), what came and
+// what the network took past repair (the site's jitter buffer conceals those: sound.voice.jitter).
+nlohmann::json voice_json(const VoiceTrackCounters& voice, int jitter_buffer_ms, uint64_t refused, double seconds) {
+  return {{"packets_sent", voice.packets_sent},
+          {"kbit_per_s_out", seconds > 0 ? nlohmann::json(double(voice.bytes_sent) * 8e-3 / seconds) : nlohmann::json()},
+          {"packets_received", voice.packets_received}, {"packets_lost_past_repair", voice.packets_lost},
+          {"packets_refused", voice.packets_refused + refused}, {"packets_dropped", voice.packets_dropped},
+          {"retransmission", voice.retransmission}, {"jitter_buffer_ms", jitter_buffer_ms}};
+}
+
 const char* signal_kind_name(net::SignalMessage::Kind kind) {
   return kind == net::SignalMessage::Kind::Offer ? "offer" : kind == net::SignalMessage::Kind::Answer ? "answer" : "candidate";
 }
@@ -48,7 +58,8 @@ const char* signal_kind_name(net::SignalMessage::Kind kind) {
 }  // namespace
 
 WebRtcLink::WebRtcLink(net::SessionOptions session, WebRtcPeerOptions peer)
-    : session_options_(std::move(session)), width_(peer.width), height_(peer.height), simulated_loss_(peer.simulated_loss) {
+    : session_options_(std::move(session)), width_(peer.width), height_(peer.height), simulated_loss_(peer.simulated_loss),
+      voice_jitter_buffer_ms_(peer.voice_jitter_buffer_ms) {
   const bool connector = session_options_.role == net::Role::Connector;
   peer.offerer = connector;
   peer.name = session_options_.name + " webrtc";
@@ -121,6 +132,12 @@ void WebRtcLink::send(const net::Message& message) {
     session_->send(message);
     return;
   }
+  if (const auto* voice = std::get_if<net::VoiceMessage>(&message)) {
+    const bool sent = peer_->send_voice(voice->packet, voice->timestamp_us, voice->frame_samples);
+    std::lock_guard lock(mutex_);
+    ++(sent ? counts_.messages_out[index] : counts_.stale_dropped_out[index]);
+    return;
+  }
   if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
     {
       std::lock_guard lock(mutex_);
@@ -173,9 +190,25 @@ void WebRtcLink::pump() {
       {
         std::lock_guard lock(mutex_);
         ++counts_.messages_in[size_t(net::message_type_index(net::message_type(message)))];
+        if (const auto* heartbeat = std::get_if<net::HeartbeatMessage>(&message)) peer_clock_us_ = heartbeat->timestamp_us;
       }
       if (handler_) handler_(message);
     }
+    std::optional<uint64_t> peer_clock;
+    {
+      std::lock_guard lock(mutex_);
+      peer_clock = peer_clock_us_;
+    }
+    if (peer_clock)
+      for (const ReceivedVoice& received : peer_->take_voice()) {
+        busy = true;
+        const std::optional<net::VoiceMessage> voice = voice_message_of(received, *peer_clock);
+        {
+          std::lock_guard lock(mutex_);
+          ++(voice ? counts_.messages_in[size_t(net::message_type_index(net::MessageType::Voice))] : voice_refused_);
+        }
+        if (voice && handler_) handler_(*voice);
+      }
     const bool up = peer_->connected();  // also sends the guard's hello once the channels open
     if (up) {
       {
@@ -227,7 +260,7 @@ net::NetCounters WebRtcLink::counters() const {
     out.messages_out[size_t(i)] += counts_.messages_out[size_t(i)];
     out.stale_dropped_out[size_t(i)] += counts_.stale_dropped_out[size_t(i)];
   }
-  out.bytes_out += call.color_bytes_sent + call.depth_bytes_sent + call.channel_bytes_sent;
+  out.bytes_out += call.color_bytes_sent + call.depth_bytes_sent + call.channel_bytes_sent + call.voice.bytes_sent;
   out.rejected += call.messages_refused;
   if (call.messages_refused) {
     out.rejected_by_reason["webrtc_refused"] += call.messages_refused;
@@ -244,10 +277,15 @@ nlohmann::json WebRtcLink::transport_json() const {
     since_us = ever_connected_ ? connected_us_ : 0;
   }
   const double seconds = since_us ? double(monotonic_now_us() - since_us) * 1e-6 : 0.0;
+  uint64_t voice_refused = 0;
+  {
+    std::lock_guard lock(mutex_);
+    voice_refused = voice_refused_;
+  }
   auto kbps = [&](uint64_t bytes) { return seconds > 0 ? nlohmann::json(double(bytes) * 8e-3 / seconds) : nlohmann::json(); };
   return {{"kind", "webrtc"},
           {"connected_s", seconds},
-          {"kbit_per_s_out", {{"color", kbps(call.color_bytes_sent)}, {"depth_alpha", kbps(call.depth_bytes_sent)},
+          {"kbit_per_s_out", {{"color", kbps(call.color_bytes_sent)}, {"depth_alpha", kbps(call.depth_bytes_sent)}, {"voice", kbps(call.voice.bytes_sent)},
                               {"data_channels", kbps(call.channel_bytes_sent)}}},
           {"portraits", {{"sent", call.portraits_sent}, {"received", call.portraits_received},
                          {"dropped", call.portraits_dropped}, {"frames_unpaired", call.frames_unpaired}}},
@@ -256,7 +294,8 @@ nlohmann::json WebRtcLink::transport_json() const {
                                {"color_decode", call.color_decode_ms}, {"depth_alpha_decode", call.depth_decode_ms}}},
           {"keyframes", {{"asked_by_us", call.keyframes_asked}, {"asked_of_us", call.keyframes_asked_of_us}}},
           {"tracks", {{"color", track_json(call.color_kbps_now, call.color_encode_ms, call.color_decode_ms, call.color_loss)},
-                      {"depth_alpha", track_json(call.depth_kbps_now, call.depth_encode_ms, call.depth_decode_ms, call.depth_loss)}}},
+                      {"depth_alpha", track_json(call.depth_kbps_now, call.depth_encode_ms, call.depth_decode_ms, call.depth_loss)},
+                      {"voice", voice_json(call.voice, voice_jitter_buffer_ms_, voice_refused, seconds)}}},
           {"network", {{"bitrate_decisions", call.bitrate_decisions}, {"reported_loss", call.reported_fraction_lost},
                        {"round_trip_ms", call.round_trip_ms >= 0 ? nlohmann::json(call.round_trip_ms) : nlohmann::json()},
                        {"bitrate_lowered", call.bitrate_lowered}, {"bitrate_raised", call.bitrate_raised},

@@ -9,11 +9,13 @@
 // Connected means: the session is up, ICE connected, both data channels open and their handshake
 // done. Touch events sent before that wait (a few, in order) and go as soon as it is; eye and
 // skeletons, which the next copy replaces, are dropped until then; portraits before then are
-// dropped by webrtcbin. A heartbeat goes on the reliable channel every heartbeat period.
+// dropped by webrtcbin. A heartbeat goes on the reliable channel every heartbeat period. Voice
+// frames go as the call's audio track and come out as the VoiceMessages the session would give.
 #include <atomic>
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -60,6 +62,11 @@ class WebRtcLink : public net::Transport {
   std::string signal_error_;  // a description the peer refused: the call cannot be made
   net::NetCounters counts_;   // messages in and out, and refusals, of the call (the session's added in counters())
   uint64_t heartbeat_sequence_ = 0, touch_sequence_ = 0;
+  // The other site's clock, as its last heartbeat read it: the voice's RTP time gets its high bits
+  // from it (media/voice_rtp_time.h). Voice waits in the peer until the first heartbeat has come.
+  std::optional<uint64_t> peer_clock_us_;
+  uint64_t voice_refused_ = 0;  // packets that are no voice frame
+  int voice_jitter_buffer_ms_ = 0;
   bool ever_connected_ = false;
   uint64_t connected_us_ = 0;
 };

@@ -10,7 +10,6 @@
 #include <gst/sdp/sdp.h>
 #include <gst/video/video.h>
 #include <gst/webrtc/webrtc.h>
-#include <nice/agent.h>
 
 #include <algorithm>
 #include <array>
@@ -26,6 +25,7 @@
 #include "media/bitrate_follower.h"
 #include "media/call_feedback.h"
 #include "media/codec_probes.h"
+#include "media/ice_servers.h"
 #include "media/portrait_frame.h"
 #include "time/monotonic_clock.h"
 
@@ -63,10 +63,7 @@ uint32_t rtp_time_of(GstClockTime pts) { return uint32_t(gst_util_uint64_scale_i
 GstClockTime pts_of_rtp_time(uint64_t ticks) { return gst_util_uint64_scale_int_ceil(ticks, GST_SECOND, 90000); }
 
 // Which channel a message type travels on: the fast one for what the next copy replaces anyway.
-// Voice too: its jitter buffer conceals a lost frame, where a retransmitted one would come too late.
-bool travels_fast(net::MessageType type) {
-  return type == net::MessageType::Eye || type == net::MessageType::Skeleton || type == net::MessageType::Voice;
-}
+bool travels_fast(net::MessageType type) { return type == net::MessageType::Eye || type == net::MessageType::Skeleton; }
 
 }  // namespace
 
@@ -116,6 +113,7 @@ struct WebRtcPeer::Impl {
   std::vector<std::unique_ptr<IncomingChain>> chains;
   std::deque<ByteCount> byte_counts;  // a deque: the probes hold pointers into it
   RetransmissionWatch retransmission;
+  VoiceTrack voice;
 
   mutable std::mutex mutex;
   bool offered = false;
@@ -178,11 +176,12 @@ struct WebRtcPeer::Impl {
 };
 
 void WebRtcPeer::Impl::maybe_offer() {
-  GstPad* color = gst_element_get_static_pad(webrtc, "sink_0");
-  GstPad* depth = gst_element_get_static_pad(webrtc, "sink_1");
-  const bool ready = color && depth && gst_pad_has_current_caps(color) && gst_pad_has_current_caps(depth);
-  if (color) gst_object_unref(color);
-  if (depth) gst_object_unref(depth);
+  bool ready = true;
+  for (const char* name : {"sink_0", "sink_1", "sink_2"}) {
+    GstPad* pad = gst_element_get_static_pad(webrtc, name);
+    ready = ready && pad && gst_pad_has_current_caps(pad);
+    if (pad) gst_object_unref(pad);
+  }
   {
     std::lock_guard lock(mutex);
     if (!ready || offered || !options.offerer) return;
@@ -194,13 +193,23 @@ void WebRtcPeer::Impl::maybe_offer() {
 }
 
 void WebRtcPeer::Impl::ask_for_retransmission() {
-  if (!options.retransmit) return;
+  // The voice's transceiver: its pad's, or one of kind audio that the other peer's offer made.
+  GstWebRTCRTPTransceiver* voice_transceiver = nullptr;
+  if (GstPad* pad = gst_element_get_static_pad(webrtc, "sink_2")) {
+    g_object_get(pad, "transceiver", &voice_transceiver, nullptr);
+    gst_object_unref(pad);
+  }
   GArray* transceivers = nullptr;
   g_signal_emit_by_name(webrtc, "get-transceivers", &transceivers);
-  if (!transceivers) return;
-  for (guint i = 0; i < transceivers->len; ++i)
-    g_object_set(g_array_index(transceivers, GstWebRTCRTPTransceiver*, i), "do-nack", TRUE, nullptr);
-  g_array_unref(transceivers);
+  for (guint i = 0; transceivers && i < transceivers->len; ++i) {
+    GstWebRTCRTPTransceiver* transceiver = g_array_index(transceivers, GstWebRTCRTPTransceiver*, i);
+    GstWebRTCKind kind = GST_WEBRTC_KIND_UNKNOWN;
+    g_object_get(transceiver, "kind", &kind, nullptr);
+    const bool voice_track = transceiver == voice_transceiver || kind == GST_WEBRTC_KIND_AUDIO;
+    g_object_set(transceiver, "do-nack", gboolean(voice_track ? options.voice_retransmit : options.retransmit), nullptr);
+  }
+  if (voice_transceiver) gst_object_unref(voice_transceiver);
+  if (transceivers) g_array_unref(transceivers);
 }
 
 void WebRtcPeer::Impl::on_offer_created(GstPromise* promise, gpointer data) {
@@ -287,6 +296,7 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   const net::MessageType type = net::message_type(*result.message);
   if (type == net::MessageType::Portrait) return refuse("a portrait on a data channel: portraits travel as video");
   if (type == net::MessageType::Signal) return refuse("a signal on a data channel: signals set the call up beside it");
+  if (type == net::MessageType::Voice) return refuse("a voice frame on a data channel: the voice travels as an audio track");
   if (travels_fast(type) != on_fast)
     return refuse(std::string("a ") + net::message_type_name(type) + " message on the wrong data channel");
   std::lock_guard lock(mutex);
@@ -304,6 +314,7 @@ void WebRtcPeer::Impl::on_element_added(GstElement* element) {
     const double bits_per_second = 1000.0 * (std::max(options.color_kbps, options.color_ceiling_kbps) + options.depth_kbps);
     g_object_set(element, "rtcp-min-interval", guint64(kRtcpInterval), "bandwidth", bits_per_second, nullptr);
   } else {
+    if (kind == "rtpjitterbuffer") watch_jitter_buffer_for_voice(element, options.voice_jitter_buffer_ms);
     retransmission.watch(element);
   }
 }
@@ -317,6 +328,7 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   int payload = 0;
   if (s) gst_structure_get_int(s, "payload", &payload);
   if (caps) gst_caps_unref(caps);
+  if (encoding && std::string(encoding) == "OPUS") return voice.link_incoming(pipeline, pad);
   // Every incoming pad gets linked: an unlinked one tears the whole bundle down.
   if (!h264) {
     GstElement* sink = gst_element_factory_make("fakesink", nullptr);
@@ -497,24 +509,9 @@ void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::
 }
 
 ReceivedPortrait WebRtcPeer::Impl::assemble(PendingFrame part) {
-  const PortraitFrame& f = part.frame;
   ReceivedPortrait received;
-  received.rtp_timestamp = f.rtp_timestamp;
-  net::PortraitMessage& p = received.portrait;
-  p.frame_index = f.frame_index;
-  p.capture_timestamp_us = f.capture_timestamp_us;
-  p.width = f.width;
-  p.height = f.height;
-  p.fx = f.fx;
-  p.fy = f.fy;
-  p.cx = f.cx;
-  p.cy = f.cy;
-  p.camera_from_site = f.camera_from_site;
-  p.color = HostImage(f.width, f.height, PixelFormat::RGBA32F);
-  p.depth = HostImage(f.width, f.height, PixelFormat::R32F);
-  for (size_t i = 0, n = size_t(f.width) * f.height; i < n; ++i)
-    for (size_t c = 0; c < 3; ++c) p.color.texels[i * 4 + c] = float(part.rgb[i * 3 + c]) * (1.0f / 255.0f);
-  decode_depth_alpha_plane(part.codes, f.width, f.depth_range, p.color, p.depth);
+  received.rtp_timestamp = part.frame.rtp_timestamp;
+  received.portrait = portrait_of_planes(part.frame, part.rgb, part.codes);
   received.received_us = part.order;
   return received;
 }
@@ -531,6 +528,8 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
       o.depth_quality < 0 || o.depth_quality > 50)
     throw std::runtime_error("the WebRTC link's rate, bitrates (>= 100 kbit/s), depth quality (0..50) or keyframe interval are out of range");
   if (const std::string why = check_depth_range(o.depth_range); !why.empty()) throw std::runtime_error(why);
+  if (o.voice_jitter_buffer_ms < 1 || o.voice_jitter_buffer_ms > 1000)
+    throw std::runtime_error("the voice's jitter buffer waits 1..1000 ms, not " + std::to_string(o.voice_jitter_buffer_ms));
   const BitrateRuleOptions color_rate{.start_kbps = o.color_kbps, .floor_kbps = o.color_floor_kbps, .ceiling_kbps = o.color_ceiling_kbps};
   if (const std::string why = check_bitrate_rule(color_rate); !why.empty()) throw std::runtime_error("colour: " + why);
   if (!(o.simulated_loss <= 1.0))
@@ -544,6 +543,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   require_element("x264enc", "gstreamer1.0-plugins-ugly");
   require_element("rtph264pay", "gstreamer1.0-plugins-good");
   require_element("avdec_h264", "gstreamer1.0-libav");
+  require_element("rtpopuspay", "gstreamer1.0-plugins-good");
   require_element("appsrc", "gstreamer1.0-plugins-base");
   if (o.simulated_loss >= 0) require_element("netsim", "gstreamer1.0-plugins-bad");
 
@@ -569,7 +569,8 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   const std::string description = "webrtcbin name=webrtc bundle-policy=max-bundle latency=" + std::to_string(kJitterBufferMs) + " " +
                                   track("color", "I420", "high", "ultrafast", o.color_kbps, 96, "") + " " +
                                   track("depth", "I420_10LE", "high-10", "ultrafast", o.depth_kbps, 97,
-                                        " pass=qual quantizer=" + std::to_string(o.depth_quality));
+                                        " pass=qual quantizer=" + std::to_string(o.depth_quality)) + " " +
+                                  voice_track_description();
   GError* error = nullptr;
   m.pipeline = gst_parse_launch(description.c_str(), &error);
   if (!m.pipeline || error) {
@@ -579,6 +580,14 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
     m.pipeline = nullptr;
     throw std::runtime_error("the WebRTC pipeline could not be made: " + why);
   }
+  // The pipeline's running time is the site's monotonic clock (GStreamer's system clock, with no base
+  // time taken off): a voice packet's presentation time is its capture time, which its RTP time
+  // carries to the other site.
+  GstClock* system_clock = gst_system_clock_obtain();
+  gst_pipeline_use_clock(GST_PIPELINE(m.pipeline), system_clock);
+  gst_object_unref(system_clock);
+  gst_element_set_start_time(m.pipeline, GST_CLOCK_TIME_NONE);
+  gst_element_set_base_time(m.pipeline, 0);
   m.webrtc = gst_bin_get_by_name(GST_BIN(m.pipeline), "webrtc");
   m.color_src = gst_bin_get_by_name(GST_BIN(m.pipeline), "colorsrc");
   m.depth_src = gst_bin_get_by_name(GST_BIN(m.pipeline), "depthsrc");
@@ -596,26 +605,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   gst_video_info_set_format(&m.color_info, GST_VIDEO_FORMAT_I420, o.width, o.height);
   gst_video_info_set_format(&m.depth_info, GST_VIDEO_FORMAT_I420_10LE, o.width, o.height);
 
-  if (o.relay_only && o.turn_server.empty()) throw std::runtime_error("a relay-only call needs a TURN server (--turn)");
-  if (!o.stun_server.empty()) g_object_set(m.webrtc, "stun-server", o.stun_server.c_str(), nullptr);
-  if (!o.turn_server.empty()) g_object_set(m.webrtc, "turn-server", o.turn_server.c_str(), nullptr);
-  if (o.relay_only) g_object_set(m.webrtc, "ice-transport-policy", GST_WEBRTC_ICE_TRANSPORT_POLICY_RELAY, nullptr);
-  // libnice gathers on every interface but loopback unless told its addresses: name them.
-  GObject* ice = nullptr;
-  g_object_get(m.webrtc, "ice-agent", &ice, nullptr);
-  NiceAgent* agent = nullptr;
-  if (ice) g_object_get(ice, "agent", &agent, nullptr);
-  if (!agent) throw std::runtime_error("webrtcbin has no libnice agent (gstreamer1.0-nice)");
-  g_object_set(ice, "ice-tcp", FALSE, nullptr);  // UDP only: nothing here needs TCP candidates
-  for (const std::string& address : o.local_addresses) {
-    NiceAddress nice;
-    nice_address_init(&nice);
-    if (!nice_address_set_from_string(&nice, address.c_str()))
-      throw std::runtime_error("not an IP address for ICE: '" + address + "'");
-    nice_agent_add_local_address(agent, &nice);
-  }
-  g_object_unref(agent);
-  g_object_unref(ice);
+  configure_ice(m.webrtc, o.stun_server, o.turn_server, o.relay_only, o.local_addresses);
 
   // Encoded bytes per track, as RTP packets leave the payloaders (a fragmented picture leaves as
   // a buffer list).
@@ -670,7 +660,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
                    }),
                    &m);
   // create-offer before both tracks have caps yields an offer without their media: wait for them.
-  for (const char* pad_name : {"sink_0", "sink_1"}) {
+  for (const char* pad_name : {"sink_0", "sink_1", "sink_2"}) {
     GstPad* pad = gst_element_get_static_pad(m.webrtc, pad_name);
     if (!pad) throw std::runtime_error(std::string("webrtcbin has no ") + pad_name);
     g_signal_connect(pad, "notify::caps", G_CALLBACK(+[](GObject*, GParamSpec*, gpointer d) {
@@ -694,6 +684,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
 
   if (gst_element_set_state(m.pipeline, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
     throw std::runtime_error("the WebRTC pipeline would not start: " + last_error());
+  m.voice.attach_sender(m.pipeline, o.voice_retransmit);
   m.bitrate = std::make_unique<BitrateFollower>(m.webrtc, m.color_enc, m.depth_enc, color_rate, o.depth_kbps, o.adapt_bitrate);
   if (o.offerer) {
     // Unordered without retransmits: a skeleton or an eye late is a skeleton or an eye stale.
@@ -894,6 +885,7 @@ bool WebRtcPeer::send_message(const net::Message& message) {
     throw std::invalid_argument("a portrait goes through send_portrait: it travels as video");
   if (type == net::MessageType::Signal)
     throw std::invalid_argument("a signal goes to the other site beside the call, not on its data channels");
+  if (type == net::MessageType::Voice) throw std::invalid_argument("a voice frame goes through send_voice: it travels as an audio track");
   const std::vector<uint8_t> bytes = net::encode_message(message);
   if (bytes.size() > kMaxChannelMessage) throw std::invalid_argument("a message over the data channels' limit");
   if (!send_raw(travels_fast(type) ? Channel::Fast : Channel::Reliable, bytes)) return false;
@@ -940,6 +932,12 @@ bool WebRtcPeer::set_simulated_loss(double fraction) {
   return true;
 }
 
+bool WebRtcPeer::send_voice(std::span<const uint8_t> packet, uint64_t capture_us, uint32_t frame_samples) {
+  return impl_->voice.send(packet, capture_us, frame_samples);
+}
+
+std::vector<ReceivedVoice> WebRtcPeer::take_voice() { return impl_->voice.take(); }
+
 std::optional<ReceivedPortrait> WebRtcPeer::take_portrait() {
   PendingFrame part;
   {
@@ -962,6 +960,7 @@ WebRtcCounters WebRtcPeer::counters() const {
   std::lock_guard lock(m.mutex);
   WebRtcCounters out = m.counters;
   out.repair = repair;
+  out.voice = m.voice.counters();
   out.color_encode_ms = m.color_encode.median_ms();
   out.depth_encode_ms = m.depth_encode.median_ms();
   out.keyframes_asked_of_us = m.asked_of_us.count();

@@ -5,6 +5,8 @@
 //
 //   colour       appsrc I420 -> x264enc (zerolatency, no B-frames) -> rtph264pay pt 96 -> webrtcbin
 //   depth+alpha  appsrc I420_10LE (luma: media/depth_alpha_codec.h) -> x264enc High10 -> pt 97
+//   voice        appsrc audio/x-opus (the site's own encoder's packets) -> rtpopuspay pt 111
+//                (media/webrtc_voice_track.h)
 //   "rt-fast"    unordered, no retransmits: eye, skeletons, and each portrait's frame record
 //   "rt-reliable" ordered and reliable: touch events, heartbeats
 //
@@ -29,6 +31,7 @@
 #include "media/channel_guard.h"
 #include "media/depth_alpha_codec.h"
 #include "media/repair_counters.h"
+#include "media/webrtc_voice_track.h"
 #include "net/message_codec.h"
 #include "net/messages.h"
 
@@ -56,6 +59,10 @@ struct WebRtcPeerOptions {
   // Lost packets asked again (RTCP NACK, retransmitted on their own stream) while the jitter buffer
   // can still use them; a picture that retransmission could not repair asks for a keyframe.
   bool retransmit = true;
+  // The voice track's own: NACK for the voice, and how long its jitter buffer waits for a missing
+  // packet before giving it up (the site's jitter buffer then conceals it); docs/sound.md says why.
+  bool voice_retransmit = true;
+  int voice_jitter_buffer_ms = 20;
   // Tests and benches only: GStreamer's netsim on the outgoing RTP, after retransmission and before
   // the network, dropping this fraction of packets at random (set_simulated_loss changes it).
   // Negative: no simulator in the path at all.
@@ -107,6 +114,7 @@ struct WebRtcCounters {
     double recovery_ms_median = 0, recovery_ms_max = 0;
   } color_loss, depth_loss;
   RepairCounters repair;
+  VoiceTrackCounters voice;
 };
 
 class WebRtcPeer {
@@ -132,8 +140,8 @@ class WebRtcPeer {
   // one must be sent before it can be made).
   void send_portrait(const net::PortraitMessage& portrait);
   // Eye and skeletons on the unordered channel, touch events and heartbeats on the reliable one,
-  // each as the session's encoded message (net/message_codec.h). A portrait is refused
-  // (std::invalid_argument): portraits travel as video. False when the channel is not open.
+  // each as the session's encoded message (net/message_codec.h). A portrait or a voice frame is
+  // refused (std::invalid_argument): they travel as video and audio. False when the channel is not open.
   bool send_message(const net::Message& message);
   // Raw bytes on one channel, for what the session's codec would not make: the tests of the
   // receiver's checks (sealed first when there is a guard). False when the channel is not open,
@@ -146,6 +154,13 @@ class WebRtcPeer {
   // The simulated network's loss from now on (0..1); false when the peer was made without one
   // (options.simulated_loss negative) or the call has not created it yet.
   bool set_simulated_loss(double fraction);
+
+  // One Opus packet of a voice frame captured at `capture_us` (this site's monotonic clock): false
+  // for an empty or oversized packet or before the track exists. Packets before the call is up are
+  // dropped by webrtcbin.
+  bool send_voice(std::span<const uint8_t> packet, uint64_t capture_us, uint32_t frame_samples);
+  // The voice packets received since the last call, in order, lost ones missing.
+  std::vector<ReceivedVoice> take_voice();
 
   std::optional<ReceivedPortrait> take_portrait();
   std::vector<net::Message> take_messages();

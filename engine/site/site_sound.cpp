@@ -336,7 +336,8 @@ nlohmann::json SiteSound::metrics() const {
   if (jitter_) {
     const media::JitterCounters& c = jitter_->counters();
     voice["jitter"] = {{"played", c.played}, {"lost", c.lost},         {"late", c.late},
-                       {"duplicate", c.duplicate}, {"overflow_dropped", c.overflow_dropped}, {"rebuffers", c.rebuffers}};
+                       {"duplicate", c.duplicate}, {"overflow_dropped", c.overflow_dropped}, {"rebuffers", c.rebuffers},
+                       {"longest_dropout_ms", audio::samples_to_us(c.longest_concealed_run * kFrame) / 1000.0}};
   }
   if (decoder_) voice["undecodable"] = decoder_->undecodable();
   if (out_) voice["held_to_the_portrait"] = voice_hold_.to_json();
