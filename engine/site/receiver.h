@@ -46,9 +46,10 @@ class Receiver {
   double recent_portrait_latency_ms() const { return portrait_on_screen_.recent_median(kRecentPortraits); }
 
  private:
-  // About three seconds of a 30 fps stream: long enough that one late portrait does not move
-  // the voice, short enough to follow the link when it changes.
-  static constexpr size_t kRecentPortraits = 90;
+  // About ten seconds of a 30 fps stream: long enough that a burst of late portraits (a start-up,
+  // a loaded moment) does not pull the voice after it, short enough to follow a link that changes
+  // for good over a long call.
+  static constexpr size_t kRecentPortraits = 300;
   struct ReceivedPortrait {
     net::PortraitMessage message;
     uint64_t arrival_us = 0;
