@@ -25,6 +25,7 @@
 #include "media/bitrate_follower.h"
 #include "media/call_feedback.h"
 #include "media/codec_probes.h"
+#include "media/frame_time_sei.h"
 #include "media/ice_servers.h"
 #include "media/portrait_frame.h"
 #include "time/monotonic_clock.h"
@@ -62,6 +63,24 @@ void require_element(const char* name, const char* package) {
 uint32_t rtp_time_of(GstClockTime pts) { return uint32_t(gst_util_uint64_scale_int(pts, 90000, GST_SECOND)); }
 GstClockTime pts_of_rtp_time(uint64_t ticks) { return gst_util_uint64_scale_int_ceil(ticks, GST_SECOND, 90000); }
 
+// How the depayloader hands pictures on: 0 for a byte stream, else AVC's NAL length size (from
+// the codec data's fifth byte), as media/frame_time_sei.h reads them.
+unsigned nal_length_size_of(GstPad* pad) {
+  GstCaps* caps = gst_pad_get_current_caps(pad);
+  const GstStructure* s = caps ? gst_caps_get_structure(caps, 0) : nullptr;
+  const char* format = s ? gst_structure_get_string(s, "stream-format") : nullptr;
+  unsigned size = 0;
+  if (format && std::string(format) == "avc") {
+    size = 4;
+    const GValue* value = gst_structure_get_value(s, "codec_data");
+    GstBuffer* codec_data = value && G_VALUE_HOLDS(value, GST_TYPE_BUFFER) ? gst_value_get_buffer(value) : nullptr;
+    guint8 byte = 0;
+    if (codec_data && gst_buffer_extract(codec_data, 4, &byte, 1) == 1) size = (byte & 3u) + 1;
+  }
+  if (caps) gst_caps_unref(caps);
+  return size;
+}
+
 // Which channel a message type travels on: the fast one for what the next copy replaces anyway.
 bool travels_fast(net::MessageType type) { return type == net::MessageType::Eye || type == net::MessageType::Skeleton; }
 
@@ -73,6 +92,7 @@ struct IncomingChain {
   std::array<std::pair<GstClockTime, uint32_t>, 64> pts_to_rtp{};
   size_t next = 0;
   uint32_t last_rtp = 0;
+  uint32_t sender_minus_header = 0;  // the sender's RTP time less the header's (media/frame_time_sei.h)
   bool color = false;  // payload type 96; 97 is depth and alpha
   CodecClock decode;
   KeyframeRequests asked;  // by its depayloader, of the other peer's encoder
@@ -107,6 +127,7 @@ struct WebRtcPeer::Impl {
   std::unique_ptr<BitrateFollower> bitrate;
   GstWebRTCDataChannel* fast = nullptr;
   GstWebRTCDataChannel* reliable = nullptr;
+  GstWebRTCDataChannel* relayed_in = nullptr;  // relayed: the other site's channel, as the SFU named it
   GstVideoInfo color_info{}, depth_info{};
   CodecClock color_encode, depth_encode;
   KeyframeRequests asked_of_us;
@@ -132,10 +153,10 @@ struct WebRtcPeer::Impl {
     if (!pipeline) return;
     if (bitrate) bitrate->stop();  // it reads webrtcbin's statistics
     g_signal_handlers_disconnect_by_data(webrtc, this);
-    for (GstWebRTCDataChannel* channel : {fast, reliable})
+    for (GstWebRTCDataChannel* channel : {fast, reliable, relayed_in})
       if (channel) g_signal_handlers_disconnect_by_data(channel, this);
     gst_element_set_state(pipeline, GST_STATE_NULL);
-    for (GstWebRTCDataChannel* channel : {fast, reliable})
+    for (GstWebRTCDataChannel* channel : {fast, reliable, relayed_in})
       if (channel) gst_object_unref(channel);
     bitrate.reset();
     for (GstElement* e : {webrtc, color_src, depth_src, color_enc, depth_enc, netsim})
@@ -165,6 +186,8 @@ struct WebRtcPeer::Impl {
 
   // ---- receiving ----
   void adopt_channel(GstWebRTCDataChannel* channel);
+  // The channels this peer opens itself: both, or (relayed) the reliable one only.
+  void open_channels();
   void on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* bytes);
   // The bytes as they are, on an open channel; false if it is not open.
   bool send_on_channel(bool on_fast, std::span<const uint8_t> bytes);
@@ -239,6 +262,7 @@ void WebRtcPeer::Impl::adopt_channel(GstWebRTCDataChannel* channel) {
   const std::string name = label ? label : "";
   g_free(label);
   GstWebRTCDataChannel** slot = name == kFastLabel ? &fast : name == kReliableLabel ? &reliable : nullptr;
+  if (options.relayed && !options.offerer && name != kReliableLabel) slot = &relayed_in;
   if (!slot) return refuse(options.name + ": a data channel '" + name + "' this link does not use, ignored");
   {
     std::lock_guard lock(mutex);
@@ -262,10 +286,11 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
     return refuse("a data-channel message of " + std::to_string(size) + " bytes, over the " +
                   std::to_string(kMaxChannelMessage) + " this link accepts");
   std::span<const uint8_t> view(data, size);
-  bool on_fast = false;
+  bool on_fast = false, relayed_channel = false;
   {
     std::lock_guard lock(mutex);  // adopt_channel sets `fast` from another thread
     on_fast = channel == fast;
+    relayed_channel = channel == relayed_in;
   }
   ChannelGuard::Received opened;
   if (options.guard) {
@@ -288,7 +313,7 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   if (is_portrait_frame(view)) {
     std::string why;
     auto frame = decode_portrait_frame(view, options.width, options.height, &why);
-    if (!frame || !on_fast) return refuse(frame ? "a portrait frame record on the reliable channel" : why);
+    if (!frame || !(on_fast || relayed_channel)) return refuse(frame ? "a portrait frame record on the reliable channel" : why);
     return store_part(frame->rtp_timestamp, nullptr, nullptr, std::move(frame));
   }
   net::DecodeResult result = net::decode_message(view);
@@ -297,7 +322,7 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   if (type == net::MessageType::Portrait) return refuse("a portrait on a data channel: portraits travel as video");
   if (type == net::MessageType::Signal) return refuse("a signal on a data channel: signals set the call up beside it");
   if (type == net::MessageType::Voice) return refuse("a voice frame on a data channel: the voice travels as an audio track");
-  if (travels_fast(type) != on_fast)
+  if (!relayed_channel && travels_fast(type) != on_fast)
     return refuse(std::string("a ") + net::message_type_name(type) + " message on the wrong data channel");
   std::lock_guard lock(mutex);
   ++counters.messages_received;
@@ -361,7 +386,8 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
   gst_element_link_many(depay, decoder, sink, nullptr);
 
   // The RTP time of each packet going in, by its presentation time; the depayloaded picture takes
-  // it as its own presentation time, which the decoder keeps: the appsink reads it back.
+  // it as its own presentation time, which the decoder keeps: the appsink reads it back. The time
+  // a picture carries in its bitstream wins: an SFU may have rewritten the header's.
   GstPad* depay_sink = gst_element_get_static_pad(depay, "sink");
   gst_pad_add_probe(depay_sink, GST_PAD_PROBE_TYPE_BUFFER, +[](GstPad* pad, GstPadProbeInfo* info, gpointer d) {
                       auto* c = static_cast<IncomingChain*>(d);
@@ -381,7 +407,7 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
                     chain.get(), nullptr);
   gst_object_unref(depay_sink);
   GstPad* depay_src = gst_element_get_static_pad(depay, "src");
-  gst_pad_add_probe(depay_src, GST_PAD_PROBE_TYPE_BUFFER, +[](GstPad*, GstPadProbeInfo* info, gpointer d) {
+  gst_pad_add_probe(depay_src, GST_PAD_PROBE_TYPE_BUFFER, +[](GstPad* pad, GstPadProbeInfo* info, gpointer d) {
                       auto* c = static_cast<IncomingChain*>(d);
                       GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
                       uint32_t rtp = c->last_rtp;
@@ -392,6 +418,12 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
                           break;
                         }
                       }
+                      // The header's time, moved to the sender's: an SFU shifts a stream's times
+                      // by one amount from the packet it relayed first. Not every buffer carries
+                      // the time (the depayloader may hand a picture on in parts).
+                      if (const std::optional<uint32_t> carried = frame_time_of(buffer, nal_length_size_of(pad)))
+                        c->sender_minus_header = *carried - rtp;
+                      rtp += c->sender_minus_header;
                       buffer = gst_buffer_make_writable(buffer);
                       GST_BUFFER_PTS(buffer) = pts_of_rtp_time(rtp);
                       GST_BUFFER_DTS(buffer) = GST_CLOCK_TIME_NONE;
@@ -562,7 +594,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
            format + "," + size + " ! x264enc name=" + name + "enc tune=zerolatency speed-preset=" + preset +
            " psy-tune=psnr bframes=0 key-int-max=" +
            std::to_string(o.keyframe_interval) + " bitrate=" + std::to_string(kbps) + rate +
-           " ! video/x-h264,profile=" + profile + " ! rtph264pay name=" + name + "pay config-interval=-1 aggregate-mode=zero-latency timestamp-offset=0 pt=" +
+           " ! video/x-h264,stream-format=byte-stream,alignment=au,profile=" + profile + " ! rtph264pay name=" + name + "pay config-interval=-1 aggregate-mode=zero-latency timestamp-offset=0 pt=" +
            std::to_string(pt) + " mtu=1200 ! application/x-rtp,media=video,encoding-name=H264,clock-rate=90000,payload=" +
            std::to_string(pt) + " ! webrtc.";
   };
@@ -599,6 +631,24 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
     for (GstElement* encoder : {m.color_enc, m.depth_enc}) {
       GstPad* src = gst_element_get_static_pad(encoder, "src");
       m.asked_of_us.attach(src);
+      // Each picture carries its RTP time, as the payloader makes it: from its running time (the
+      // encoder shifts presentation times by a segment of its own to keep decoding times positive).
+      gst_pad_add_probe(src, GST_PAD_PROBE_TYPE_BUFFER, +[](GstPad* pad, GstPadProbeInfo* info, gpointer) {
+                          GstBuffer* picture = GST_PAD_PROBE_INFO_BUFFER(info);
+                          GstEvent* event = gst_pad_get_sticky_event(pad, GST_EVENT_SEGMENT, 0);
+                          const GstSegment* segment = nullptr;
+                          if (event) gst_event_parse_segment(event, &segment);
+                          const GstClockTime running =
+                              segment ? gst_segment_to_running_time(segment, GST_FORMAT_TIME, GST_BUFFER_PTS(picture)) : GST_CLOCK_TIME_NONE;
+                          if (event) gst_event_unref(event);
+                          if (!GST_CLOCK_TIME_IS_VALID(running)) return GST_PAD_PROBE_OK;
+                          if (GstBuffer* stamped = with_frame_time(picture, rtp_time_of(running))) {
+                            gst_buffer_unref(picture);
+                            GST_PAD_PROBE_INFO_DATA(info) = stamped;
+                          }
+                          return GST_PAD_PROBE_OK;
+                        },
+                        nullptr, nullptr);
       gst_object_unref(src);
     }
   }
@@ -686,20 +736,25 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
     throw std::runtime_error("the WebRTC pipeline would not start: " + last_error());
   m.voice.attach_sender(m.pipeline, o.voice_retransmit);
   m.bitrate = std::make_unique<BitrateFollower>(m.webrtc, m.color_enc, m.depth_enc, color_rate, o.depth_kbps, o.adapt_bitrate);
-  if (o.offerer) {
+  if (o.offerer) m.open_channels();
+}
+
+void WebRtcPeer::Impl::open_channels() {
+  GstWebRTCDataChannel* channel = nullptr;
+  if (!options.relayed) {
     // Unordered without retransmits: a skeleton or an eye late is a skeleton or an eye stale.
-    GstStructure* fast = gst_structure_new("config", "ordered", G_TYPE_BOOLEAN, FALSE, "max-retransmits", G_TYPE_INT, 0, nullptr);
-    GstStructure* reliable = gst_structure_new("config", "ordered", G_TYPE_BOOLEAN, TRUE, nullptr);
-    GstWebRTCDataChannel* channel = nullptr;
-    g_signal_emit_by_name(m.webrtc, "create-data-channel", kFastLabel, fast, &channel);
-    if (channel) m.adopt_channel(channel), gst_object_unref(channel);
+    GstStructure* config = gst_structure_new("config", "ordered", G_TYPE_BOOLEAN, FALSE, "max-retransmits", G_TYPE_INT, 0, nullptr);
+    g_signal_emit_by_name(webrtc, "create-data-channel", kFastLabel, config, &channel);
+    gst_structure_free(config);
+    if (channel) adopt_channel(channel), gst_object_unref(channel);
     channel = nullptr;
-    g_signal_emit_by_name(m.webrtc, "create-data-channel", kReliableLabel, reliable, &channel);
-    if (channel) m.adopt_channel(channel), gst_object_unref(channel);
-    gst_structure_free(fast);
-    gst_structure_free(reliable);
-    if (!m.fast || !m.reliable) throw std::runtime_error("webrtcbin made no data channel (gstreamer1.0-plugins-bad's sctp)");
   }
+  GstStructure* config = gst_structure_new("config", "ordered", G_TYPE_BOOLEAN, TRUE, nullptr);
+  g_signal_emit_by_name(webrtc, "create-data-channel", kReliableLabel, config, &channel);
+  gst_structure_free(config);
+  if (channel) adopt_channel(channel), gst_object_unref(channel);
+  if ((!options.relayed && !fast) || !reliable)
+    throw std::runtime_error("webrtcbin made no data channel (gstreamer1.0-plugins-bad's sctp)");
 }
 
 WebRtcPeer::~WebRtcPeer() = default;
@@ -748,6 +803,13 @@ std::string WebRtcPeer::set_remote_description(const std::string& type, const st
   if (!answer) return "webrtcbin made no answer to the offer";
   m.announce_local(answer, "answer");
   gst_webrtc_session_description_free(answer);
+  if (m.options.relayed) {
+    try {
+      m.open_channels();
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+  }
   return {};
 }
 
@@ -761,6 +823,7 @@ bool WebRtcPeer::Impl::channels_open() const {
   if (ice != GST_WEBRTC_ICE_CONNECTION_STATE_CONNECTED && ice != GST_WEBRTC_ICE_CONNECTION_STATE_COMPLETED) return false;
   std::lock_guard lock(mutex);
   for (GstWebRTCDataChannel* channel : {fast, reliable}) {
+    if (options.relayed && channel == fast) continue;
     if (!channel) return false;
     GstWebRTCDataChannelState state = GST_WEBRTC_DATA_CHANNEL_STATE_CLOSED;
     g_object_get(channel, "ready-state", &state, nullptr);
@@ -897,6 +960,7 @@ bool WebRtcPeer::send_message(const net::Message& message) {
 bool WebRtcPeer::send_raw(Channel which, std::span<const uint8_t> bytes) {
   Impl& m = *impl_;
   if (bytes.size() > kMaxChannelMessage) return false;
+  if (m.options.relayed) which = Channel::Reliable;
   if (!m.options.guard) return m.send_on_channel(which == Channel::Fast, bytes);
   const auto sealed =
       m.options.guard->seal(which == Channel::Fast ? GuardedChannel::Fast : GuardedChannel::Reliable, bytes);

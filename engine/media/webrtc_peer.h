@@ -11,8 +11,10 @@
 //   "rt-reliable" ordered and reliable: touch events, heartbeats
 //
 // Both tracks' payloaders start their RTP time at 0 and are fed the same presentation time, so a
-// portrait's colour and depth frames carry one RTP timestamp; its frame record names it. The
-// receiver pairs the three by it and hands out a portrait only when all three arrived.
+// portrait's colour and depth frames carry one RTP timestamp; its frame record names it. Each
+// picture carries that time in its bitstream too (media/frame_time_sei.h), which the receiver
+// prefers: an SFU may rewrite RTP times. The receiver pairs the three by it and hands out a
+// portrait only when all three arrived.
 //
 // Signalling is the caller's: the offer, the answer and the ICE candidates come out of the
 // Signalling callbacks (from GStreamer's threads) and go into the other peer's
@@ -74,6 +76,13 @@ struct WebRtcPeerOptions {
   std::string stun_server, turn_server;
   bool relay_only = false;
   size_t max_queued_portraits = 8;  // received, not yet taken: the oldest is dropped beyond
+  // Through an SFU (Janus's VideoRoom), which relays one way per peer connection and carries a
+  // publisher's data channels to a subscriber as one ordered, reliable channel named after the
+  // publisher. So a relayed peer sends every message on its reliable channel (the offerer: the
+  // publisher), takes a channel of any other name as the other site's (the answerer: the
+  // subscriber, which opens a channel of its own so that the SFU's side of the association starts),
+  // and counts as connected once ICE and its own channel are.
+  bool relayed = false;
   // The site key on the data channels (media/channel_guard.h): with one, everything they carry
   // is sealed, nothing is sent before its handshake completes, and connected() waits for it.
   // Without one, DTLS alone protects them (the tests of the channels' own checks).
