@@ -4,5 +4,5 @@
 #   session_demo_av_marker.sh BINARY OUT
 set -euo pipefail
 binary=$1 out=$2
-"$(dirname "$0")/session_demo.sh" "$binary" "$out" av-marker 115 0
+"$(dirname "$0")/session_demo.sh" "$binary" "$out" av-marker 115 0 --views 2
 /usr/bin/python3 "$(dirname "$0")/check_av_marker.py" "$out"
