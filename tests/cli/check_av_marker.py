@@ -16,10 +16,10 @@ and less that frame's latency (capture to screen).
 The offset is judged against ITU-R BT.1359's window (sound at most 45 ms early, 125 ms late) at
 each marker the site showed smoothly enough for the window to mean anything: over the STEADY_MS
 to the flash's first frame shown, at least MIN_DISPLAY_FPS pictures a second, none taken or shown
-more than two display periods after the one before (a slower screen shows a flash up to a whole
-display period late, and a stalled one as late as the stall, whatever the sound does) and that frame at most
-MAX_PORTRAIT_LATENCY_MS after its capture (the most the voice is held); elsewhere it is reported
-only. The same markers are judged in site.mp4.
+more than two display periods after the one before (a slower screen shows a flash up to a
+whole display period late, and a stalled one as late as the stall, whatever the sound does), and
+that frame at most MAX_PORTRAIT_LATENCY_MS after its capture (the most the voice is held);
+elsewhere it is reported only. The same markers are judged in site.mp4.
 """
 import array
 import json
