@@ -2,6 +2,7 @@
 // glass from both sides, miss does not); bad scene files are refused, naming the field and file.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -66,7 +67,8 @@ TEST_CASE("the shipped scenes load; two different users; motions fit in the fram
     CHECK(scene.resolution_scale > 0.0);
     const SiteSetup& a = scene.at(Site::A);
     const SiteSetup& b = scene.at(Site::B);
-    CHECK(a.site.cameras.size() == 6);
+    // The clapperboard renders two cameras (its picture needs no more; each costs every frame).
+    CHECK(a.site.cameras.size() == (std::string(name) == "av-marker" ? 2 : 6));
     CHECK(a.site_file.filename() == "default.json");
     CHECK(a.user.hand_scale != b.user.hand_scale);
     CHECK((a.user.skin_rgb - b.user.skin_rgb).norm() > 0.2);
@@ -163,6 +165,25 @@ TEST_CASE("av-marker: each flash lasts its flash_ms from its time, the markers r
   CHECK(marker.flashing_at(63.0 / 30.0));
   CHECK(marker.flashing_at(3.3));
   CHECK_FALSE(marker.flashing_at(100.0));
+  // Cheap to simulate, so that a CPU renderer shows every frame: two cameras, coarse capsules.
+  const Scene scene = load_scene(kScenesSimScene / "av-marker.json");
+  const SiteDescription full = load_site(scene.at(Site::A).site_file);
+  for (Site site : {Site::A, Site::B}) {
+    const std::vector<RgbdCamera>& cameras = scene.at(site).site.cameras;
+    REQUIRE(cameras.size() == 2);
+    CHECK(cameras[0].name == "top-centre");
+    CHECK(cameras[1].name == "bottom-centre");
+    // Each is the site file's camera of that name, its calibration untouched.
+    for (const RgbdCamera& camera : cameras) {
+      const auto same = std::find_if(full.cameras.begin(), full.cameras.end(), [&](const RgbdCamera& c) { return c.name == camera.name; });
+      REQUIRE(same != full.cameras.end());
+      CHECK(camera.camera_from_site.isApprox(same->camera_from_site));
+      CHECK(camera.color.fx == same->color.fx);
+    }
+  }
+  CHECK(scene.mesh_detail.segments == 6);
+  CHECK(scene.mesh_detail.rings == 2);
+  CHECK(load_scene(kScenesSimScene / "clap.json").mesh_detail.segments == 16);
   // Nothing else: a marker scene asks for no other imperfection.
   CHECK_FALSE(effects.room_echo);
   CHECK_FALSE(effects.depth_noise);
@@ -171,6 +192,24 @@ TEST_CASE("av-marker: each flash lasts its flash_ms from its time, the markers r
 }
 
 TEST_CASE("bad scenes name the field", "[sim][scene]") {
+  SECTION("a camera the site does not have, or named twice, or none") {
+    nlohmann::json json = clap_json();
+    json["sites"]["A"]["cameras"] = {"top-centre", "middle"};
+    require_error(json, "site A", "no camera 'middle' (top-left, top-centre");
+    json["sites"]["A"]["cameras"] = {"top-centre", "top-centre"};
+    require_error(json, "site A", "names 'top-centre' twice");
+    json["sites"]["A"]["cameras"] = nlohmann::json::array();
+    require_error(json, "site A", "'cameras' must be a non-empty list");
+    json["sites"]["A"]["cameras"] = {"top-centre", 3};
+    require_error(json, "site A", "'cameras' must list camera names");
+  }
+  SECTION("a mesh detail out of range or misspelt") {
+    nlohmann::json json = clap_json();
+    json["mesh_detail"] = {{"segments", 2}, {"rings", 2}};
+    require_error(json, "mesh_detail", "'segments' must be in [3, 64]");
+    json["mesh_detail"] = {{"segments", 6}, {"ring", 2}};
+    require_error(json, "mesh_detail", "unknown field 'ring'");
+  }
   SECTION("missing frame count") {
     nlohmann::json json = clap_json();
     json.erase("frames");

@@ -122,6 +122,8 @@ TEST_CASE("site sound: a touch's sound starts at the sample asked for, from wher
   std::this_thread::sleep_for(370ms);
   const uint64_t past_us = monotonic_now_us() - 30'000;
   sound.play_touch_sound(media::TouchSound::FingerTap, past_us, {});
+  // The far voice aims past the far portrait's latency, into the middle of the lip-sync window.
+  sound.hold_voice_to(100.0);
   std::this_thread::sleep_for(300ms);
   sound.stop();
 
@@ -131,6 +133,7 @@ TEST_CASE("site sound: a touch's sound starts at the sample asked for, from wher
   REQUIRE(sounds.size() == 3);
   CHECK(sounds[0]["late_ms"].get<double>() == Approx(0.0).margin(0.05));
   CHECK(sounds[1]["cancelled"].get<bool>());
+  CHECK(m["voice"]["held_to_the_portrait"]["held_to_ms"].get<double>() == Approx(140.0));
   // A past onset starts with the next block made, never in what has already played: late by what
   // was past plus at most a block and the thread's wake-up. A thread that runs behind its blocks
   // (a loaded machine) makes blocks whose time to play has come already, so the lateness can read

@@ -101,8 +101,8 @@ std::optional<sim::RgbdFrame> SiteSimulator::next_frame() {
   pose_ = motion_.pose_at(t_s);
   const sim::UserAppearance& user = scene_.at(site_).user;
   const auto mesh = scene_.effects.av_marker && scene_.effects.av_marker->flashing_at(t_s)
-                        ? sim::person_mesh(pose_, flashed(user))
-                        : sim::person_mesh(pose_, user);
+                        ? sim::person_mesh(pose_, flashed(user), scene_.mesh_detail)
+                        : sim::person_mesh(pose_, user, scene_.mesh_detail);
   renderer_.render(mesh, uint32_t(scene_.seed * 1000003u + index * 2u + (site_ == Site::A ? 0u : 1u)));
 
   sim::RgbdFrame frame;

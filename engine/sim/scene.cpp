@@ -16,9 +16,35 @@ using config::JsonError;
 
 namespace {
 
+// The site's cameras a scene names, in its order: a scene that needs no more (a clapperboard)
+// renders fewer, and each simulated camera costs every frame.
+std::vector<RgbdCamera> chosen_cameras(const std::vector<RgbdCamera>& cameras, const nlohmann::json& names,
+                                       const std::string& where) {
+  if (!names.is_array() || names.empty())
+    throw JsonError(where + ": field 'cameras' must be a non-empty list of the site's camera names");
+  std::string known;
+  for (const RgbdCamera& camera : cameras) known += (known.empty() ? "" : ", ") + camera.name;
+  std::vector<RgbdCamera> chosen;
+  for (const nlohmann::json& name : names) {
+    if (!name.is_string()) throw JsonError(where + ": field 'cameras' must list camera names, has " + name.dump());
+    const auto found = std::find_if(cameras.begin(), cameras.end(), [&](const RgbdCamera& c) { return c.name == name; });
+    if (found == cameras.end())
+      throw JsonError(where + ": field 'cameras': the site has no camera '" + name.get<std::string>() + "' (" + known + ")");
+    if (std::any_of(chosen.begin(), chosen.end(), [&](const RgbdCamera& c) { return c.name == name; }))
+      throw JsonError(where + ": field 'cameras' names '" + name.get<std::string>() + "' twice");
+    chosen.push_back(*found);
+  }
+  return chosen;
+}
+
+MeshDetail mesh_detail_from_json(const nlohmann::json& json, const std::string& where) {
+  reject_unknown_fields(json, {"segments", "rings"}, where);
+  return {int(require_integer(json, "segments", where, 3, 64)), int(require_integer(json, "rings", where, 1, 32))};
+}
+
 SiteSetup site_setup_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir,
                                const std::string& where) {
-  reject_unknown_fields(json, {"site", "user", "motion"}, where);
+  reject_unknown_fields(json, {"site", "user", "motion", "cameras"}, where);
   SiteSetup setup;
   const std::string site_name = config::require_string(json, "site", where);
   setup.site_file = (base_dir / site_name).lexically_normal();
@@ -29,6 +55,7 @@ SiteSetup site_setup_from_json(const nlohmann::json& json, const std::filesystem
   } catch (const JsonError& error) {
     throw JsonError(where + ": field 'site': " + error.what());
   }
+  if (json.contains("cameras")) setup.site.cameras = chosen_cameras(setup.site.cameras, json["cameras"], where);
   setup.user = appearance_from_json(require_object(json, "user", where), where + " user");
   const std::string motion_where = where + " motion";
   setup.motion = motion_from_json(require_object(json, "motion", where), motion_where);
@@ -72,7 +99,7 @@ nlohmann::json appearance_to_json(const UserAppearance& user) {
 Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& base_dir, const std::string& where) {
   reject_unknown_fields(json,
                         {"name", "description", "frames", "fps", "resolution_scale", "color_supersampling", "seed",
-                         "viewpoint", "sites", "effects"},
+                         "viewpoint", "mesh_detail", "sites", "effects"},
                         where);
   Scene scene;
   scene.name = config::require_string(json, "name", where);
@@ -93,6 +120,9 @@ Scene scene_from_json(const nlohmann::json& json, const std::filesystem::path& b
     else if (viewpoint == "seat") scene.viewpoint = ViewpointSource::Seat;
     else throw config::JsonError(where + ": viewpoint must be \"cameras\" or \"seat\", got \"" + viewpoint + "\"");
   }
+
+  if (json.contains("mesh_detail"))
+    scene.mesh_detail = mesh_detail_from_json(require_object(json, "mesh_detail", where), where + " mesh_detail");
 
   const nlohmann::json& sites = require_object(json, "sites", where);
   reject_unknown_fields(sites, {"A", "B"}, where + " sites");

@@ -13,6 +13,7 @@
 #include "geometry/site_frames.h"
 #include "sim/effects.h"
 #include "sim/motion.h"
+#include "sim/person_mesh.h"
 #include "sim/person_pose.h"
 #include "sim/site_description.h"
 
@@ -40,6 +41,7 @@ struct Scene {
   uint32_t color_supersampling = 1;
   uint64_t seed = 0;              // every random effect draws from streams derived from it
   ViewpointSource viewpoint = ViewpointSource::Cameras;
+  MeshDetail mesh_detail;          // of the simulated users' capsules (the hands' fingers keep a floor)
   std::array<SiteSetup, 2> sites;  // indexed by rt::Site: A, B
   Effects effects;                 // applied at both sites
 
@@ -50,7 +52,9 @@ struct Scene {
 // JSON:
 // {"name": "clap", "frames": 150, "fps": 30, "resolution_scale": 0.5, "seed": 7,
 //  "viewpoint": "cameras" (the default) or "seat",
+//  "mesh_detail": {"segments": 16, "rings": 8} (optional; the default),
 //  "sites": {"A": {"site": "../sites/default.json",
+//                  "cameras": ["top-centre", "bottom-centre"] (optional: only these of the site's),
 //                  "user": {"skin_rgb": [r,g,b], "shirt_rgb": [..], "shirt_stripe_rgb": [..],
 //                           "stripe_width_m": 0.03, "hand_scale": 1.0},
 //                  "motion": {"name": "clap", "touch_target_m": [0.08, 0.05], ...}},

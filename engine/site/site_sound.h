@@ -79,8 +79,14 @@ class SiteSound {
   void cancel_touch_sound(uint64_t id);
 
   // Holds the far voice to the far portrait: its capture-to-play latency follows `latency_ms`, the
-  // portrait's capture-to-screen latency (NaN: play the voice as it comes). Any thread.
-  void hold_voice_to(double latency_ms) { hold_to_ms_ = latency_ms; }
+  // portrait's capture-to-screen latency, plus kVoiceAfterPortraitMs (NaN: play the voice as it
+  // comes). Any thread.
+  void hold_voice_to(double latency_ms) { hold_to_ms_ = latency_ms + kVoiceAfterPortraitMs; }
+  // ITU-R BT.1359 lets the sound come 45 ms early but 125 ms late, and every picture slower than
+  // the median (a loaded moment, a frame skipped, one held on screen until the next) makes the
+  // sound early: aimed at the median itself, a slow picture puts it past the early edge. Aimed at
+  // the window's middle, a picture may come 85 ms later or earlier than usual and stay inside.
+  static constexpr double kVoiceAfterPortraitMs = (125.0 - 45.0) / 2.0;
   // The far voice's median capture-to-play latency so far (NaN: none played yet); after stop().
   double voice_latency_ms() const { return voice_hold_.median_latency_ms(); }
 

@@ -29,7 +29,7 @@ int run_bench_simulate(const RunOptions& options) {
   size_t vertices = 0;
   for (uint32_t frame = 0; frame < options.frames + 2; ++frame) {
     const auto start = std::chrono::steady_clock::now();
-    const auto mesh = sim::person_mesh(motion.pose_at(frame / scene.fps), setup.user);
+    const auto mesh = sim::person_mesh(motion.pose_at(frame / scene.fps), setup.user, scene.mesh_detail);
     renderer.render(mesh, frame);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     vertices = mesh.size();
