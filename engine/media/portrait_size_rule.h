@@ -36,7 +36,7 @@ struct PortraitSizeRuleOptions {
   double round_trip_high_s = 0.4;  // a decision with a longer round trip counts as all lost
   double down_after_s = 3.0;     // the period a step down weighs
   double up_after_s = 4.0;       // the period a step up weighs (before any doubling)
-  // A step down this soon after a step up doubles the up period (to 8x at most); clean this long
+  // A step down this soon after a step up doubles the up period (to 8x at most); this long
   // at the call's size, it is back to up_after_s.
   double flap_window_s = 30.0;
 };
