@@ -18,7 +18,6 @@
 #include <deque>
 #include <map>
 #include <mutex>
-#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <thread>
 
@@ -28,6 +27,7 @@
 #include "media/frame_time_sei.h"
 #include "media/ice_servers.h"
 #include "media/portrait_frame.h"
+#include "media/portrait_pictures.h"
 #include "time/monotonic_clock.h"
 
 namespace rt::media {
@@ -128,7 +128,7 @@ struct WebRtcPeer::Impl {
   GstWebRTCDataChannel* fast = nullptr;
   GstWebRTCDataChannel* reliable = nullptr;
   GstWebRTCDataChannel* relayed_in = nullptr;  // relayed: the other site's channel, as the SFU named it
-  GstVideoInfo color_info{}, depth_info{};
+  uint32_t sent_width = 0, sent_height = 0;  // the pictures' size now (media/portrait_size_rule.h)
   CodecClock color_encode, depth_encode;
   KeyframeRequests asked_of_us;
   std::vector<std::unique_ptr<IncomingChain>> chains;
@@ -194,7 +194,8 @@ struct WebRtcPeer::Impl {
   bool channels_open() const;
   void link_incoming(GstPad* pad);
   void on_sample(GstAppSink* sink, IncomingChain& chain);
-  void store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes, std::optional<PortraitFrame> frame);
+  void store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes, std::optional<PortraitFrame> frame,
+                  bool scaled = false);
   static ReceivedPortrait assemble(PendingFrame part);
 };
 
@@ -459,14 +460,15 @@ void WebRtcPeer::Impl::on_sample(GstAppSink* sink, IncomingChain& chain) {
   }
   const uint32_t w = options.width, h = options.height;
   const GstVideoFormat format = GST_VIDEO_INFO_FORMAT(&info);
-  if (uint32_t(GST_VIDEO_INFO_WIDTH(&info)) != w || uint32_t(GST_VIDEO_INFO_HEIGHT(&info)) != h ||
-      (format != GST_VIDEO_FORMAT_I420 && format != GST_VIDEO_FORMAT_I420_10LE)) {
+  // A picture smaller than the call's is the sender's size stepped down: scaled back here.
+  std::string why = check_received_picture_size(GST_VIDEO_INFO_WIDTH(&info), GST_VIDEO_INFO_HEIGHT(&info), w, h);
+  if (why.empty() && format != GST_VIDEO_FORMAT_I420 && format != GST_VIDEO_FORMAT_I420_10LE)
+    why = std::string("a decoded frame in ") + gst_video_format_to_string(format) + ", the link carries I420 and I420_10LE";
+  if (!why.empty()) {
     gst_sample_unref(sample);
     std::lock_guard lock(mutex);
     ++counters.frames_unpaired;
-    last_error = options.name + ": a decoded frame of " + std::to_string(GST_VIDEO_INFO_WIDTH(&info)) + "x" +
-                 std::to_string(GST_VIDEO_INFO_HEIGHT(&info)) + " " + gst_video_format_to_string(format) +
-                 ", the link carries " + std::to_string(w) + "x" + std::to_string(h) + " I420 and I420_10LE";
+    last_error = options.name + ": " + why;
     return;
   }
   GstVideoFrame frame;
@@ -475,36 +477,24 @@ void WebRtcPeer::Impl::on_sample(GstAppSink* sink, IncomingChain& chain) {
     return fail(options.name + ": a decoded frame could not be mapped");
   }
   const uint32_t rtp = rtp_time_of(GST_BUFFER_PTS(buffer));
+  const bool scaled = uint32_t(GST_VIDEO_INFO_WIDTH(&info)) != w || uint32_t(GST_VIDEO_INFO_HEIGHT(&info)) != h;
   if (format == GST_VIDEO_FORMAT_I420) {
-    // Gather the three planes into OpenCV's contiguous I420 layout, then to RGB.
-    cv::Mat yuv(int(h * 3 / 2), int(w), CV_8UC1);
-    uint8_t* out = yuv.ptr<uint8_t>();
-    for (int plane = 0; plane < 3; ++plane) {
-      const uint32_t pw = plane ? w / 2 : w, ph = plane ? h / 2 : h;
-      const auto* in = static_cast<const uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, plane));
-      const int stride = GST_VIDEO_FRAME_PLANE_STRIDE(&frame, plane);
-      for (uint32_t y = 0; y < ph; ++y, out += pw) std::copy_n(in + size_t(y) * size_t(stride), pw, out);
-    }
-    std::vector<uint8_t> rgb(size_t(w) * h * 3);
-    cv::Mat rgb_mat(int(h), int(w), CV_8UC3, rgb.data());
-    cv::cvtColor(yuv, rgb_mat, cv::COLOR_YUV2RGB_I420);
+    std::vector<uint8_t> rgb = rgb_of_color_picture(frame, w, h);
     gst_video_frame_unmap(&frame);
     gst_sample_unref(sample);
-    store_part(rtp, &rgb, nullptr, std::nullopt);
+    store_part(rtp, &rgb, nullptr, std::nullopt, scaled);
   } else {
-    std::vector<uint16_t> codes(size_t(w) * h);
-    const auto* in = static_cast<const uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, 0));
-    const int stride = GST_VIDEO_FRAME_PLANE_STRIDE(&frame, 0);
-    for (uint32_t y = 0; y < h; ++y) std::memcpy(codes.data() + size_t(y) * w, in + size_t(y) * size_t(stride), w * 2);
+    std::vector<uint16_t> codes = codes_of_depth_alpha_picture(frame, w, h);
     gst_video_frame_unmap(&frame);
     gst_sample_unref(sample);
-    store_part(rtp, nullptr, &codes, std::nullopt);
+    store_part(rtp, nullptr, &codes, std::nullopt, scaled);
   }
 }
 
 void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes,
-                                  std::optional<PortraitFrame> frame) {
+                                  std::optional<PortraitFrame> frame, bool scaled) {
   std::lock_guard lock(mutex);
+  if (scaled) ++(rgb ? counters.color_pictures_scaled : counters.depth_pictures_scaled);
   auto [it, inserted] = pending.try_emplace(rtp);
   if (inserted) it->second.order = pending_order++;
   if (rgb) it->second.rgb = std::move(*rgb);
@@ -652,8 +642,8 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
       gst_object_unref(src);
     }
   }
-  gst_video_info_set_format(&m.color_info, GST_VIDEO_FORMAT_I420, o.width, o.height);
-  gst_video_info_set_format(&m.depth_info, GST_VIDEO_FORMAT_I420_10LE, o.width, o.height);
+  m.sent_width = o.width;
+  m.sent_height = o.height;
 
   configure_ice(m.webrtc, o.stun_server, o.turn_server, o.relay_only, o.local_addresses);
 
@@ -735,7 +725,8 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   if (gst_element_set_state(m.pipeline, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
     throw std::runtime_error("the WebRTC pipeline would not start: " + last_error());
   m.voice.attach_sender(m.pipeline, o.voice_retransmit);
-  m.bitrate = std::make_unique<BitrateFollower>(m.webrtc, m.color_enc, m.depth_enc, color_rate, o.depth_kbps, o.adapt_bitrate);
+  m.bitrate = std::make_unique<BitrateFollower>(m.webrtc, m.color_enc, m.depth_enc, color_rate, o.depth_kbps, o.adapt_bitrate,
+                                                o.step_portrait_size);
   if (o.offerer) m.open_channels();
 }
 
@@ -889,41 +880,17 @@ void WebRtcPeer::send_portrait(const net::PortraitMessage& portrait) {
   std::string why;
   if (!decode_portrait_frame(record, w, h, &why)) throw std::invalid_argument("a portrait the receiver would refuse: " + why);
 
-  // Colour: straight-alpha RGB to 8 bits, to I420 (BT.601, as the receiver converts back).
-  std::vector<uint8_t> rgb(size_t(w) * h * 3);
-  for (size_t i = 0, n = size_t(w) * h; i < n; ++i)
-    for (size_t c = 0; c < 3; ++c) {
-      const float v = portrait.color.texels[i * 4 + c];
-      // Not lround: 2.8 million calls a 720p portrait. NaN (which clamp passes through) is 0.
-      rgb[i * 3 + c] = uint8_t(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f) * 255.0f + 0.5f);
-    }
-  cv::Mat yuv;
-  cv::cvtColor(cv::Mat(int(h), int(w), CV_8UC3, rgb.data()), yuv, cv::COLOR_RGB2YUV_I420);
-  GstBuffer* color = gst_buffer_new_allocate(nullptr, GST_VIDEO_INFO_SIZE(&m.color_info), nullptr);
-  GstVideoFrame vf;
-  gst_video_frame_map(&vf, &m.color_info, color, GST_MAP_WRITE);
-  const uint8_t* in = yuv.ptr<uint8_t>();
-  for (int plane = 0; plane < 3; ++plane) {
-    const uint32_t pw = plane ? w / 2 : w, ph = plane ? h / 2 : h;
-    auto* out = static_cast<uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&vf, plane));
-    const int stride = GST_VIDEO_FRAME_PLANE_STRIDE(&vf, plane);
-    for (uint32_t y = 0; y < ph; ++y, in += pw) std::copy_n(in, pw, out + size_t(y) * size_t(stride));
+  // Both pictures at the size the path carries now (media/portrait_size_rule.h), changed together.
+  const int step = m.bitrate ? m.bitrate->state().portrait_step : 0;
+  const auto [sent_width, sent_height] = portrait_size_at_step(w, h, step);
+  if (sent_width != m.sent_width || sent_height != m.sent_height) {
+    for (GstElement* src : {m.color_src, m.depth_src}) set_picture_size(src, sent_width, sent_height);
+    std::lock_guard lock(m.mutex);
+    m.sent_width = sent_width;
+    m.sent_height = sent_height;
   }
-  gst_video_frame_unmap(&vf);
-
-  // Depth and alpha: the luma codes; chroma at its neutral middle.
-  GstBuffer* depth = gst_buffer_new_allocate(nullptr, GST_VIDEO_INFO_SIZE(&m.depth_info), nullptr);
-  gst_video_frame_map(&vf, &m.depth_info, depth, GST_MAP_WRITE);
-  const size_t luma_stride = size_t(GST_VIDEO_FRAME_PLANE_STRIDE(&vf, 0)) / 2;
-  encode_depth_alpha_plane(portrait.color, portrait.depth, m.options.depth_range,
-                           std::span(static_cast<uint16_t*>(GST_VIDEO_FRAME_PLANE_DATA(&vf, 0)), luma_stride * h), luma_stride);
-  for (int plane = 1; plane < 3; ++plane) {
-    auto* out = static_cast<uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&vf, plane));
-    const size_t stride = size_t(GST_VIDEO_FRAME_PLANE_STRIDE(&vf, plane));
-    for (uint32_t y = 0; y < h / 2; ++y)
-      std::fill_n(reinterpret_cast<uint16_t*>(out + y * stride), w / 2, uint16_t(512));
-  }
-  gst_video_frame_unmap(&vf);
+  GstBuffer* color = make_color_picture(portrait.color, sent_width, sent_height);
+  GstBuffer* depth = make_depth_alpha_picture(portrait.color, portrait.depth, m.options.depth_range, sent_width, sent_height);
 
   const GstClockTime duration = GST_SECOND / GstClockTime(m.options.fps);
   for (GstBuffer* b : {color, depth}) {
@@ -1023,6 +990,8 @@ WebRtcCounters WebRtcPeer::counters() const {
   const RepairCounters repair = m.retransmission.read();
   std::lock_guard lock(m.mutex);
   WebRtcCounters out = m.counters;
+  out.width_sent = m.sent_width;
+  out.height_sent = m.sent_height;
   out.repair = repair;
   out.voice = m.voice.counters();
   out.color_encode_ms = m.color_encode.median_ms();
@@ -1049,6 +1018,8 @@ WebRtcCounters WebRtcPeer::counters() const {
     out.bitrate_decisions = rate.decisions;
     out.bitrate_lowered = rate.lowered;
     out.bitrate_raised = rate.raised;
+    out.size_steps_down = rate.size_steps_down;
+    out.size_steps_up = rate.size_steps_up;
   }
   return out;
 }

@@ -58,6 +58,10 @@ struct WebRtcPeerOptions {
   // color_kbps between this floor and ceiling; the depth track's ceiling moves in proportion.
   bool adapt_bitrate = true;
   int color_floor_kbps = 300, color_ceiling_kbps = 2500;
+  // With the colour rate held at its floor, both tracks' pictures step down to 3/4 and 1/2 of the
+  // call's size, and back up once the path clears (media/portrait_size_rule.h; only while the
+  // bitrate adapts). The receiver scales them back to the call's size.
+  bool step_portrait_size = true;
   // Lost packets asked again (RTCP NACK, retransmitted on their own stream) while the jitter buffer
   // can still use them; a picture that retransmission could not repair asks for a keyframe.
   bool retransmit = true;
@@ -113,6 +117,11 @@ struct WebRtcCounters {
   int color_kbps_now = 0, depth_kbps_now = 0;
   double reported_fraction_lost = 0, round_trip_ms = -1;
   uint64_t bitrate_decisions = 0, bitrate_lowered = 0, bitrate_raised = 0;
+  // The size both tracks' pictures are encoded at now, and how often the size rule changed it.
+  uint32_t width_sent = 0, height_sent = 0;
+  uint64_t size_steps_down = 0, size_steps_up = 0;
+  // Receiving: pictures that came smaller than the call's size and were scaled back to it.
+  uint64_t color_pictures_scaled = 0, depth_pictures_scaled = 0;
   // Receiving: portraits whose record came but not both pictures (lost to the network), and per
   // track the pictures missing from those, the packets lost past repair, the losses that broke the
   // track, those it recovered from with a correct picture and how long that took, and the
