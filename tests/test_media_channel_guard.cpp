@@ -116,11 +116,30 @@ TEST_CASE("the guards' handshake refuses frames out of place") {
   {
     ChannelGuard connector(key, net::Role::Connector, kGuardTestLimit), listener(key, net::Role::Listener, kGuardTestLimit);
     const auto hello = connector.start();
-    REQUIRE(listener.receive(GuardedChannel::Reliable, hello).kind == ChannelGuard::Received::Kind::Handshake);
-    // The same hello again (sent before the answer came) is ignored; another connector's is refused.
+    const auto answer = listener.receive(GuardedChannel::Reliable, hello);
+    REQUIRE(answer.kind == ChannelGuard::Received::Kind::Handshake);
+    // The same hello again (sent before the answer came, which a relay may have dropped) gets the
+    // same answer again.
     const auto again = listener.receive(GuardedChannel::Reliable, hello);
     CHECK(again.kind == ChannelGuard::Received::Kind::Handshake);
-    CHECK(again.reply.empty());
+    CHECK(again.reply == answer.reply);
+    // The connector takes the answer once and a repeat of it as already taken, then completes.
+    const auto proof = connector.receive(GuardedChannel::Reliable, answer.reply);
+    REQUIRE(proof.kind == ChannelGuard::Received::Kind::Handshake);
+    CHECK_FALSE(proof.reply.empty());
+    const auto repeat = connector.receive(GuardedChannel::Reliable, again.reply);
+    CHECK(repeat.kind == ChannelGuard::Received::Kind::Handshake);
+    CHECK(repeat.reply.empty());
+    CHECK(connector.failure().empty());
+    const auto last = listener.receive(GuardedChannel::Reliable, proof.reply);
+    CHECK(connector.receive(GuardedChannel::Reliable, last.reply).kind == ChannelGuard::Received::Kind::Handshake);
+    CHECK(connector.ready());
+    CHECK(listener.ready());
+  }
+  {
+    // Another connector's hello after the first: refused.
+    ChannelGuard connector(key, net::Role::Connector, kGuardTestLimit), listener(key, net::Role::Listener, kGuardTestLimit);
+    REQUIRE(listener.receive(GuardedChannel::Reliable, connector.start()).kind == ChannelGuard::Received::Kind::Handshake);
     ChannelGuard other(key, net::Role::Connector, kGuardTestLimit);
     CHECK(listener.receive(GuardedChannel::Reliable, other.start()).reason == "a second hello");
   }

@@ -59,7 +59,8 @@ namespace {
 // The peers' callbacks (GStreamer's threads) queue descriptions; pump() hands them to Janus on
 // the test's thread, since Janus's answers take a round trip.
 struct JanusTestSite {
-  JanusTestSite(const std::string& url, const std::string& name, const std::string& address, uint32_t width, uint32_t height) {
+  JanusTestSite(const std::string& url, const std::string& name, const std::string& address, uint32_t width, uint32_t height,
+                std::shared_ptr<ChannelGuard> guard) {
     JanusRoomOptions o;
     o.url = url;
     o.room = 4242;
@@ -75,6 +76,7 @@ struct JanusTestSite {
     options.local_addresses = {address};
     options.max_queued_portraits = 64;
     options.relayed = true;
+    options.guard = std::move(guard);
     WebRtcPeerOptions p = options;
     p.offerer = true;
     publisher = std::make_unique<WebRtcPeer>(p, signalling(JanusRoom::Peer::Publisher));
@@ -112,6 +114,8 @@ struct JanusTestSite {
   void subscribe(uint64_t feed) {
     WebRtcPeerOptions o = options;
     o.offerer = false;
+    // Janus relays a subscriber's data nowhere: its handshake frames go out through the publisher.
+    o.handshake_out = [this](std::span<const uint8_t> frame) { return publisher->send_handshake(frame); };
     subscriber = std::make_unique<WebRtcPeer>(o, signalling(JanusRoom::Peer::Subscriber));
     const std::string offer = room->subscribe(feed);
     std::ofstream(test::output_dir("test_media_janus") / ("subscriber_offer_" + options.name + ".sdp")) << offer;
@@ -144,35 +148,40 @@ TEST_CASE("two sites meet in a Janus room and see each other through it", "[.jan
   test::JanusInNamespace janus(test::output_dir("test_media_janus"), *address);
   REQUIRE(janus.wait_ready(std::chrono::seconds(15)));
   constexpr uint32_t width = 320, height = 180;
-  JanusTestSite a(janus.url(), "A", *address, width, height), b(janus.url(), "B", *address, width, height);
+  // The site key seals the data channels end to end, its handshake relayed by Janus like the rest.
+  const net::SessionKey key = net::random_session_key();
+  JanusTestSite a(janus.url(), "A", *address, width, height, std::make_shared<ChannelGuard>(key, net::Role::Connector, 60000)),
+      b(janus.url(), "B", *address, width, height, std::make_shared<ChannelGuard>(key, net::Role::Listener, 60000));
   CHECK(a.id != b.id);
   // The offer needs the tracks' caps, which come with the first portrait.
   a.publisher->send_portrait(synthetic_portrait(width, height, 1000));
   b.publisher->send_portrait(synthetic_portrait(width, height, 1000));
-  const auto published = std::chrono::steady_clock::now() + std::chrono::seconds(15);
-  while (std::chrono::steady_clock::now() < published && !(a.publisher->connected() && b.publisher->connected())) {
+  // Each site publishes (Janus answers its offer), then subscribes to the other once it publishes.
+  for (int i = 0; i < 400 && !(a.publisher->channels_up() && b.publisher->channels_up()); ++i) {
     a.pump();
     b.pump();
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
   }
   INFO("A: " << a.publisher->last_error() << " / " << a.room->last_error() << "; B: " << b.publisher->last_error() << " / "
              << b.room->last_error());
-  REQUIRE(a.publisher->connected());
-  REQUIRE(b.publisher->connected());
   const std::optional<uint64_t> a_sees = a.room->wait_for_other(std::chrono::seconds(5));
   const std::optional<uint64_t> b_sees = b.room->wait_for_other(std::chrono::seconds(5));
   REQUIRE(a_sees == b.id);
   REQUIRE(b_sees == a.id);
   a.subscribe(*a_sees);
   b.subscribe(*b_sees);
-  const auto subscribed = std::chrono::steady_clock::now() + std::chrono::seconds(15);
-  while (std::chrono::steady_clock::now() < subscribed && !(a.subscriber->connected() && b.subscriber->connected())) {
+  // Connected: all four peer connections up and the site key's handshake done across Janus.
+  const auto subscribed = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  const auto all_up = [&] {
+    return a.publisher->connected() && b.publisher->connected() && a.subscriber->connected() && b.subscriber->connected();
+  };
+  while (std::chrono::steady_clock::now() < subscribed && !all_up()) {
     a.pump();
     b.pump();
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  CHECK(a.subscriber->connected());
-  CHECK(b.subscriber->connected());
+  INFO("A: " << a.subscriber->last_error() << "; B: " << b.subscriber->last_error());
+  REQUIRE(all_up());
 
   // What arrived before both subscriptions were up is not part of the count.
   std::this_thread::sleep_for(std::chrono::milliseconds(300));

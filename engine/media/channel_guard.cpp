@@ -81,9 +81,14 @@ ChannelGuard::Received ChannelGuard::handshake_frame(uint8_t step, std::span<con
   if (seal_fast_) return refuse("a handshake frame after the handshake completed");
   if (step == kGuardStepHello) {
     if (payload.size() != net::kHelloSize) return refuse("a hello of " + std::to_string(payload.size()) + " bytes");
-    // The connector's hello sent again, before it saw our answer: already answered.
-    if (hello_seen_ && role_ == net::Role::Listener && std::equal(payload.begin(), payload.end(), peer_hello_.begin()))
+    // The connector's hello sent again, before it saw our answer: the answer again, the same
+    // bytes. A relay may have dropped it (Janus relays nothing to a subscriber whose channel is not
+    // up yet), and a repeat makes no new state. The connector takes a repeat of that answer as
+    // already taken.
+    if (hello_seen_ && std::equal(payload.begin(), payload.end(), peer_hello_.begin())) {
+      if (role_ == net::Role::Listener) out.reply = guard_frame(kGuardStepHello, handshake_->hello());
       return out;
+    }
     if (hello_seen_) return refuse("a second hello");
     if (auto bad = net::Handshake::check_hello_prefix(payload.first(net::kHelloPrefixSize), role_)) return refuse(*bad);
     if (role_ == net::Role::Connector && !started_) return refuse("the listener's hello before ours");

@@ -28,6 +28,7 @@
 #include "media/ice_servers.h"
 #include "media/portrait_frame.h"
 #include "media/portrait_pictures.h"
+#include "media/webrtc_peer_impl.h"
 #include "time/monotonic_clock.h"
 
 namespace rt::media {
@@ -86,118 +87,6 @@ bool travels_fast(net::MessageType type) { return type == net::MessageType::Eye 
 
 }  // namespace
 
-// One incoming RTP stream: depayloader, decoder, appsink, and the RTP time of its packets.
-struct IncomingChain {
-  WebRtcPeer::Impl* impl = nullptr;
-  std::array<std::pair<GstClockTime, uint32_t>, 64> pts_to_rtp{};
-  size_t next = 0;
-  uint32_t last_rtp = 0;
-  uint32_t sender_minus_header = 0;  // the sender's RTP time less the header's (media/frame_time_sei.h)
-  bool color = false;  // payload type 96; 97 is depth and alpha
-  CodecClock decode;
-  KeyframeRequests asked;  // by its depayloader, of the other peer's encoder
-  TrackLosses losses;
-  StalledTrack stalled;
-};
-
-struct ByteCount {
-  WebRtcPeer::Impl* impl;
-  uint64_t* total;
-};
-
-struct PendingFrame {
-  uint64_t order = 0;          // arrival order while pending
-  std::vector<uint8_t> rgb;     // colour, width*height*3
-  std::vector<uint16_t> codes;  // depth/alpha luma, width*height
-  // Not an optional: GCC 12 sees a moved-from optional as maybe uninitialized.
-  PortraitFrame frame;
-  bool has_frame = false;
-};
-
-struct WebRtcPeer::Impl {
-  WebRtcPeerOptions options;
-  Signalling signalling;
-  GstElement* pipeline = nullptr;
-  GstElement* webrtc = nullptr;
-  GstElement* color_src = nullptr;
-  GstElement* depth_src = nullptr;
-  GstElement* color_enc = nullptr;
-  GstElement* depth_enc = nullptr;
-  GstElement* netsim = nullptr;  // the simulated network, when the options ask for one
-  std::unique_ptr<BitrateFollower> bitrate;
-  GstWebRTCDataChannel* fast = nullptr;
-  GstWebRTCDataChannel* reliable = nullptr;
-  GstWebRTCDataChannel* relayed_in = nullptr;  // relayed: the other site's channel, as the SFU named it
-  uint32_t sent_width = 0, sent_height = 0;  // the pictures' size now (media/portrait_size_rule.h)
-  CodecClock color_encode, depth_encode;
-  KeyframeRequests asked_of_us;
-  std::vector<std::unique_ptr<IncomingChain>> chains;
-  std::deque<ByteCount> byte_counts;  // a deque: the probes hold pointers into it
-  RetransmissionWatch retransmission;
-  VoiceTrack voice;
-
-  mutable std::mutex mutex;
-  bool offered = false;
-  GstClockTime last_pts = 0;
-  bool sent_any = false;
-  uint64_t pending_order = 0;
-  std::map<uint32_t, PendingFrame> pending;
-  std::deque<PendingFrame> paired;  // `order` is when it was paired, µs
-  std::vector<net::Message> messages;
-  WebRtcCounters counters;
-  std::string last_error;
-
-  // Here rather than in ~WebRtcPeer, so that a constructor that throws half way still stops
-  // and frees what it made.
-  ~Impl() {
-    if (!pipeline) return;
-    if (bitrate) bitrate->stop();  // it reads webrtcbin's statistics
-    g_signal_handlers_disconnect_by_data(webrtc, this);
-    for (GstWebRTCDataChannel* channel : {fast, reliable, relayed_in})
-      if (channel) g_signal_handlers_disconnect_by_data(channel, this);
-    gst_element_set_state(pipeline, GST_STATE_NULL);
-    for (GstWebRTCDataChannel* channel : {fast, reliable, relayed_in})
-      if (channel) gst_object_unref(channel);
-    bitrate.reset();
-    for (GstElement* e : {webrtc, color_src, depth_src, color_enc, depth_enc, netsim})
-      if (e) gst_object_unref(e);
-    gst_object_unref(pipeline);
-  }
-
-  void fail(const std::string& why) {
-    std::lock_guard lock(mutex);
-    last_error = why;
-  }
-  void refuse(const std::string& why) {
-    std::lock_guard lock(mutex);
-    ++counters.messages_refused;
-    last_error = why;
-  }
-
-  // ---- offer and answer ----
-  void maybe_offer();
-  // NACK and retransmission on every transceiver, before the offer or answer names them.
-  void ask_for_retransmission();
-  static void on_offer_created(GstPromise* promise, gpointer data);
-  void announce_local(GstWebRTCSessionDescription* description, const char* type);
-
-  // webrtcbin's inner elements as it makes them: RTCP's pace, and the repair's counters.
-  void on_element_added(GstElement* element);
-
-  // ---- receiving ----
-  void adopt_channel(GstWebRTCDataChannel* channel);
-  // The channels this peer opens itself: both, or (relayed) the reliable one only.
-  void open_channels();
-  void on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* bytes);
-  // The bytes as they are, on an open channel; false if it is not open.
-  bool send_on_channel(bool on_fast, std::span<const uint8_t> bytes);
-  bool channels_open() const;
-  void link_incoming(GstPad* pad);
-  void on_sample(GstAppSink* sink, IncomingChain& chain);
-  void store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes, std::optional<PortraitFrame> frame,
-                  bool scaled = false);
-  static ReceivedPortrait assemble(PendingFrame part);
-};
 
 void WebRtcPeer::Impl::maybe_offer() {
   bool ready = true;
@@ -297,7 +186,7 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   if (options.guard) {
     opened = options.guard->receive(on_fast ? GuardedChannel::Fast : GuardedChannel::Reliable, view);
     if (opened.kind == ChannelGuard::Received::Kind::Refused) {
-      if (!opened.reply.empty()) send_on_channel(false, opened.reply);
+      if (!opened.reply.empty()) send_handshake_frame(opened.reply);
       return refuse(options.name + ": " + opened.reason);
     }
     if (opened.kind == ChannelGuard::Received::Kind::Early) {
@@ -306,7 +195,7 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
       return;
     }
     if (opened.kind == ChannelGuard::Received::Kind::Handshake) {
-      if (!opened.reply.empty()) send_on_channel(false, opened.reply);
+      if (!opened.reply.empty()) send_handshake_frame(opened.reply);
       return;
     }
     view = opened.message;
@@ -322,7 +211,8 @@ void WebRtcPeer::Impl::on_channel_bytes(GstWebRTCDataChannel* channel, GBytes* b
   const net::MessageType type = net::message_type(*result.message);
   if (type == net::MessageType::Portrait) return refuse("a portrait on a data channel: portraits travel as video");
   if (type == net::MessageType::Signal) return refuse("a signal on a data channel: signals set the call up beside it");
-  if (type == net::MessageType::Voice) return refuse("a voice frame on a data channel: the voice travels as an audio track");
+  if (type == net::MessageType::Voice && !relayed_channel)
+    return refuse("a voice frame on a data channel: the voice travels as an audio track");
   if (!relayed_channel && travels_fast(type) != on_fast)
     return refuse(std::string("a ") + net::message_type_name(type) + " message on the wrong data channel");
   std::lock_guard lock(mutex);
@@ -823,13 +713,15 @@ bool WebRtcPeer::Impl::channels_open() const {
   return true;
 }
 
+bool WebRtcPeer::channels_up() const { return impl_->channels_open(); }
+
 bool WebRtcPeer::connected() const {
   const Impl& m = *impl_;
   if (!m.channels_open()) return false;
   if (!m.options.guard) return true;
   // The connector's hello goes once both channels are open, again until answered (the guard says when).
   if (const std::vector<uint8_t> hello = m.options.guard->start(); !hello.empty())
-    const_cast<Impl&>(m).send_on_channel(false, hello);
+    const_cast<Impl&>(m).send_handshake_frame(hello);
   return m.options.guard->ready();
 }
 
@@ -915,7 +807,8 @@ bool WebRtcPeer::send_message(const net::Message& message) {
     throw std::invalid_argument("a portrait goes through send_portrait: it travels as video");
   if (type == net::MessageType::Signal)
     throw std::invalid_argument("a signal goes to the other site beside the call, not on its data channels");
-  if (type == net::MessageType::Voice) throw std::invalid_argument("a voice frame goes through send_voice: it travels as an audio track");
+  if (type == net::MessageType::Voice && !impl_->options.relayed)
+    throw std::invalid_argument("a voice frame goes through send_voice: it travels as an audio track");
   const std::vector<uint8_t> bytes = net::encode_message(message);
   if (bytes.size() > kMaxChannelMessage) throw std::invalid_argument("a message over the data channels' limit");
   if (!send_raw(travels_fast(type) ? Channel::Fast : Channel::Reliable, bytes)) return false;
@@ -929,13 +822,12 @@ bool WebRtcPeer::send_raw(Channel which, std::span<const uint8_t> bytes) {
   if (bytes.size() > kMaxChannelMessage) return false;
   if (m.options.relayed) which = Channel::Reliable;
   if (!m.options.guard) return m.send_on_channel(which == Channel::Fast, bytes);
-  const auto sealed =
-      m.options.guard->seal(which == Channel::Fast ? GuardedChannel::Fast : GuardedChannel::Reliable, bytes);
-  if (!sealed || sealed->size() > kMaxChannelMessage) return false;
-  return m.send_on_channel(which == Channel::Fast, *sealed);
+  return m.send_on_channel(which == Channel::Fast, bytes, true);
 }
 
-bool WebRtcPeer::Impl::send_on_channel(bool on_fast, std::span<const uint8_t> bytes) {
+bool WebRtcPeer::send_handshake(std::span<const uint8_t> frame) { return impl_->send_on_channel(false, frame); }
+
+bool WebRtcPeer::Impl::send_on_channel(bool on_fast, std::span<const uint8_t> bytes, bool seal) {
   std::lock_guard lock(mutex);
   GstWebRTCDataChannel* channel = on_fast ? fast : reliable;
   if (!channel) return false;
@@ -943,6 +835,15 @@ bool WebRtcPeer::Impl::send_on_channel(bool on_fast, std::span<const uint8_t> by
   GstWebRTCDataChannelState state = GST_WEBRTC_DATA_CHANNEL_STATE_CLOSED;
   g_object_get(channel, "ready-state", &state, nullptr);
   if (state != GST_WEBRTC_DATA_CHANNEL_STATE_OPEN) return false;
+  // Sealed here, under the lock, after the channel said it is open: sealing numbers the record, and
+  // the reliable channel opens records in strict order, so one sealed and not sent, or sent after a
+  // later one (senders on several threads), would break it for good.
+  std::optional<std::vector<uint8_t>> sealed;
+  if (seal) {
+    sealed = options.guard->seal(on_fast ? GuardedChannel::Fast : GuardedChannel::Reliable, bytes);
+    if (!sealed || sealed->size() > kMaxChannelMessage) return false;
+    bytes = *sealed;
+  }
   GBytes* data = g_bytes_new(bytes.data(), bytes.size());
   gst_webrtc_data_channel_send_data(channel, data);
   g_bytes_unref(data);

@@ -85,8 +85,14 @@ struct WebRtcPeerOptions {
   // publisher. So a relayed peer sends every message on its reliable channel (the offerer: the
   // publisher), takes a channel of any other name as the other site's (the answerer: the
   // subscriber, which opens a channel of its own so that the SFU's side of the association starts),
-  // and counts as connected once ICE and its own channel are.
+  // and counts as connected once ICE and its own channel are. The voice goes as a message on the
+  // channel too, sealed like the rest: the SFU rewrites an audio track's RTP times, which carry the
+  // capture time, and could hear it.
   bool relayed = false;
+  // Relayed: where this peer's handshake frames go (the guard's hello and replies). A subscriber
+  // cannot answer on its own connection, which the SFU relays nowhere; its site's publisher can
+  // (send_handshake). Empty: on this peer's own reliable channel.
+  std::function<bool(std::span<const uint8_t>)> handshake_out;
   // The site key on the data channels (media/channel_guard.h): with one, everything they carry
   // is sealed, nothing is sent before its handshake completes, and connected() waits for it.
   // Without one, DTLS alone protects them (the tests of the channels' own checks).
@@ -152,6 +158,8 @@ class WebRtcPeer {
   // Until ICE is connected and both data channels are open; false on timeout or failure.
   bool wait_connected(std::chrono::milliseconds timeout);
   bool connected() const;
+  // ICE connected and the data channels open, the guard's handshake done or not.
+  bool channels_up() const;
 
   // Throws std::invalid_argument for a portrait of another size or format. Frames sent before
   // the call is connected are dropped by webrtcbin (the offer needs the tracks' caps, so the first
@@ -159,7 +167,8 @@ class WebRtcPeer {
   void send_portrait(const net::PortraitMessage& portrait);
   // Eye and skeletons on the unordered channel, touch events and heartbeats on the reliable one,
   // each as the session's encoded message (net/message_codec.h). A portrait or a voice frame is
-  // refused (std::invalid_argument): they travel as video and audio. False when the channel is not open.
+  // refused (std::invalid_argument): they travel as video and audio (a relayed peer's voice frames
+  // go here: see `relayed`). False when the channel is not open.
   bool send_message(const net::Message& message);
   // Raw bytes on one channel, for what the session's codec would not make: the tests of the
   // receiver's checks (sealed first when there is a guard). False when the channel is not open,
@@ -167,6 +176,9 @@ class WebRtcPeer {
   // it unannounced).
   enum class Channel { Fast, Reliable };
   bool send_raw(Channel channel, std::span<const uint8_t> bytes);
+  // A handshake frame of the guard's, unsealed, on the reliable channel (a relayed subscriber's,
+  // through its site's publisher). False when the channel is not open.
+  bool send_handshake(std::span<const uint8_t> frame);
   // Both encoders' next frame is a keyframe.
   void request_keyframe();
   // The simulated network's loss from now on (0..1); false when the peer was made without one

@@ -21,9 +21,14 @@ struct CallNetworkOptions {
   std::string stun;  // stun://HOST:PORT, for the address a NAT shows (media/ice_servers.h)
   std::string turn;  // turn://USER:PASS@HOST:PORT, a relay for networks that let nothing else through
   bool relay_only = false;  // ICE through the TURN relay only (ice-transport-policy relay)
+  // Through a Janus VideoRoom instead of a session between the sites (media/janus_link.h): its
+  // WebSocket URL, the room's number and a file holding its pin.
+  std::string janus;
+  uint64_t room = 0;
+  std::filesystem::path room_secret_file;
   bool any_given() const {
     return simulated_loss >= 0 || !stun.empty() || !turn.empty() || relay_only || bitrate_floor_kbps != 300 ||
-           bitrate_ceiling_kbps != 2500;
+           bitrate_ceiling_kbps != 2500 || !janus.empty() || room != 0 || !room_secret_file.empty();
   }
 };
 

@@ -16,6 +16,7 @@
 #include "media/sound_into_video.h"
 #include "media/touch_sound.h"
 #include "media/ice_servers.h"
+#include "media/janus_link.h"
 #include "media/webrtc_link.h"
 #include "net/session.h"
 #include "pipeline/demo_layers.h"
@@ -92,6 +93,36 @@ net::SessionOptions session_options(const SiteRunOptions& options) {
     std::tie(net_options.host, net_options.port) = net::parse_host_port(options.peer);
   }
   return net_options;
+}
+
+// The link through a Janus room: the room's number and pin from the options (the pin's file read
+// here, its size bounded), the site key's handshake roles by site (A connects, B listens: in a
+// room neither does either).
+std::unique_ptr<net::Transport> make_janus_link(const SiteRunOptions& options, net::SessionOptions session,
+                                                const media::WebRtcPeerOptions& call) {
+  if (!options.peer.empty()) throw std::invalid_argument("--janus and --peer: through Janus neither site connects to the other");
+  if (options.call.room == 0) throw std::invalid_argument("--janus needs --room NUMBER (the same at both sites)");
+  media::JanusRoomOptions room;
+  room.url = options.call.janus;
+  room.room = options.call.room;
+  room.display = session.name;
+  if (!options.call.room_secret_file.empty()) {
+    std::ifstream in(options.call.room_secret_file, std::ios::binary);
+    if (!in) throw std::invalid_argument("--room-secret " + options.call.room_secret_file.string() + ": cannot be read");
+    std::string pin(257, '\0');
+    in.read(pin.data(), std::streamsize(pin.size()));
+    pin.resize(size_t(in.gcount()));
+    while (!pin.empty() && (pin.back() == '\n' || pin.back() == '\r' || pin.back() == ' ')) pin.pop_back();
+    if (pin.empty() || pin.size() > 256)
+      throw std::invalid_argument("--room-secret " + options.call.room_secret_file.string() + ": a pin of 1 to 256 bytes, not " +
+                                  (pin.empty() ? std::string("an empty file") : std::string("more")));
+    room.pin = pin;
+  }
+  session.role = options.site == Site::A ? net::Role::Connector : net::Role::Listener;
+  // Janus does not take loopback for media: ICE gathers on every interface but loopback.
+  media::WebRtcPeerOptions relayed = call;
+  relayed.local_addresses.clear();
+  return std::make_unique<media::JanusLink>(session, room, relayed);
 }
 
 // The site: its sender and receiver, the touch loop and the motor, the link, and the threads
@@ -240,8 +271,16 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
     call.stun_server = options.call.stun.empty() ? "" : media::parse_stun_url(options.call.stun);
     call.turn_server = options.call.turn.empty() ? "" : media::parse_turn_url(options.call.turn);
     call.relay_only = options.call.relay_only;
-    net_ = std::make_unique<media::WebRtcLink>(net_options, call);
-    std::cerr << "site " << common_.name << ": transport webrtc (the session sets up the call; portraits as H.264 video)\n";
+    if (!options.call.janus.empty()) {
+      net_ = make_janus_link(options, net_options, call);
+      std::cerr << "site " << common_.name << ": transport webrtc through Janus at " << options.call.janus << ", room "
+                << options.call.room << " (portraits as H.264 video)\n";
+    } else {
+      if (options.call.room != 0 || !options.call.room_secret_file.empty())
+        throw std::invalid_argument("--room and --room-secret name a Janus room: they need --janus");
+      net_ = std::make_unique<media::WebRtcLink>(net_options, call);
+      std::cerr << "site " << common_.name << ": transport webrtc (the session sets up the call; portraits as H.264 video)\n";
+    }
   } else if (options.transport == "direct") {
     if (options.call.any_given())
       throw std::invalid_argument("--stun, --turn, --relay-only, --simulated-loss and the bitrate's floor and ceiling "

@@ -4,10 +4,12 @@
 # a carrier, which ICE agents ask of an interface). What it sends cannot leave the namespace,
 # and servers that will not use loopback for media (Janus) have an address to use. Where no
 # namespace can be made (no CAP_SYS_ADMIN), the command runs without one and without the variable,
-# and says so itself.
+# and says so itself. RT_TEST_START_JANUS names tests/cli/start_janus.sh for the tests that start a Janus.
 #   in_network_namespace.sh COMMAND [ARGS...]
 set -uo pipefail
 address=10.77.0.1
+RT_TEST_START_JANUS="$(cd "$(dirname "$0")" && pwd)/start_janus.sh"
+export RT_TEST_START_JANUS
 if unshare -n true 2>/dev/null && command -v ip >/dev/null; then
   exec unshare -n bash -c '
     set -e

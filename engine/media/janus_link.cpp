@@ -1,0 +1,278 @@
+#include "media/janus_link.h"
+
+#include <stdexcept>
+
+#include "net/datagram_seal.h"
+#include "time/monotonic_clock.h"
+
+namespace rt::media {
+namespace {
+
+constexpr size_t kMaxTouchesWaitingForRoom = 64;
+constexpr auto kJanusPumpPeriod = std::chrono::milliseconds(2);
+
+// The offer needs the tracks' caps, which only a first picture gives them; webrtcbin drops it.
+net::PortraitMessage first_picture(uint32_t width, uint32_t height) {
+  net::PortraitMessage p;
+  p.width = width;
+  p.height = height;
+  p.fx = p.fy = double(width);
+  p.cx = width / 2.0;
+  p.cy = height / 2.0;
+  p.color = HostImage(width, height, PixelFormat::RGBA32F);
+  p.depth = HostImage(width, height, PixelFormat::R32F);
+  return p;
+}
+
+}  // namespace
+
+JanusLink::JanusLink(net::SessionOptions session, JanusRoomOptions room, WebRtcPeerOptions peer)
+    : session_(std::move(session)), room_options_(std::move(room)), peer_options_(std::move(peer)) {
+  parse_janus_url(room_options_.url);
+  if (room_options_.room == 0) throw std::invalid_argument("--room: a room number from 1 up");
+  if (room_options_.display.empty()) room_options_.display = session_.name;
+  guard_ = std::make_shared<ChannelGuard>(session_.key, session_.role, 64 * 1024 - net::kDatagramOverhead);
+  peer_options_.relayed = true;
+  peer_options_.guard = guard_;
+}
+
+JanusLink::~JanusLink() {
+  stop();
+  // The peers first: their GStreamer threads call into the room's trickle.
+  subscriber_.reset();
+  publisher_.reset();
+  room_.reset();
+}
+
+void JanusLink::start() {
+  if (started_.exchange(true)) throw std::logic_error("a link starts once");
+  thread_ = std::thread([this] { run(); });
+}
+
+void JanusLink::stop() {
+  stopping_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+void JanusLink::set_handler(std::function<void(const net::Message&)> handler) { handler_ = std::move(handler); }
+
+void JanusLink::fail(const std::string& why) {
+  std::lock_guard lock(mutex_);
+  if (failure_.empty()) failure_ = why;
+}
+
+void JanusLink::set_up() {
+  room_ = std::make_unique<JanusRoom>(room_options_);
+  my_id_ = room_->join();
+  const auto signalling = [this](JanusRoom::Peer which) {
+    Signalling s;
+    s.on_description = [this, which](const std::string& type, const std::string& sdp) {
+      std::lock_guard lock(mutex_);
+      said_.push_back({which, type, sdp});
+    };
+    s.on_candidate = [this, which](unsigned mline, const std::string& candidate) { room_->trickle(which, mline, candidate); };
+    return s;
+  };
+  WebRtcPeerOptions publishing = peer_options_;
+  publishing.name = session_.name + " publisher";
+  publishing.offerer = true;
+  publisher_ = std::make_unique<WebRtcPeer>(publishing, signalling(JanusRoom::Peer::Publisher));
+  sending_ = publisher_.get();
+  publisher_->send_portrait(first_picture(peer_options_.width, peer_options_.height));
+  // The other site's publisher, once it publishes; the subscriber's offer comes from Janus.
+  while (!stopping_) {
+    pump_signalling();
+    if (const std::optional<uint64_t> other = room_->wait_for_other(std::chrono::milliseconds(20))) {
+      WebRtcPeerOptions receiving = peer_options_;
+      receiving.name = session_.name + " subscriber";
+      receiving.offerer = false;
+      receiving.handshake_out = [this](std::span<const uint8_t> frame) { return publisher_->send_handshake(frame); };
+      subscriber_ = std::make_unique<WebRtcPeer>(receiving, signalling(JanusRoom::Peer::Subscriber));
+      const std::string offer = room_->subscribe(*other);
+      if (const std::string error = subscriber_->set_remote_description("offer", offer); !error.empty())
+        throw std::runtime_error("Janus's offer for the other site's streams was refused: " + error);
+      std::lock_guard lock(mutex_);
+      other_id_ = *other;
+      peers_made_ = true;
+      return;
+    }
+  }
+}
+
+void JanusLink::pump_signalling() {
+  std::deque<Said> now;
+  {
+    std::lock_guard lock(mutex_);
+    now.swap(said_);
+  }
+  for (const Said& s : now) {
+    if (s.peer == JanusRoom::Peer::Publisher && s.type == "offer") {
+      const std::string answer = room_->publish(s.sdp);
+      if (const std::string error = publisher_->set_remote_description("answer", answer); !error.empty())
+        throw std::runtime_error("Janus's answer to this site's offer was refused: " + error);
+    } else if (s.peer == JanusRoom::Peer::Subscriber && s.type == "answer") {
+      room_->start(s.sdp);
+    }
+  }
+}
+
+void JanusLink::run() {
+  try {
+    set_up();
+    auto next_heartbeat = std::chrono::steady_clock::now();
+    while (!stopping_) {
+      pump_signalling();
+      bool busy = false;
+      pump_received(busy);
+      if (room_->other_left()) {
+        std::lock_guard lock(mutex_);
+        other_left_ = true;
+      }
+      // Both connected() calls also send the guard's hello (through the publisher) until answered.
+      const bool publishing = publisher_->connected(), receiving = subscriber_->connected();
+      if (!publishing || !receiving) {
+        std::lock_guard lock(mutex_);
+        stage_ = std::string("this site's publication ") + (publisher_->channels_up() ? "up" : "not up yet") + ", the other's " +
+                 (subscriber_->channels_up() ? "up" : "not up yet") + ", the site key's handshake " +
+                 (guard_->ready() ? "done" : "not done yet");
+      }
+      if (publishing && receiving) {
+        {
+          std::lock_guard lock(mutex_);
+          if (!ever_connected_) ever_connected_ = true, connected_us_ = monotonic_now_us();
+        }
+        flush_touches();
+        if (std::chrono::steady_clock::now() >= next_heartbeat) {
+          next_heartbeat = std::chrono::steady_clock::now() + session_.heartbeat_period;
+          send(net::HeartbeatMessage{monotonic_now_us(), ++heartbeat_sequence_});
+        }
+      }
+      if (!busy) std::this_thread::sleep_for(kJanusPumpPeriod);
+    }
+  } catch (const std::exception& e) {
+    fail(e.what());
+  }
+}
+
+void JanusLink::pump_received(bool& busy) {
+  while (auto portrait = subscriber_->take_portrait()) {
+    busy = true;
+    {
+      std::lock_guard lock(mutex_);
+      ++counts_.messages_in[size_t(net::message_type_index(net::MessageType::Portrait))];
+    }
+    if (handler_) handler_(portrait->portrait);
+  }
+  for (const net::Message& message : subscriber_->take_messages()) {
+    busy = true;
+    {
+      std::lock_guard lock(mutex_);
+      ++counts_.messages_in[size_t(net::message_type_index(net::message_type(message)))];
+    }
+    if (handler_) handler_(message);
+  }
+}
+
+void JanusLink::send(const net::Message& message) {
+  const net::MessageType type = net::message_type(message);
+  const size_t index = size_t(net::message_type_index(type));
+  if (type == net::MessageType::Signal) throw std::invalid_argument("a signal has no place on a call set up through Janus");
+  WebRtcPeer* peer = sending_.load();
+  if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
+    {
+      std::lock_guard lock(mutex_);
+      net::TouchEventMessage numbered = *touch;
+      numbered.sequence = ++touch_sequence_;
+      if (touches_waiting_.size() >= kMaxTouchesWaitingForRoom) {
+        touches_waiting_.pop_front();
+        ++counts_.touches_unacked_dropped;
+      }
+      touches_waiting_.push_back(numbered);
+    }
+    if (peer) flush_touches();
+    return;
+  }
+  bool sent = false;
+  if (peer) {
+    if (const auto* portrait = std::get_if<net::PortraitMessage>(&message)) {
+      peer->send_portrait(*portrait);
+      sent = true;
+    } else {
+      sent = peer->send_message(message);
+    }
+  }
+  std::lock_guard lock(mutex_);
+  ++(sent ? counts_.messages_out[index] : counts_.stale_dropped_out[index]);
+}
+
+void JanusLink::flush_touches() {
+  WebRtcPeer* peer = sending_.load();
+  std::lock_guard lock(mutex_);
+  while (peer && !touches_waiting_.empty() && peer->send_message(touches_waiting_.front())) {
+    touches_waiting_.pop_front();
+    ++counts_.messages_out[size_t(net::message_type_index(net::MessageType::TouchEvent))];
+  }
+}
+
+net::ConnectionStatus JanusLink::status() const {
+  net::ConnectionStatus status;
+  status.peer = "Janus room " + std::to_string(room_options_.room) + " at " + room_options_.url;
+  std::lock_guard lock(mutex_);
+  if (!failure_.empty() || !guard_->failure().empty()) {
+    status.state = net::ConnectionState::Refused;
+    status.reason = !failure_.empty() ? failure_ : guard_->failure();
+  } else if (other_left_) {
+    status.state = net::ConnectionState::Lost;
+    status.reason = "the other site left the room";
+  } else if (ever_connected_) {
+    status.state = net::ConnectionState::Connected;
+    status.peer += " (WebRTC through Janus)";
+  } else {
+    status.state = net::ConnectionState::Connecting;
+    status.reason = !my_id_ ? "joining the room" : !peers_made_ ? "in the room; waiting for the other site to publish" : stage_;
+  }
+  return status;
+}
+
+net::NetCounters JanusLink::counters() const {
+  std::lock_guard lock(mutex_);
+  net::NetCounters out = counts_;
+  if (peers_made_) {
+    const WebRtcCounters sent = publisher_->counters(), received = subscriber_->counters();
+    out.bytes_out += sent.color_bytes_sent + sent.depth_bytes_sent + sent.channel_bytes_sent;
+    out.rejected += received.messages_refused;
+    if (received.messages_refused) {
+      out.rejected_by_reason["webrtc_refused"] += received.messages_refused;
+      out.last_rejection = subscriber_->last_error();
+    }
+  }
+  return out;
+}
+
+nlohmann::json JanusLink::transport_json() const {
+  std::lock_guard lock(mutex_);
+  nlohmann::json out = {{"kind", "webrtc-janus"},
+                        {"room", room_options_.room},
+                        {"janus", room_options_.url},
+                        {"this_site_id", my_id_},
+                        {"other_site_id", other_id_},
+                        {"connected_s", ever_connected_ ? double(monotonic_now_us() - connected_us_) * 1e-6 : 0.0},
+                        {"data_channels_sealed", guard_->ready()},
+                        {"last_error", failure_}};
+  if (peers_made_) {
+    const WebRtcCounters sent = publisher_->counters(), received = subscriber_->counters();
+    out["portraits"] = {{"sent", sent.portraits_sent}, {"received", received.portraits_received},
+                        {"dropped", received.portraits_dropped}, {"frames_unpaired", received.frames_unpaired},
+                        {"lost", received.portraits_lost}};
+    out["messages"] = {{"sent", sent.messages_sent}, {"received", received.messages_received},
+                       {"refused", received.messages_refused}, {"early_dropped", received.messages_early}};
+    out["codec_ms_median"] = {{"color_encode", sent.color_encode_ms}, {"depth_alpha_encode", sent.depth_encode_ms},
+                              {"color_decode", received.color_decode_ms}, {"depth_alpha_decode", received.depth_decode_ms}};
+    out["keyframes"] = {{"asked_by_us", received.keyframes_asked}, {"asked_of_us", sent.keyframes_asked_of_us}};
+    out["kbit_out"] = {{"color_kbps_now", sent.color_kbps_now}, {"depth_kbps_now", sent.depth_kbps_now}};
+    if (out["last_error"] == "") out["last_error"] = received.messages_refused ? subscriber_->last_error() : publisher_->last_error();
+  }
+  return out;
+}
+
+}  // namespace rt::media

@@ -1,0 +1,83 @@
+#pragma once
+// A site's link through a Janus VideoRoom (`site --transport webrtc --janus ws://HOST:PORT --room ID
+// [--room-secret FILE]`): neither site accepts a connection; both reach Janus, which relays. The
+// site publishes its portraits and messages on one relayed WebRtcPeer and receives the other
+// site's on a second, subscribed to the other site's publisher (media/janus_room.h). The site key
+// still seals everything on the data channels, its handshake relayed like the rest (a
+// subscriber's replies go out through its site's publisher), so Janus can neither read nor forge
+// a touch, a skeleton, the eye or the voice. The pictures are protected hop by hop only (DTLS-SRTP):
+// Janus sees them.
+//
+// Site A takes the handshake's connector part, site B the listener's. Connected means: both
+// peers up and the handshake done. Touch events wait for it (a few, in order) as on the WebRTC
+// link; the rest is dropped until then.
+#include <atomic>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "media/janus_room.h"
+#include "media/webrtc_peer.h"
+#include "net/session.h"
+#include "net/transport.h"
+
+namespace rt::media {
+
+class JanusLink : public net::Transport {
+ public:
+  // `session` gives the key, the handshake's role, the site's name and the heartbeat period;
+  // nothing listens or connects but the WebSocket to Janus. Throws std::invalid_argument for a bad
+  // Janus URL or room (the room itself is joined by start()'s thread).
+  JanusLink(net::SessionOptions session, JanusRoomOptions room, WebRtcPeerOptions peer);
+  ~JanusLink() override;
+
+  void start() override;
+  void stop() override;
+  uint16_t local_port() const override { return 0; }
+  void send(const net::Message& message) override;
+  void set_handler(std::function<void(const net::Message&)> handler) override;
+  net::ConnectionStatus status() const override;
+  net::NetCounters counters() const override;
+  nlohmann::json transport_json() const override;
+
+ private:
+  void run();
+  void set_up();
+  void pump_signalling();
+  void pump_received(bool& busy);
+  void flush_touches();
+  void fail(const std::string& why);
+
+  net::SessionOptions session_;
+  JanusRoomOptions room_options_;
+  WebRtcPeerOptions peer_options_;
+  std::shared_ptr<ChannelGuard> guard_;
+  std::function<void(const net::Message&)> handler_;
+  std::thread thread_;
+  std::atomic<bool> stopping_{false}, started_{false};
+
+  // Made by the link's thread, read by send() and status(): set once, kept until the destructor.
+  std::unique_ptr<JanusRoom> room_;
+  std::unique_ptr<WebRtcPeer> publisher_, subscriber_;
+  std::atomic<WebRtcPeer*> sending_{nullptr};
+  std::atomic<bool> peers_made_{false};
+
+  mutable std::mutex mutex_;
+  struct Said {
+    JanusRoom::Peer peer;
+    std::string type, sdp;
+  };
+  std::deque<Said> said_;  // descriptions from GStreamer's threads, for Janus on the link's thread
+  std::deque<net::TouchEventMessage> touches_waiting_;
+  std::string failure_;
+  std::string stage_ = "subscribed";  // while connecting: which part of the call is not up yet
+  net::NetCounters counts_;
+  uint64_t heartbeat_sequence_ = 0, touch_sequence_ = 0, my_id_ = 0, other_id_ = 0;
+  bool ever_connected_ = false, other_left_ = false;
+  uint64_t connected_us_ = 0;
+};
+
+}  // namespace rt::media

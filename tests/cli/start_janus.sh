@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Janus for a test, in the network namespace tests/cli/in_network_namespace.sh made: its
+# configuration and log in FOLDER, the VideoRoom plugin and the WebSocket API on 127.0.0.1:8188
+# only, ICE on ADDRESS (the namespace's own: Janus will not use loopback for media).
+#   start_janus.sh FOLDER ADDRESS      (execs janus: the caller keeps its pid)
+set -euo pipefail
+folder=$1 address=$2
+lib=/usr/lib/x86_64-linux-gnu/janus
+mkdir -p "$folder"
+plugins=$(cd "$lib/plugins" && ls *.so | grep -v '^libjanus_videoroom.so$' | paste -sd, -)
+transports=$(cd "$lib/transports" && ls *.so | grep -v '^libjanus_websockets.so$' | paste -sd, -)
+cat > "$folder/janus.jcfg" <<CFG
+general: {
+  configs_folder = "$folder"
+  plugins_folder = "$lib/plugins"
+  transports_folder = "$lib/transports"
+  events_folder = "$lib/events"
+  loggers_folder = "$lib/loggers"
+  debug_level = 4
+  session_timeout = 60
+}
+media: { rtp_port_range = "20000-20999" }
+nat: { ice_enforce_list = "$address" }
+plugins: { disable = "$plugins" }
+transports: { disable = "$transports" }
+events: { broadcast = false }
+CFG
+cat > "$folder/janus.transport.websockets.jcfg" <<CFG
+general: { json = "plain" ws = true ws_port = 8188 ws_ip = "127.0.0.1" wss = false }
+admin: { admin_ws = false }
+CFG
+echo 'general: { }' > "$folder/janus.plugin.videoroom.jcfg"
+exec /usr/bin/janus -F "$folder" -C "$folder/janus.jcfg" -i "$address" -L "$folder/janus.log" -o -N > /dev/null 2>&1
