@@ -246,5 +246,8 @@ TEST_CASE("two sites meet in a Janus room and see each other through it", "[.jan
   CHECK(at_b_messages.size() == 6);
   CHECK(at_a_messages.size() == 6);
   CHECK(cb.messages_refused + ca.messages_refused == 0);
+  // Both streams come under one payload type of Janus's: each told apart by what it decodes to.
+  CHECK(cb.color_decode_ms > 0);
+  CHECK(cb.depth_decode_ms > 0);
   CHECK(a.room->messages_refused() + b.room->messages_refused() == 0);
 }

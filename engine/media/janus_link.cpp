@@ -2,27 +2,14 @@
 
 #include <stdexcept>
 
+#include "media/pending_touches.h"
 #include "net/datagram_seal.h"
 #include "time/monotonic_clock.h"
 
 namespace rt::media {
 namespace {
 
-constexpr size_t kMaxTouchesWaitingForRoom = 64;
 constexpr auto kJanusPumpPeriod = std::chrono::milliseconds(2);
-
-// The offer needs the tracks' caps, which only a first picture gives them; webrtcbin drops it.
-net::PortraitMessage first_picture(uint32_t width, uint32_t height) {
-  net::PortraitMessage p;
-  p.width = width;
-  p.height = height;
-  p.fx = p.fy = double(width);
-  p.cx = width / 2.0;
-  p.cy = height / 2.0;
-  p.color = HostImage(width, height, PixelFormat::RGBA32F);
-  p.depth = HostImage(width, height, PixelFormat::R32F);
-  return p;
-}
 
 }  // namespace
 
@@ -78,7 +65,7 @@ void JanusLink::set_up() {
   publishing.offerer = true;
   publisher_ = std::make_unique<WebRtcPeer>(publishing, signalling(JanusRoom::Peer::Publisher));
   sending_ = publisher_.get();
-  publisher_->send_portrait(first_picture(peer_options_.width, peer_options_.height));
+  publisher_->send_portrait(blank_portrait(peer_options_.width, peer_options_.height));
   // The other site's publisher, once it publishes; the subscriber's offer comes from Janus.
   while (!stopping_) {
     pump_signalling();
@@ -179,16 +166,7 @@ void JanusLink::send(const net::Message& message) {
   if (type == net::MessageType::Signal) throw std::invalid_argument("a signal has no place on a call set up through Janus");
   WebRtcPeer* peer = sending_.load();
   if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
-    {
-      std::lock_guard lock(mutex_);
-      net::TouchEventMessage numbered = *touch;
-      numbered.sequence = ++touch_sequence_;
-      if (touches_waiting_.size() >= kMaxTouchesWaitingForRoom) {
-        touches_waiting_.pop_front();
-        ++counts_.touches_unacked_dropped;
-      }
-      touches_waiting_.push_back(numbered);
-    }
+    touches_.add(*touch);
     if (peer) flush_touches();
     return;
   }
@@ -207,11 +185,10 @@ void JanusLink::send(const net::Message& message) {
 
 void JanusLink::flush_touches() {
   WebRtcPeer* peer = sending_.load();
+  if (!peer) return;
+  const size_t sent = touches_.flush([peer](const net::TouchEventMessage& touch) { return peer->send_message(touch); });
   std::lock_guard lock(mutex_);
-  while (peer && !touches_waiting_.empty() && peer->send_message(touches_waiting_.front())) {
-    touches_waiting_.pop_front();
-    ++counts_.messages_out[size_t(net::message_type_index(net::MessageType::TouchEvent))];
-  }
+  counts_.messages_out[size_t(net::message_type_index(net::MessageType::TouchEvent))] += sent;
 }
 
 net::ConnectionStatus JanusLink::status() const {
@@ -237,6 +214,7 @@ net::ConnectionStatus JanusLink::status() const {
 net::NetCounters JanusLink::counters() const {
   std::lock_guard lock(mutex_);
   net::NetCounters out = counts_;
+  out.touches_unacked_dropped += touches_.dropped();
   if (peers_made_) {
     const WebRtcCounters sent = publisher_->counters(), received = subscriber_->counters();
     out.bytes_out += sent.color_bytes_sent + sent.depth_bytes_sent + sent.channel_bytes_sent;

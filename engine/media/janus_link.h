@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "media/janus_room.h"
+#include "media/pending_touches.h"
 #include "media/webrtc_peer.h"
 #include "net/session.h"
 #include "net/transport.h"
@@ -71,11 +72,11 @@ class JanusLink : public net::Transport {
     std::string type, sdp;
   };
   std::deque<Said> said_;  // descriptions from GStreamer's threads, for Janus on the link's thread
-  std::deque<net::TouchEventMessage> touches_waiting_;
+  PendingTouches touches_;
   std::string failure_;
   std::string stage_ = "subscribed";  // while connecting: which part of the call is not up yet
   net::NetCounters counts_;
-  uint64_t heartbeat_sequence_ = 0, touch_sequence_ = 0, my_id_ = 0, other_id_ = 0;
+  uint64_t heartbeat_sequence_ = 0, my_id_ = 0, other_id_ = 0;
   bool ever_connected_ = false, other_left_ = false;
   uint64_t connected_us_ = 0;
 };

@@ -2,12 +2,12 @@
 
 #include <stdexcept>
 
+#include "media/pending_touches.h"
 #include "time/monotonic_clock.h"
 
 namespace rt::media {
 namespace {
 
-constexpr size_t kMaxTouchesWaiting = 64;  // touches are a few a second; a call that never opens holds no more
 constexpr auto kLinkPumpPeriod = std::chrono::milliseconds(2);
 
 // libnice skips loopback unless it is named: a call between two sites on one machine gathers on
@@ -16,20 +16,6 @@ std::vector<std::string> ice_addresses_for(const std::string& session_host) {
   if (session_host == "127.0.0.1" || session_host == "localhost") return {"127.0.0.1"};
   if (session_host == "::1" || session_host == "[::1]") return {"::1"};
   return {};
-}
-
-// A blank portrait: the offer needs the tracks' caps, which only a first picture gives them. It
-// goes before the call is up, so webrtcbin drops it.
-net::PortraitMessage blank_portrait(uint32_t width, uint32_t height) {
-  net::PortraitMessage p;
-  p.width = width;
-  p.height = height;
-  p.fx = p.fy = double(width);
-  p.cx = width / 2.0;
-  p.cy = height / 2.0;
-  p.color = HostImage(width, height, PixelFormat::RGBA32F);
-  p.depth = HostImage(width, height, PixelFormat::R32F);
-  return p;
 }
 
 // One track's figures for metrics.json: what it is sent at, what its codecs cost, what the network
@@ -139,16 +125,7 @@ void WebRtcLink::send(const net::Message& message) {
     return;
   }
   if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
-    {
-      std::lock_guard lock(mutex_);
-      net::TouchEventMessage numbered = *touch;
-      numbered.sequence = ++touch_sequence_;
-      if (touches_waiting_.size() >= kMaxTouchesWaiting) {
-        touches_waiting_.pop_front();
-        ++counts_.touches_unacked_dropped;
-      }
-      touches_waiting_.push_back(numbered);
-    }
+    touches_.add(*touch);
     flush_touches();
     return;
   }
@@ -158,11 +135,9 @@ void WebRtcLink::send(const net::Message& message) {
 }
 
 void WebRtcLink::flush_touches() {
+  const size_t sent = touches_.flush([this](const net::TouchEventMessage& touch) { return peer_->send_message(touch); });
   std::lock_guard lock(mutex_);
-  while (!touches_waiting_.empty() && peer_->send_message(touches_waiting_.front())) {
-    touches_waiting_.pop_front();
-    ++counts_.messages_out[size_t(net::message_type_index(net::MessageType::TouchEvent))];
-  }
+  counts_.messages_out[size_t(net::message_type_index(net::MessageType::TouchEvent))] += sent;
 }
 
 void WebRtcLink::pump() {
@@ -260,6 +235,7 @@ net::NetCounters WebRtcLink::counters() const {
     out.messages_out[size_t(i)] += counts_.messages_out[size_t(i)];
     out.stale_dropped_out[size_t(i)] += counts_.stale_dropped_out[size_t(i)];
   }
+  out.touches_unacked_dropped += touches_.dropped();
   out.bytes_out += call.color_bytes_sent + call.depth_bytes_sent + call.channel_bytes_sent + call.voice.bytes_sent;
   out.rejected += call.messages_refused;
   if (call.messages_refused) {

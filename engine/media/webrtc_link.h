@@ -19,6 +19,7 @@
 #include <string>
 #include <thread>
 
+#include "media/pending_touches.h"
 #include "media/webrtc_peer.h"
 #include "net/transport.h"
 #include "net/session.h"
@@ -57,11 +58,11 @@ class WebRtcLink : public net::Transport {
   std::atomic<bool> stopping_{false}, started_{false};
   std::chrono::steady_clock::time_point first_connected_{};
 
+  PendingTouches touches_;
   mutable std::mutex mutex_;
-  std::deque<net::TouchEventMessage> touches_waiting_;
   std::string signal_error_;  // a description the peer refused: the call cannot be made
   net::NetCounters counts_;   // messages in and out, and refusals, of the call (the session's added in counters())
-  uint64_t heartbeat_sequence_ = 0, touch_sequence_ = 0;
+  uint64_t heartbeat_sequence_ = 0;
   // The other site's clock, as its last heartbeat read it: the voice's RTP time gets its high bits
   // from it (media/voice_rtp_time.h). Voice waits in the peer until the first heartbeat has come.
   std::optional<uint64_t> peer_clock_us_;

@@ -366,6 +366,7 @@ void WebRtcPeer::Impl::on_sample(GstAppSink* sink, IncomingChain& chain) {
     gst_sample_unref(sample);
     return fail(options.name + ": a decoded frame could not be mapped");
   }
+  chain.color = format == GST_VIDEO_FORMAT_I420;
   const uint32_t rtp = rtp_time_of(GST_BUFFER_PTS(buffer));
   const bool scaled = uint32_t(GST_VIDEO_INFO_WIDTH(&info)) != w || uint32_t(GST_VIDEO_INFO_HEIGHT(&info)) != h;
   if (format == GST_VIDEO_FORMAT_I420) {

@@ -8,6 +8,7 @@
 #include <gst/webrtc/webrtc.h>
 
 #include <array>
+#include <atomic>
 #include <deque>
 #include <map>
 #include <memory>
@@ -32,7 +33,9 @@ struct IncomingChain {
   size_t next = 0;
   uint32_t last_rtp = 0;
   uint32_t sender_minus_header = 0;  // the sender's RTP time less the header's (media/frame_time_sei.h)
-  bool color = false;  // payload type 96; 97 is depth and alpha
+  // Colour or depth and alpha: by payload type (96, 97) until the first picture, then by what it
+  // decodes to (an SFU may offer both under one payload type of its own).
+  std::atomic<bool> color{false};
   CodecClock decode;
   KeyframeRequests asked;  // by its depayloader, of the other peer's encoder
   TrackLosses losses;
