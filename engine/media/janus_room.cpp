@@ -181,6 +181,16 @@ JanusRoom::JanusRoom(JanusRoomOptions options) : options_(std::move(options)) {
     if (!id) throw std::runtime_error("Janus answered 'attach' without a handle id");
     *handle = *id;
   }
+  // The room, made if it is missing: two publishers, the codecs the call uses. Janus says 427
+  // when it exists already, which is the second site's case. A Janus that makes rooms only for its
+  // administrator refuses; the room may exist all the same, which join() finds out.
+  json create = {{"request", "create"}, {"room", options_.room}, {"publishers", 2}, {"videocodec", "h264"},
+                 {"audiocodec", "opus"}, {"is_private", true}, {"permanent", false}};
+  if (!options_.pin.empty()) create["pin"] = options_.pin;
+  const json made = plugin_request(Peer::Publisher, create, nullptr, nullptr);
+  if (const json* d = plugin_data(made); d && d->contains("error_code") && d->value("error_code", 0) != 427)
+    create_refused_ = error_of(made);
+  // Last: a constructor that throws leaves no thread running.
   keepalive_thread_ = std::thread([this] {
     std::unique_lock lock(mutex_);
     while (!stopping_) {
@@ -191,14 +201,6 @@ JanusRoom::JanusRoom(JanusRoomOptions options) : options_(std::move(options)) {
       lock.lock();
     }
   });
-  // The room, made if it is missing: two publishers, the codecs the call uses. Janus says 427
-  // when it exists already, which is the second site's case.
-  json create = {{"request", "create"}, {"room", options_.room}, {"publishers", 2}, {"videocodec", "h264"},
-                 {"audiocodec", "opus"}, {"is_private", true}, {"permanent", false}};
-  if (!options_.pin.empty()) create["pin"] = options_.pin;
-  const json made = plugin_request(Peer::Publisher, create, nullptr, nullptr);
-  if (const json* d = plugin_data(made); d && d->contains("error_code") && d->value("error_code", 0) != 427)
-    throw std::runtime_error("Janus would not make room " + std::to_string(options_.room) + ": " + error_of(made));
 }
 
 JanusRoom::~JanusRoom() {
@@ -245,7 +247,14 @@ json JanusRoom::plugin_request(Peer peer, json body, const json* jsep, const cha
 uint64_t JanusRoom::join() {
   json body = {{"request", "join"}, {"ptype", "publisher"}, {"room", options_.room}, {"display", options_.display}};
   if (!options_.pin.empty()) body["pin"] = options_.pin;
-  const json joined = plugin_request(Peer::Publisher, body, nullptr, "joining the room");
+  json joined;
+  try {
+    joined = plugin_request(Peer::Publisher, body, nullptr, "joining the room");
+  } catch (const std::runtime_error& e) {
+    if (create_refused_.empty()) throw;
+    throw std::runtime_error(std::string(e.what()) + "; making room " + std::to_string(options_.room) +
+                             " was refused: " + create_refused_);
+  }
   const json* data = plugin_data(joined);
   const std::optional<uint64_t> id = data ? id_in(*data, "id") : std::nullopt;
   if (!id || data->value("videoroom", "") != "joined") throw std::runtime_error("Janus answered 'join' without this site's id");

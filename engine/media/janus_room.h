@@ -95,6 +95,7 @@ class JanusRoom {
   std::set<uint64_t> others_;  // publishers in the room other than this site
   bool other_left_ = false, closed_ = false;
   std::string last_error_, closed_reason_;
+  std::string create_refused_;  // why Janus would not make the room (it may exist all the same)
   uint64_t refused_ = 0;
   std::thread keepalive_thread_;
   bool stopping_ = false;

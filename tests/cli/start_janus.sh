@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Janus for a test, in the network namespace tests/cli/in_network_namespace.sh made: its
 # configuration and log in FOLDER, the VideoRoom plugin and the WebSocket API on 127.0.0.1:8188
-# only, ICE on ADDRESS (the namespace's own: Janus will not use loopback for media).
-#   start_janus.sh FOLDER ADDRESS      (execs janus: the caller keeps its pid)
+# only, ICE on ADDRESS (the namespace's own: Janus will not use loopback for media). With
+# ADMIN_KEY, rooms are made by the administrator only, as on many real servers.
+#   start_janus.sh FOLDER ADDRESS [ADMIN_KEY]      (execs janus: the caller keeps its pid)
 set -euo pipefail
-folder=$1 address=$2
+folder=$1 address=$2 admin_key=${3:-}
 lib=/usr/lib/x86_64-linux-gnu/janus
 mkdir -p "$folder"
 plugins=$(cd "$lib/plugins" && ls *.so | grep -v '^libjanus_videoroom.so$' | paste -sd, -)
@@ -29,5 +30,9 @@ cat > "$folder/janus.transport.websockets.jcfg" <<CFG
 general: { json = "plain" ws = true ws_port = 8188 ws_ip = "127.0.0.1" wss = false }
 admin: { admin_ws = false }
 CFG
-echo 'general: { }' > "$folder/janus.plugin.videoroom.jcfg"
+if [ -n "$admin_key" ]; then
+  echo "general: { admin_key = \"$admin_key\" }" > "$folder/janus.plugin.videoroom.jcfg"
+else
+  echo 'general: { }' > "$folder/janus.plugin.videoroom.jcfg"
+fi
 exec /usr/bin/janus -F "$folder" -C "$folder/janus.jcfg" -i "$address" -L "$folder/janus.log" -o -N > /dev/null 2>&1
