@@ -25,6 +25,7 @@ namespace {
 
 constexpr size_t kMaxJanusUrlBytes = 1024;
 constexpr const char* kPlugin = "janus.plugin.videoroom";
+constexpr size_t kMaxOtherPublishers = 8;
 
 std::string short_text(const std::string& text) { return text.size() > 120 ? text.substr(0, 120) + "..." : text; }
 
@@ -339,8 +340,17 @@ void JanusRoom::on_event(const json& message) {
   const json* data = plugin_data(message);
   if (!data) return changed_.notify_all();
   if (const auto publishers = data->find("publishers"); publishers != data->end() && publishers->is_array())
-    for (const json& p : *publishers)
-      if (const std::optional<uint64_t> id = id_in(p, "id"); id && *id != my_id_) others_.insert(*id);
+    for (const json& p : *publishers) {
+      const std::optional<uint64_t> id = id_in(p, "id");
+      if (!id || *id == my_id_) continue;
+      // The room holds two publishers: a server that names many more is not believed, nor kept.
+      if (others_.size() >= kMaxOtherPublishers) {
+        ++refused_;
+        last_error_ = "Janus named more publishers in the room than it can hold";
+        break;
+      }
+      others_.insert(*id);
+    }
   for (const char* gone : {"unpublished", "leaving"})
     if (const std::optional<uint64_t> id = id_in(*data, gone)) {
       others_.erase(*id);
