@@ -475,8 +475,9 @@ struct Session::Impl {
     // touch event picked out by its size). The connector then builds a new one.
     const RecordError error = c->opener->open(c->header_in, c->body_in, &plaintext, &reason, &complete);
     if (error != RecordError::None) {
-      if (error == RecordError::OutOfSequence) count([](NetCounters& k) { ++k.records_out_of_sequence; });
+      // The reason first: a reader that sees the gap counted sees its reason too.
       reject(record_error_name(error), reason);
+      if (error == RecordError::OutOfSequence) count([](NetCounters& k) { ++k.records_out_of_sequence; });
       return drop(c, reason);
     }
     c->last_rx_us = monotonic_now_us();
