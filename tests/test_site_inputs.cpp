@@ -405,13 +405,14 @@ TEST_CASE("site config: replay relative to the config's folder, motor checked", 
 TEST_CASE("site config: a Janus room and the bitrate's bounds, the pin's file relative to the config", "[site_inputs]") {
   const std::filesystem::path dir = fresh_dir_site_inputs("config-janus");
   std::ofstream(dir / "room.json") << R"({"transport": "webrtc", "janus": "ws://10.0.0.5:8188", "room": 1234,
-    "room_secret": "keys/pin", "bitrate_floor_kbps": 200, "bitrate_ceiling_kbps": 1800})";
+    "room_secret": "keys/pin", "janus_ca": "/etc/janus/ca.pem", "bitrate_floor_kbps": 200, "bitrate_ceiling_kbps": 1800})";
   site::SiteRunOptions options;
   site::apply_site_config(dir / "room.json", options);
   CHECK(options.transport == "webrtc");
   CHECK(options.call.janus == "ws://10.0.0.5:8188");
   CHECK(options.call.room == 1234);
   CHECK(options.call.room_secret_file == dir / "keys/pin");
+  CHECK(options.call.janus_ca_file == "/etc/janus/ca.pem");
   CHECK(options.call.bitrate_floor_kbps == 200);
   CHECK(options.call.bitrate_ceiling_kbps == 1800);
   for (const char* bad : {R"({"room": 0})", R"({"room": -3})", R"({"room": 2.5})", R"({"room": "7"})"}) {

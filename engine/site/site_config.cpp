@@ -58,7 +58,7 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   };
   for (const auto& [key, value] : json.items())
     if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "transport" && key != "stun" && key != "turn" && key != "relay_only" &&
-        key != "bitrate_floor_kbps" && key != "bitrate_ceiling_kbps" && key != "janus" && key != "room" && key != "room_secret" &&
+        key != "bitrate_floor_kbps" && key != "bitrate_ceiling_kbps" && key != "janus" && key != "room" && key != "room_secret" && key != "janus_ca" &&
         key != "time_scale" &&
         key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" && key != "site_file" &&
         key != "motor" &&  key != "tracker" && key != "display" && key != "monitor" &&
@@ -85,11 +85,11 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   if (json.contains("room") && (!json["room"].is_number_unsigned() || json["room"].get<uint64_t>() == 0))
     throw std::runtime_error(config.string() + ": 'room' must be a whole number above 0 (the Janus room's)");
   if (json.contains("room")) options.call.room = json["room"].get<uint64_t>();
-  std::string room_secret;
-  string_field("room_secret", room_secret);
-  if (!room_secret.empty())
-    options.call.room_secret_file = std::filesystem::path(room_secret).is_absolute() ? std::filesystem::path(room_secret)
-                                                                                     : (base / room_secret).lexically_normal();
+  for (auto [name, file] : {std::pair{"room_secret", &options.call.room_secret_file}, {"janus_ca", &options.call.janus_ca_file}}) {
+    std::string path;
+    string_field(name, path);
+    if (!path.empty()) *file = std::filesystem::path(path).is_absolute() ? std::filesystem::path(path) : (base / path).lexically_normal();
+  }
   if (options.transport != "direct" && options.transport != "webrtc")
     throw std::runtime_error(config.string() + ": 'transport' must be \"direct\" or \"webrtc\"");
   if (!key_file.empty()) options.key_file = std::filesystem::path(key_file).is_absolute() ? std::filesystem::path(key_file) : base / key_file;
