@@ -50,40 +50,91 @@ void JanusLink::fail(const std::string& why) {
 
 void JanusLink::set_up() {
   room_ = std::make_unique<JanusRoom>(room_options_);
-  my_id_ = room_->join();
-  const auto signalling = [this](JanusRoom::Peer which) {
-    Signalling s;
-    s.on_description = [this, which](const std::string& type, const std::string& sdp) {
-      std::lock_guard lock(mutex_);
-      said_.push_back({which, type, sdp});
-    };
-    s.on_candidate = [this, which](unsigned mline, const std::string& candidate) { room_->trickle(which, mline, candidate); };
-    return s;
-  };
+  const uint64_t me = room_->join();
   WebRtcPeerOptions publishing = peer_options_;
   publishing.name = session_.name + " publisher";
   publishing.offerer = true;
-  publisher_ = std::make_unique<WebRtcPeer>(publishing, signalling(JanusRoom::Peer::Publisher));
+  auto publisher = std::make_unique<WebRtcPeer>(publishing, signalling(JanusRoom::Peer::Publisher));
+  {
+    std::lock_guard lock(mutex_);
+    my_id_ = me;
+    publisher_ = std::move(publisher);
+  }
   sending_ = publisher_.get();
   publisher_->send_portrait(blank_portrait(peer_options_.width, peer_options_.height));
-  // The other site's publisher, once it publishes; the subscriber's offer comes from Janus.
-  while (!stopping_) {
-    pump_signalling();
-    if (const std::optional<uint64_t> other = room_->wait_for_other(std::chrono::milliseconds(20))) {
-      WebRtcPeerOptions receiving = peer_options_;
-      receiving.name = session_.name + " subscriber";
-      receiving.offerer = false;
-      receiving.handshake_out = [this](std::span<const uint8_t> frame) { return publisher_->send_handshake(frame); };
-      subscriber_ = std::make_unique<WebRtcPeer>(receiving, signalling(JanusRoom::Peer::Subscriber));
-      const std::string offer = room_->subscribe(*other);
-      if (const std::string error = subscriber_->set_remote_description("offer", offer); !error.empty())
-        throw std::runtime_error("Janus's offer for the other site's streams was refused: " + error);
-      std::lock_guard lock(mutex_);
-      other_id_ = *other;
-      peers_made_ = true;
-      return;
-    }
+}
+
+Signalling JanusLink::signalling(JanusRoom::Peer which) {
+  Signalling s;
+  s.on_description = [this, which](const std::string& type, const std::string& sdp) {
+    std::lock_guard lock(mutex_);
+    said_.push_back({which, type, sdp});
+  };
+  s.on_candidate = [this, which](unsigned mline, const std::string& candidate) { room_->trickle(which, mline, candidate); };
+  return s;
+}
+
+// The other site's publisher, once it publishes; the subscriber's offer comes from Janus.
+void JanusLink::subscribe_to(uint64_t other) {
+  bool again = false;
+  {
+    std::lock_guard lock(mutex_);
+    again = other_left_count_ > 0;
   }
+  if (again) room_->renew_subscriber_handle();
+  WebRtcPeerOptions receiving = peer_options_;
+  receiving.name = session_.name + " subscriber";
+  receiving.offerer = false;
+  receiving.handshake_out = [this](std::span<const uint8_t> frame) { return publisher_->send_handshake(frame); };
+  auto subscriber = std::make_unique<WebRtcPeer>(receiving, signalling(JanusRoom::Peer::Subscriber));
+  const std::string offer = room_->subscribe(other);
+  if (const std::string error = subscriber->set_remote_description("offer", offer); !error.empty())
+    throw std::runtime_error("Janus's offer for the other site's streams was refused: " + error);
+  std::lock_guard lock(mutex_);
+  subscriber_ = std::move(subscriber);
+  other_id_ = other;
+  other_away_ = false;
+  if (again) came_back_us_ = monotonic_now_us(), before_rejoin_ = retired_;
+}
+
+namespace {
+
+void add_receiving_counts(WebRtcCounters& into, const WebRtcCounters& from) {
+  into.portraits_received += from.portraits_received;
+  into.portraits_dropped += from.portraits_dropped;
+  into.frames_unpaired += from.frames_unpaired;
+  into.portraits_lost += from.portraits_lost;
+  into.messages_received += from.messages_received;
+  into.messages_refused += from.messages_refused;
+  into.messages_early += from.messages_early;
+  into.keyframes_asked += from.keyframes_asked;
+}
+
+}  // namespace
+
+void JanusLink::drop_other_site() {
+  std::unique_ptr<WebRtcPeer> departed;
+  {
+    std::lock_guard lock(mutex_);
+    add_receiving_counts(retired_, subscriber_->counters());
+    if (subscriber_->counters().messages_refused) failure_seen_ = subscriber_->last_error();
+    departed = std::move(subscriber_);
+    // Descriptions the departed subscriber made and Janus has not had yet belong to no call now.
+    std::erase_if(said_, [](const Said& s) { return s.peer == JanusRoom::Peer::Subscriber; });
+    other_away_ = true;
+    connected_now_ = false;
+    ++other_left_count_;
+    left_us_ = monotonic_now_us();
+  }
+  const size_t dropped = touches_.drop_all();
+  {
+    std::lock_guard lock(mutex_);
+    touches_dropped_away_ += dropped;
+  }
+  // The peer first, outside the lock (its GStreamer threads call back into the link while they
+  // stop), then the guard: nothing of the departed site's can reach the fresh handshake.
+  departed.reset();
+  guard_->reset();
 }
 
 void JanusLink::pump_signalling() {
@@ -109,11 +160,17 @@ void JanusLink::run() {
     auto next_heartbeat = std::chrono::steady_clock::now();
     while (!stopping_) {
       pump_signalling();
+      if (!subscriber_) {
+        // Alone in the room (at the start, or since the other site left): this site's publication
+        // stays up, and the next publisher in the room is the other site's.
+        if (const std::optional<uint64_t> other = room_->wait_for_other(std::chrono::milliseconds(20))) subscribe_to(*other);
+        continue;
+      }
       bool busy = false;
       pump_received(busy);
       if (room_->other_left()) {
-        std::lock_guard lock(mutex_);
-        other_left_ = true;
+        drop_other_site();
+        continue;
       }
       // Both connected() calls also send the guard's hello (through the publisher) until answered.
       const bool publishing = publisher_->connected(), receiving = subscriber_->connected();
@@ -126,7 +183,17 @@ void JanusLink::run() {
       if (publishing && receiving) {
         {
           std::lock_guard lock(mutex_);
-          if (!ever_connected_) ever_connected_ = true, connected_us_ = monotonic_now_us();
+          if (!connected_now_) {
+            const uint64_t now = monotonic_now_us();
+            connected_now_ = true;
+            if (!ever_connected_) {
+              ever_connected_ = true, connected_us_ = now;
+            } else if (other_left_count_ > 0) {
+              ++rejoins_;
+              last_away_s_ = double(now - left_us_) * 1e-6;
+              last_reconnect_s_ = double(now - came_back_us_) * 1e-6;
+            }
+          }
         }
         flush_touches();
         if (std::chrono::steady_clock::now() >= next_heartbeat) {
@@ -166,6 +233,14 @@ void JanusLink::send(const net::Message& message) {
   if (type == net::MessageType::Signal) throw std::invalid_argument("a signal has no place on a call set up through Janus");
   WebRtcPeer* peer = sending_.load();
   if (const auto* touch = std::get_if<net::TouchEventMessage>(&message)) {
+    {
+      std::lock_guard lock(mutex_);
+      if (other_away_) {
+        ++touches_dropped_away_;
+        ++counts_.stale_dropped_out[index];
+        return;
+      }
+    }
     touches_.add(*touch);
     if (peer) flush_touches();
     return;
@@ -198,15 +273,19 @@ net::ConnectionStatus JanusLink::status() const {
   if (!failure_.empty() || !guard_->failure().empty()) {
     status.state = net::ConnectionState::Refused;
     status.reason = !failure_.empty() ? failure_ : guard_->failure();
-  } else if (other_left_) {
-    status.state = net::ConnectionState::Lost;
-    status.reason = "the other site left the room";
-  } else if (ever_connected_) {
+  } else if (connected_now_) {
     status.state = net::ConnectionState::Connected;
     status.peer += " (WebRTC through Janus)";
+  } else if (ever_connected_) {
+    status.state = net::ConnectionState::Lost;
+    status.reason = other_away_ ? "the other site left the room; waiting for it to come back"
+                                : "the other site came back to the room; " + stage_;
   } else {
     status.state = net::ConnectionState::Connecting;
-    status.reason = !my_id_ ? "joining the room" : !peers_made_ ? "in the room; waiting for the other site to publish" : stage_;
+    status.reason = !my_id_                  ? "joining the room"
+                    : other_away_            ? "the other site left the room before the call was up; waiting for it to come back"
+                    : !subscriber_           ? "in the room; waiting for the other site to publish"
+                                             : stage_;
   }
   return status;
 }
@@ -215,14 +294,16 @@ net::NetCounters JanusLink::counters() const {
   std::lock_guard lock(mutex_);
   net::NetCounters out = counts_;
   out.touches_unacked_dropped += touches_.dropped();
-  if (peers_made_) {
-    const WebRtcCounters sent = publisher_->counters(), received = subscriber_->counters();
+  if (publisher_) {
+    const WebRtcCounters sent = publisher_->counters();
     out.bytes_out += sent.color_bytes_sent + sent.depth_bytes_sent + sent.channel_bytes_sent;
-    out.rejected += received.messages_refused;
-    if (received.messages_refused) {
-      out.rejected_by_reason["webrtc_refused"] += received.messages_refused;
-      out.last_rejection = subscriber_->last_error();
-    }
+  }
+  WebRtcCounters received = retired_;
+  if (subscriber_) add_receiving_counts(received, subscriber_->counters());
+  out.rejected += received.messages_refused;
+  if (received.messages_refused) {
+    out.rejected_by_reason["webrtc_refused"] += received.messages_refused;
+    out.last_rejection = subscriber_ && subscriber_->counters().messages_refused ? subscriber_->last_error() : failure_seen_;
   }
   return out;
 }
@@ -236,19 +317,35 @@ nlohmann::json JanusLink::transport_json() const {
                         {"other_site_id", other_id_},
                         {"connected_s", ever_connected_ ? double(monotonic_now_us() - connected_us_) * 1e-6 : 0.0},
                         {"data_channels_sealed", guard_->ready()},
+                        {"other_site_left", other_left_count_},
+                        {"other_site_rejoins", rejoins_},
+                        {"other_site_away_now", other_away_},
+                        {"last_rejoin_s", {{"away", last_away_s_}, {"back_to_connected", last_reconnect_s_}}},
+                        {"touches_dropped_while_away", touches_dropped_away_},
                         {"last_error", failure_}};
-  if (peers_made_) {
-    const WebRtcCounters sent = publisher_->counters(), received = subscriber_->counters();
+  if (publisher_) {
+    const WebRtcCounters sent = publisher_->counters();
+    const WebRtcCounters now = subscriber_ ? subscriber_->counters() : WebRtcCounters{};
+    WebRtcCounters received = retired_;
+    add_receiving_counts(received, now);
     out["portraits"] = {{"sent", sent.portraits_sent}, {"received", received.portraits_received},
                         {"dropped", received.portraits_dropped}, {"frames_unpaired", received.frames_unpaired},
                         {"lost", received.portraits_lost}};
     out["messages"] = {{"sent", sent.messages_sent}, {"received", received.messages_received},
                        {"refused", received.messages_refused}, {"early_dropped", received.messages_early}};
+    // What the call brought since the other site last came back (its present publication, or the
+    // last one if it left again).
+    if (rejoins_ > 0)
+      out["since_rejoin"] = {{"portraits_received", received.portraits_received - before_rejoin_.portraits_received},
+                             {"messages_received", received.messages_received - before_rejoin_.messages_received},
+                             {"messages_refused", received.messages_refused - before_rejoin_.messages_refused}};
     out["codec_ms_median"] = {{"color_encode", sent.color_encode_ms}, {"depth_alpha_encode", sent.depth_encode_ms},
-                              {"color_decode", received.color_decode_ms}, {"depth_alpha_decode", received.depth_decode_ms}};
+                              {"color_decode", now.color_decode_ms}, {"depth_alpha_decode", now.depth_decode_ms}};
     out["keyframes"] = {{"asked_by_us", received.keyframes_asked}, {"asked_of_us", sent.keyframes_asked_of_us}};
     out["kbit_out"] = {{"color_kbps_now", sent.color_kbps_now}, {"depth_kbps_now", sent.depth_kbps_now}};
-    if (out["last_error"] == "") out["last_error"] = received.messages_refused ? subscriber_->last_error() : publisher_->last_error();
+    if (out["last_error"] == "")
+      out["last_error"] = now.messages_refused ? subscriber_->last_error()
+                          : received.messages_refused ? failure_seen_ : publisher_->last_error();
   }
   return out;
 }
