@@ -22,6 +22,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <shared_mutex>
 #include <string>
 #include <thread>
 
@@ -52,6 +53,8 @@ class JanusLink : public net::Transport {
 
  private:
   void run();
+  void call();
+  void leave_janus(const std::string& why, const std::string& retry_error, int attempt, std::chrono::milliseconds delay);
   void set_up();
   Signalling signalling(JanusRoom::Peer which);
   void subscribe_to(uint64_t other);
@@ -59,6 +62,7 @@ class JanusLink : public net::Transport {
   void pump_signalling();
   void pump_received(bool& busy);
   void flush_touches();
+  void flush_touches_to(WebRtcPeer* peer);
   void fail(const std::string& why);
 
   net::SessionOptions session_;
@@ -72,9 +76,13 @@ class JanusLink : public net::Transport {
   // Made by the link's thread, read by send() and status(): the room and the publisher are set
   // once and kept until the destructor; the subscriber changes with the other site (the link's
   // thread changes it with mutex_ held, others read it with mutex_ held).
+  // After a lost connection to Janus all three are made again; publisher_mutex_, held shared by
+  // send() while it uses the publisher, lets the link's thread replace it safely.
   std::unique_ptr<JanusRoom> room_;
   std::unique_ptr<WebRtcPeer> publisher_, subscriber_;
   std::atomic<WebRtcPeer*> sending_{nullptr};
+  std::shared_mutex publisher_mutex_;
+  bool subscribed_in_room_ = false;  // this room object's subscriber handle was used (link's thread)
 
   mutable std::mutex mutex_;
   struct Said {
@@ -97,7 +105,16 @@ class JanusLink : public net::Transport {
   double last_away_s_ = 0, last_reconnect_s_ = 0;
   uint64_t touches_dropped_away_ = 0;
   // The departed subscribers' counts, so that the call's totals survive a rejoin.
-  WebRtcCounters retired_, before_rejoin_;
+  WebRtcCounters retired_, before_rejoin_, retired_sent_;
+  // The other site coming back after it left, or both sites after Janus was lost: what the next
+  // connection ends.
+  enum class ComingBack { No, OtherSite, Janus } coming_back_ = ComingBack::No;
+  // The connection to Janus: why it was lost (empty while it is up), how often, how often the
+  // site joined the room again, the tries since and the last one's error, the outage's length.
+  std::string janus_lost_, janus_retry_error_;
+  uint64_t janus_lost_count_ = 0, janus_rejoins_ = 0, janus_lost_us_ = 0, janus_next_try_us_ = 0;
+  int janus_attempt_ = 0;
+  double last_janus_outage_s_ = 0;
 };
 
 }  // namespace rt::media

@@ -392,6 +392,16 @@ bool JanusRoom::other_left() const {
   return other_left_;
 }
 
+bool JanusRoom::closed() const {
+  std::lock_guard lock(mutex_);
+  return closed_;
+}
+
+std::string JanusRoom::closed_reason() const {
+  std::lock_guard lock(mutex_);
+  return closed_reason_;
+}
+
 std::string JanusRoom::last_error() const {
   std::lock_guard lock(mutex_);
   return closed_ && last_error_.empty() ? closed_reason_ : last_error_;

@@ -75,6 +75,10 @@ class JanusRoom {
 
   // The other site's publisher left the room or stopped publishing since it was subscribed to.
   bool other_left() const;
+  // The WebSocket to Janus closed, or Janus ended the session: nothing more can be asked of this
+  // room object, and why.
+  bool closed() const;
+  std::string closed_reason() const;
   // A Janus event that ended a peer connection ("hangup: ...") or a refused message; empty if none.
   std::string last_error() const;
   uint64_t messages_refused() const;

@@ -71,6 +71,26 @@ b_again_started_ns=$(date +%s%N)
 b=$!
 wait_for_clap site_B_again "$b" || fail "site B, started again, felt no clap"
 echo "site B started again: its clap over $(( ($(date +%s%N) - b_again_started_ns) / 1000000 )) ms after its start"
+# Waits until FOLDER's events hold N of EVENT, for up to 60 s.
+wait_for_events() {
+  for _ in $(seq 600); do
+    [ "$(grep -c "\"event\":\"$2\"" "$1/events.jsonl" 2>/dev/null)" -ge "$3" ] && return 0
+    sleep 0.1
+  done
+  return 1
+}
+# Janus crashes and is started again under both sites: each loses its session, joins the room
+# again (made anew), publishes and subscribes again, and the two connect with a new handshake.
+kill -KILL "$janus"
+wait "$janus" 2>/dev/null || true
+janus_killed_ns=$(date +%s%N)
+sleep 1
+"$RT_TEST_START_JANUS" "$PWD/janus" "$RT_TEST_NAMESPACE_ADDRESS" &
+janus=$!
+wait_for_events site_A connection_restored 2 || fail "site A did not connect again after Janus restarted"
+wait_for_events site_B_again connection_restored 1 || fail "site B did not connect again after Janus restarted"
+echo "Janus killed, started again 1 s later: both sites connected again $(( ($(date +%s%N) - janus_killed_ns) / 1000000 )) ms after it went"
+sleep 3  # the call going on a while, for the figures since
 for site in "$b" "$a"; do
   kill -INT "$site"
   set +e
@@ -101,26 +121,34 @@ assert m["transport"]["data_channels_sealed"] is True, m["transport"]
 assert m["touch"]["starts"] == 1, m["touch"]
 assert sum(e["event"] == "motor_pulse" for e in events("site_B_again")) >= 1
 # A: the other site left (killed), came back, and left again (stopped before A); the second clap
-# came after the rejoin, and the records since opened under the new handshake's keys.
+# came after the rejoin. Then both lost Janus once and joined again, and the records since opened
+# under the new handshake's keys.
 a = json.load(open("site_A/metrics.json"))
 t = a["transport"]
 assert t["other_site_left"] == 2 and t["other_site_rejoins"] == 1, {k: t[k] for k in ("other_site_left", "other_site_rejoins")}
+for folder in ["site_A", "site_B_again"]:
+    tj = json.load(open(f"{folder}/metrics.json"))["transport"]
+    assert tj["janus_lost"] == 1 and tj["janus_rejoins"] == 1 and tj["last_janus_outage_s"] > 0, (folder, tj)
+    print(f"{folder}: Janus lost and joined again: connected again {tj['last_janus_outage_s']:.2f} s after the loss; since: "
+          f"{tj['since_rejoin']['portraits_received']} portraits, {tj['since_rejoin']['messages_received']} messages, "
+          f"{tj['since_rejoin']['messages_refused']} refused")
 assert a["touch"]["starts"] == 2, a["touch"]
 ev = events("site_A")
 restored = [e["t_us"] for e in ev if e["event"] == "connection_restored"]
 lost = [e for e in ev if e["event"] == "connection_lost"]
-assert restored and lost, "site A wrote no connection_lost / connection_restored"
+assert len(restored) == 2 and len(lost) >= 2, "site A's connection_lost / connection_restored"
 assert "waiting for it to come back" in lost[0]["reason"], lost[0]
-after = lambda kind: sum(e["event"] == kind and e["t_us"] > restored[0] for e in ev)
+assert "connection to Janus was lost" in lost[1]["reason"], lost[1]
+after = lambda kind: sum(e["event"] == kind and restored[0] < e["t_us"] < restored[1] for e in ev)
 assert after("touch_start") == 1 and after("motor_pulse") >= 1, (after("touch_start"), after("motor_pulse"))
 since = t["since_rejoin"]
 assert since["portraits_received"] > 0 and since["messages_received"] > 0 and since["messages_refused"] == 0, since
+assert json.load(open("site_B_again/metrics.json"))["transport"]["since_rejoin"]["messages_received"] > 0
 b2 = events("site_B_again")
 b2_wait = [e["t_us"] for e in b2 if e["event"] == "waiting_for_peer"][0]
 b2_connected = [e["t_us"] for e in b2 if e["event"] == "connected"][0]
 print(f"site A: the other site away {t['last_rejoin_s']['away']:.1f} s (its restart included), connected again "
-      f"{t['last_rejoin_s']['back_to_connected']:.2f} s after it published again; since the rejoin "
-      f"{since['portraits_received']} portraits, {since['messages_received']} messages, {since['messages_refused']} refused; "
+      f"{t['last_rejoin_s']['back_to_connected']:.2f} s after it published again; "
       f"touches after the rejoin {after('touch_start')}, motor pulses {after('motor_pulse')}; "
       f"touches dropped while away {t['touches_dropped_while_away']}")
 print(f"site B started again: connected {(b2_connected - b2_wait) / 1e6:.2f} s after it began waiting for site A")
