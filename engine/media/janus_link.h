@@ -16,7 +16,10 @@
 // in the room with its publication and waits for the other site to come back: the subscriber
 // peer and its Janus handle go, the guard forgets the last call's handshake and keys, and the
 // next publisher in the room is subscribed to and handshaken with from the start. Touches made
-// while the other site is away are dropped (counted): nobody is there to feel them.
+// while the other site is away are dropped (counted): nobody is there to feel them. When the
+// connection to Janus itself closes (Janus restarted), the link makes everything again (a new
+// session, join, publish, subscribe, handshake), trying a bounded number of times with back-off
+// and saying so in status().
 #include <atomic>
 #include <deque>
 #include <memory>
