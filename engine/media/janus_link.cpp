@@ -12,9 +12,9 @@ namespace rt::media {
 namespace {
 
 constexpr auto kJanusPumpPeriod = std::chrono::milliseconds(2);
-// The connection to Janus lost: tried again after 0.25 s, doubling up to 4 s, ten times (about
-// half a minute in all). A restarted Janus answers within a second or two; one gone for good is
-// reported as such rather than waited on for the rest of the run.
+// The connection to Janus lost: tried again after a wait that doubles up to a ceiling, a bounded
+// number of times. A restarted Janus answers again soon, so the first tries come quickly; one gone
+// for good is reported as such rather than waited on for the rest of the run.
 constexpr int kJanusAttempts = 10;
 constexpr auto kJanusFirstRetry = std::chrono::milliseconds(250), kJanusLongestRetry = std::chrono::milliseconds(4000);
 
