@@ -100,6 +100,10 @@ add_cli_test(session_site_bad_turn 1 "remotetouch: error: --turn 'turn://alice:\
 add_cli_test(session_site_stun_needs_webrtc 1 "remotetouch: error: --stun, --turn.*need --transport webrtc"
              ${rt} site --site A --key-file ${CMAKE_BINARY_DIR}/test-out/keygen/call.key --stun stun://127.0.0.1
                    --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-stun-direct)
+add_cli_test(session_site_janus_ca_needs_wss 1 "remotetouch: error: --janus-ca names the authorities of a wss:// Janus; ws://127.0.0.1:8188 is not one"
+             ${rt} site --site A --key-file ${CMAKE_BINARY_DIR}/test-out/keygen/call.key --transport webrtc
+                   --janus ws://127.0.0.1:8188 --room 5 --janus-ca ${CMAKE_BINARY_DIR}/test-out/keygen/call.key
+                   --width 32 --height 18 --resolution-scale 0.05 --out ${CMAKE_BINARY_DIR}/test-out/site-janus-ca-ws)
 # A site replaying a recording (`site --replay`): site B of clap recorded once by `simulate`
 # (tiny: 115 frames at a tenth of the cameras' resolution, ground truth at the display's size),
 # then played against a simulated site A; an image unreadable mid-run; bad inputs.

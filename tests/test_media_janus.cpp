@@ -3,9 +3,12 @@
 // network namespace the test made, where Janus's ICE has an address that is not loopback.
 #include <catch2/catch.hpp>
 
+#include <asio.hpp>
+
 #include <chrono>
 #include <cstdio>
 #include <deque>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <mutex>
@@ -32,7 +35,9 @@ TEST_CASE("a Janus URL is ws://HOST:PORT, anything else is refused with the reas
   CHECK(parse_janus_url("ws://10.0.0.2").port == "8188");
   CHECK(parse_janus_url("ws://10.0.0.2:9000/janus").path == "/janus");
   CHECK_THROWS_WITH(parse_janus_url(""), Catch::Contains("empty"));
-  CHECK_THROWS_WITH(parse_janus_url("wss://a:1"), Catch::Contains("not supported yet"));
+  CHECK(parse_janus_url("wss://a:1").tls);
+  CHECK(!parse_janus_url("ws://a:1").tls);
+  CHECK(parse_janus_url("wss://janus.example.org").port == "8989");
   CHECK_THROWS_WITH(parse_janus_url("http://a:1"), Catch::Contains("scheme 'http'"));
   CHECK_THROWS_WITH(parse_janus_url("ws://a:99999"), Catch::Contains("from 1 to 65535"));
   CHECK_THROWS_WITH(parse_janus_url("ws://a:x"), Catch::Contains("not a URL"));
@@ -51,6 +56,28 @@ TEST_CASE("no Janus at the address: the room says it cannot connect", "[media][j
   CHECK_THROWS_WITH(JanusRoom(o), Catch::Contains("cannot connect to 127.0.0.1:1"));
   o.room = 0;
   CHECK_THROWS_WITH(JanusRoom(o), Catch::Contains("room number"));
+}
+
+TEST_CASE("wss://: a server that does not speak TLS, or an authorities' file that cannot be read, is refused saying so", "[media][janus]") {
+  // A plain TCP listener that accepts and says nothing in TLS.
+  asio::io_context io;
+  asio::ip::tcp::acceptor acceptor(io, {asio::ip::make_address("127.0.0.1"), 0});
+  const uint16_t port = acceptor.local_endpoint().port();
+  std::thread server([&] {
+    asio::ip::tcp::socket peer(io);
+    asio::error_code ec;
+    acceptor.accept(peer, ec);
+    if (!ec) asio::write(peer, asio::buffer(std::string("HTTP/1.1 400 Bad Request\r\n\r\n")), ec);
+  });
+  JanusRoomOptions o;
+  o.url = "wss://127.0.0.1:" + std::to_string(port);
+  o.room = 7;
+  o.display = "A";
+  o.timeout = std::chrono::milliseconds(3000);
+  CHECK_THROWS_WITH(JanusRoom(o), Catch::Contains("no TLS with 127.0.0.1:" + std::to_string(port)));
+  server.join();
+  o.ca_file = "/nonexistent/janus-ca.pem";
+  CHECK_THROWS_WITH(JanusRoom(o), Catch::Contains("--janus-ca /nonexistent/janus-ca.pem: cannot be read"));
 }
 
 namespace {
@@ -137,6 +164,34 @@ struct JanusTestSite {
 };
 
 }  // namespace
+
+TEST_CASE("over wss://, a site joins when Janus's certificate is trusted and is refused saying why when not", "[.janus][media]") {
+  std::string why;
+  const std::optional<std::string> address = test::janus_test_address(&why);
+  if (!address) {
+    WARN("SKIPPED: " << why);
+    return;
+  }
+  const std::filesystem::path folder = test::output_dir("test_media_janus_wss");
+  test::JanusInNamespace janus(folder, *address);
+  REQUIRE(janus.wait_ready(std::chrono::seconds(15)));
+  JanusRoomOptions o;
+  o.room = 4343;
+  o.display = "A";
+  o.timeout = std::chrono::milliseconds(5000);
+  // Janus's certificate is its own: the system's authorities do not vouch for it.
+  o.url = "wss://127.0.0.1:8989";
+  CHECK_THROWS_WITH(JanusRoom(o), Catch::Contains("no TLS with 127.0.0.1:8989") && Catch::Contains("self-signed certificate") &&
+                                      Catch::Contains("--janus-ca"));
+  // Trusted, but not the name the certificate was made for.
+  o.ca_file = (folder / "janus-cert.pem").string();
+  o.url = "wss://localhost:8989";
+  CHECK_THROWS_WITH(JanusRoom(o), Catch::Contains("no TLS with localhost:8989") && Catch::Contains("hostname mismatch"));
+  o.url = "wss://127.0.0.1:8989";
+  JanusRoom room(o);
+  CHECK(room.join() > 0);
+  CHECK(room.messages_refused() == 0);
+}
 
 TEST_CASE("two sites meet in a Janus room and see each other through it", "[.janus][media]") {
   std::string why;

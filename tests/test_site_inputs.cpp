@@ -402,6 +402,29 @@ TEST_CASE("site config: replay relative to the config's folder, motor checked", 
   CHECK_THROWS_WITH(site::apply_site_config(dir / "bad.json", options), Contains("bad.json") && Contains("'motor'"));
 }
 
+TEST_CASE("site config: a Janus room and the bitrate's bounds, the pin's file relative to the config", "[site_inputs]") {
+  const std::filesystem::path dir = fresh_dir_site_inputs("config-janus");
+  std::ofstream(dir / "room.json") << R"({"transport": "webrtc", "janus": "ws://10.0.0.5:8188", "room": 1234,
+    "room_secret": "keys/pin", "janus_ca": "/etc/janus/ca.pem", "bitrate_floor_kbps": 200, "bitrate_ceiling_kbps": 1800})";
+  site::SiteRunOptions options;
+  site::apply_site_config(dir / "room.json", options);
+  CHECK(options.transport == "webrtc");
+  CHECK(options.call.janus == "ws://10.0.0.5:8188");
+  CHECK(options.call.room == 1234);
+  CHECK(options.call.room_secret_file == dir / "keys/pin");
+  CHECK(options.call.janus_ca_file == "/etc/janus/ca.pem");
+  CHECK(options.call.bitrate_floor_kbps == 200);
+  CHECK(options.call.bitrate_ceiling_kbps == 1800);
+  for (const char* bad : {R"({"room": 0})", R"({"room": -3})", R"({"room": 2.5})", R"({"room": "7"})"}) {
+    std::ofstream(dir / "bad-room.json") << bad;
+    CHECK_THROWS_WITH(site::apply_site_config(dir / "bad-room.json", options), Contains("bad-room.json") && Contains("'room'"));
+  }
+  std::ofstream(dir / "bad-floor.json") << R"({"bitrate_floor_kbps": 1e9})";
+  CHECK_THROWS_WITH(site::apply_site_config(dir / "bad-floor.json", options), Contains("'bitrate_floor_kbps'"));
+  std::ofstream(dir / "bad-janus.json") << R"({"janus": 8188})";
+  CHECK_THROWS_WITH(site::apply_site_config(dir / "bad-janus.json", options), Contains("'janus'"));
+}
+
 TEST_CASE("the ground truth over the background: premultiplied edges are not darkened twice", "[site]") {
   HostImage truth(2, 1, PixelFormat::RGBA8, 0.0f), background(2, 1, PixelFormat::RGBA8, 0.0f);
   for (uint32_t c = 0; c < 3; ++c) {

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -27,12 +28,25 @@ struct TrackedFrame {
   std::vector<HandSkeleton> hands;
 };
 
-std::vector<TrackedFrame> tracked(const sim::Scene& scene, Site site) {
-  sim::SimulatedHandTracker tracker = sim::make_simulated_tracker(scene, site);
-  std::vector<TrackedFrame> frames;
-  while (auto frame = tracker.next_frame())
-    frames.push_back({frame->timestamp_us, sim::skeletons_in_site(*frame, scene.at(site).site.tracker)});
-  return frames;
+// A scene's tracked frames and true contacts are the same on every play of it, and making them
+// (the trackers' hands, the skin sampled every millisecond) is most of a play's time, under the
+// sanitizers most of all: each is made once per scene.
+const std::vector<TrackedFrame>& tracked(const std::string& scene_name, const sim::Scene& scene, Site site) {
+  static std::map<std::pair<std::string, Site>, std::vector<TrackedFrame>> made;
+  auto [it, inserted] = made.try_emplace({scene_name, site});
+  if (inserted) {
+    sim::SimulatedHandTracker tracker = sim::make_simulated_tracker(scene, site);
+    while (auto frame = tracker.next_frame())
+      it->second.push_back({frame->timestamp_us, sim::skeletons_in_site(*frame, scene.at(site).site.tracker)});
+  }
+  return it->second;
+}
+
+const std::vector<double>& contact_times_s(const std::string& scene_name, const sim::Scene& scene) {
+  static std::map<std::string, std::vector<double>> made;
+  auto [it, inserted] = made.try_emplace(scene_name);
+  if (inserted) it->second = true_contact_times_s(scene);
+  return it->second;
 }
 
 struct Played {
@@ -50,7 +64,7 @@ struct Played {
 Played play(const std::string& scene_name, const TouchSettings& settings, double time_scale, Site here = Site::A) {
   const sim::Scene scene = sim::load_scene(sim::resolve_scene(scene_name));
   const Site there = here == Site::A ? Site::B : Site::A;
-  const std::vector<TrackedFrame> local = tracked(scene, here), remote = tracked(scene, there);
+  const std::vector<TrackedFrame>&local = tracked(scene_name, scene, here), &remote = tracked(scene_name, scene, there);
   auto wall_us = [&](uint64_t scene_us) { return uint64_t(double(scene_us) / time_scale); };
   constexpr uint64_t kPickUpUs = 7'000, kLinkUs = 3'000, kOtherClockUs = 987'654'321;
   uint64_t now_us = 0;
@@ -97,7 +111,7 @@ Played play(const std::string& scene_name, const TouchSettings& settings, double
     now_us = next_tick_us;
   }
   std::vector<uint64_t> contacts_us;
-  for (const double t : true_contact_times_s(scene)) contacts_us.push_back(wall_us(uint64_t(t * 1e6)));
+  for (const double t : contact_times_s(scene_name, scene)) contacts_us.push_back(wall_us(uint64_t(t * 1e6)));
   played.commands = motor.commands();
   const std::vector<uint64_t> felt = motor.felt_pulse_starts();
   played.vibration = contact_to_vibration_json(contacts_us, felt, uint64_t(500'000 / time_scale));
@@ -116,15 +130,13 @@ TouchSettings with_prediction(bool on) {
 
 TEST_CASE("the clap's palms meet once, when both reach the glass") {
   const sim::Scene scene = sim::load_scene(sim::resolve_scene("clap"));
-  const std::vector<double> contacts = true_contact_times_s(scene);
+  const std::vector<double> contacts = contact_times_s("clap", scene);
   REQUIRE(contacts.size() == 1);
   // B starts 0.2 s later, so B's palm decides: after its raise, approach and press.
   CHECK(contacts[0] > 2.0);
   CHECK(contacts[0] < 3.0);
-  CHECK(true_contact_times_s(sim::load_scene(sim::resolve_scene("miss")))
-            .empty());
-  CHECK(true_contact_times_s(sim::load_scene(sim::resolve_scene("wave"))).empty());
-  CHECK(true_contact_times_s(sim::load_scene(sim::resolve_scene("graze"))).empty());
+  for (const char* scene_name : {"miss", "wave", "graze"})
+    CHECK(contact_times_s(scene_name, sim::load_scene(sim::resolve_scene(scene_name))).empty());
 }
 
 TEST_CASE("the site's motor vibrates as the clap's palms meet with prediction, at the detector's band without") {

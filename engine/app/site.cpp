@@ -45,12 +45,15 @@ class SiteCommand : public Command {
     command_->add_flag("--relay-only", options_.call.relay_only,
                        "--transport webrtc: ICE through the --turn relay only (ice-transport-policy relay)");
     command_->add_option("--janus", options_.call.janus,
-                         "--transport webrtc: meet the other site in a Janus VideoRoom at ws://HOST:PORT instead of "
+                         "--transport webrtc: meet the other site in a Janus VideoRoom at ws://HOST:PORT or wss://HOST:PORT instead of "
                          "--peer/--listen (neither site needs a reachable port)");
     command_->add_option("--room", options_.call.room, "--janus: the room's number (the same at both sites)")
         ->check(CLI::Range(uint64_t(1), uint64_t(1) << 52));
     command_->add_option("--room-secret", options_.call.room_secret_file,
                          "--janus: a file holding the room's pin (the first site makes the room with it)");
+    command_->add_option("--janus-ca", options_.call.janus_ca_file,
+                         "--janus wss://...: the authorities (PEM) Janus's certificate must chain to, for a server with "
+                         "its own (default: the system's)");
     command_->add_option("--site", site_, "Which site this is")->check(CLI::IsMember({"A", "B"}))->capture_default_str();
     command_->add_option("--scene", options_.scene, "Scene name under assets/scenes/, or a scene file")->capture_default_str();
     add_run_options(*command_, options_.run, "");
@@ -159,6 +162,7 @@ class SiteCommand : public Command {
       if (given("--janus")) options_.call.janus = flags.call.janus;
       if (given("--room")) options_.call.room = flags.call.room;
       if (given("--room-secret")) options_.call.room_secret_file = flags.call.room_secret_file;
+      if (given("--janus-ca")) options_.call.janus_ca_file = flags.call.janus_ca_file;
       if (given("--scene")) options_.scene = flags.scene;
       if (given("--time-scale")) options_.time_scale = flags.time_scale;
       if (given("--resolution-scale")) options_.resolution_scale = flags.resolution_scale;

@@ -1,29 +1,14 @@
 #include "media/janus_room.h"
 
-#include <gst/gst.h>
-
-#include <boost/asio/connect.hpp>
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/ip/tcp.hpp>
-#include <boost/asio/post.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/websocket.hpp>
-
 #include <algorithm>
-#include <future>
 #include <stdexcept>
 
 namespace rt::media {
 
-namespace asio = boost::asio;
-namespace beast = boost::beast;
-namespace websocket = beast::websocket;
-using tcp = asio::ip::tcp;
 using nlohmann::json;
 
 namespace {
 
-constexpr size_t kMaxJanusUrlBytes = 1024;
 constexpr const char* kPlugin = "janus.plugin.videoroom";
 constexpr size_t kMaxOtherPublishers = 8;
 
@@ -56,120 +41,13 @@ std::string error_of(const json& message) {
 
 }  // namespace
 
-JanusUrl parse_janus_url(const std::string& url) {
-  const auto refuse = [&](const std::string& why) {
-    return std::invalid_argument("--janus '" + short_text(url) + "': " + why + " (expected ws://HOST:PORT)");
-  };
-  if (url.empty()) throw refuse("empty");
-  if (url.size() > kMaxJanusUrlBytes) throw refuse("longer than " + std::to_string(kMaxJanusUrlBytes) + " bytes");
-  if (std::any_of(url.begin(), url.end(), [](char c) { return c <= ' ' || c == 0x7f; }))
-    throw refuse("a space or control character in it");
-  if (!gst_is_initialized()) gst_init(nullptr, nullptr);
-  std::unique_ptr<GstUri, decltype(&gst_uri_unref)> uri(gst_uri_from_string(url.c_str()), &gst_uri_unref);
-  if (!uri || !gst_uri_get_scheme(uri.get())) throw refuse("not a URL");
-  std::string scheme = gst_uri_get_scheme(uri.get());
-  std::transform(scheme.begin(), scheme.end(), scheme.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (scheme == "wss") throw refuse("wss:// (WebSocket over TLS) is not supported yet: put Janus behind ws:// on a network you trust");
-  if (scheme != "ws") throw refuse("the scheme '" + scheme + "'");
-  JanusUrl out;
-  if (const char* host = gst_uri_get_host(uri.get())) out.host = host;
-  if (out.host.empty()) throw refuse("no host");
-  const unsigned port = gst_uri_get_port(uri.get());
-  const size_t host_end = url.find(out.host) + out.host.size();
-  if (port == GST_URI_NO_PORT && host_end < url.size() && url[host_end] == ':') throw refuse("a port that is not a number from 1 to 65535");
-  if (port != GST_URI_NO_PORT && (port == 0 || port > 65535)) throw refuse("port " + std::to_string(port) + " is not from 1 to 65535");
-  out.port = std::to_string(port == GST_URI_NO_PORT ? 8188 : port);
-  const gchar* path = gst_uri_get_path(uri.get());
-  out.path = path && *path ? path : "/";
-  if (gst_uri_get_query_table(uri.get()) || gst_uri_get_fragment(uri.get())) throw refuse("a query or fragment");
-  return out;
-}
-
-// The WebSocket, on a thread of its own: reads hand each message to the room, writes go out in
-// the order they were asked for.
-class JanusRoom::Socket {
- public:
-  Socket(JanusRoom& owner, JanusUrl url, size_t max_bytes)
-      : owner_(owner), url_(std::move(url)), max_bytes_(max_bytes), resolver_(io_), ws_(io_) {}
-  ~Socket() {
-    io_.stop();
-    if (thread_.joinable()) thread_.join();
-  }
-
-  // Empty, or why the connection could not be made.
-  std::string open(std::chrono::milliseconds timeout) {
-    auto done = std::make_shared<std::promise<std::string>>();
-    std::future<std::string> result = done->get_future();
-    resolver_.async_resolve(url_.host, url_.port, [this, done, timeout](beast::error_code ec, tcp::resolver::results_type found) {
-      if (ec) return done->set_value("cannot resolve " + url_.host + ": " + ec.message());
-      beast::get_lowest_layer(ws_).expires_after(timeout);
-      beast::get_lowest_layer(ws_).async_connect(found, [this, done, timeout](beast::error_code ec, const tcp::endpoint&) {
-        if (ec) return done->set_value("cannot connect to " + url_.host + ":" + url_.port + ": " + ec.message());
-        beast::get_lowest_layer(ws_).expires_never();
-        websocket::stream_base::timeout timeouts{};
-        timeouts.handshake_timeout = timeout;
-        timeouts.idle_timeout = websocket::stream_base::none();
-        timeouts.keep_alive_pings = false;
-        ws_.set_option(timeouts);
-        ws_.read_message_max(max_bytes_);
-        // Janus answers only a client that names its protocol.
-        ws_.set_option(websocket::stream_base::decorator(
-            [](websocket::request_type& request) { request.set(beast::http::field::sec_websocket_protocol, "janus-protocol"); }));
-        ws_.async_handshake(url_.host + ":" + url_.port, url_.path, [this, done](beast::error_code ec) {
-          if (ec) return done->set_value("no WebSocket handshake with Janus at " + url_.host + ":" + url_.port + url_.path + ": " + ec.message());
-          done->set_value({});
-          read();
-        });
-      });
-    });
-    thread_ = std::thread([this] { io_.run(); });
-    if (result.wait_for(timeout + std::chrono::seconds(1)) != std::future_status::ready)
-      return "no answer from " + url_.host + ":" + url_.port + " within " + std::to_string(timeout.count()) + " ms";
-    return result.get();
-  }
-
-  void send(std::string text) {
-    asio::post(io_, [this, text = std::move(text)]() mutable {
-      outgoing_.push_back(std::move(text));
-      if (outgoing_.size() == 1) write_next();
-    });
-  }
-
- private:
-  void write_next() {
-    ws_.async_write(asio::buffer(outgoing_.front()), [this](beast::error_code ec, size_t) {
-      if (ec) return owner_.on_closed("cannot write to Janus: " + ec.message());
-      outgoing_.pop_front();
-      if (!outgoing_.empty()) write_next();
-    });
-  }
-  void read() {
-    ws_.async_read(buffer_, [this](beast::error_code ec, size_t) {
-      if (ec == websocket::error::message_too_big) return owner_.on_closed("Janus sent a message over " + std::to_string(max_bytes_) + " bytes");
-      if (ec) return owner_.on_closed("the connection to Janus ended: " + ec.message());
-      ws_.text(ws_.got_text());
-      owner_.on_message(beast::buffers_to_string(buffer_.data()));
-      buffer_.consume(buffer_.size());
-      read();
-    });
-  }
-
-  JanusRoom& owner_;
-  JanusUrl url_;
-  size_t max_bytes_;
-  asio::io_context io_;
-  tcp::resolver resolver_;
-  websocket::stream<beast::tcp_stream> ws_;
-  beast::flat_buffer buffer_;
-  std::deque<std::string> outgoing_;
-  std::thread thread_;
-};
-
 JanusRoom::JanusRoom(JanusRoomOptions options) : options_(std::move(options)) {
   if (options_.room == 0) throw std::runtime_error("--room: a room number from 1 up");
   if (options_.pin.size() > 256) throw std::runtime_error("the room's secret is longer than 256 bytes");
   if (options_.display.empty() || options_.display.size() > 64) throw std::runtime_error("a site's name in the room: 1 to 64 bytes");
-  socket_ = std::make_unique<Socket>(*this, parse_janus_url(options_.url), options_.max_message_bytes);
+  socket_ = std::make_unique<JanusSocket>(parse_janus_url(options_.url), options_.ca_file, options_.max_message_bytes,
+                                          JanusSocketEvents{[this](std::string text) { on_message(text); },
+                                                            [this](const std::string& why) { on_closed(why); }});
   if (const std::string why = socket_->open(options_.timeout); !why.empty()) throw std::runtime_error("Janus: " + why);
   const json created = request({{"janus", "create"}}, "making a session");
   const json* data = created.contains("data") ? &created["data"] : nullptr;

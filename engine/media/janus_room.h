@@ -1,6 +1,6 @@
 #pragma once
 // A site's rendezvous in a Janus VideoRoom (`site --janus ws://HOST:PORT --room ID`): Janus's JSON
-// API over a WebSocket (Boost.Beast), so that two sites behind routers that accept nothing meet at
+// API over a WebSocket (media/janus_socket.h), so that two sites behind routers that accept nothing meet at
 // a server both can reach. Janus is the signalling server and the SFU: each site publishes its
 // tracks and data channel to the room on one peer connection and subscribes to the other site's
 // on a second one. A CPU module; its own thread reads the socket, the caller's thread waits for
@@ -30,17 +30,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "media/janus_socket.h"
+
 namespace rt::media {
 
-struct JanusUrl {
-  std::string host, port, path;
-};
-// "ws://HOST:PORT[/PATH]" (port 8188, Janus's, if left out). Throws std::invalid_argument naming
-// what is wrong; wss:// is refused with the reason (no TLS client here yet).
-JanusUrl parse_janus_url(const std::string& url);
-
 struct JanusRoomOptions {
-  std::string url;        // ws://HOST:PORT
+  std::string url;        // ws://HOST:PORT or wss://HOST:PORT
+  std::string ca_file;    // wss://: the authorities its certificate is checked against; empty: the system's
   uint64_t room = 0;      // the VideoRoom's number, 1 and up
   std::string pin;        // the room's pin (--room-secret FILE): a room made here gets it
   std::string display;    // this site's name in the room
@@ -84,7 +80,6 @@ class JanusRoom {
   uint64_t messages_refused() const;
 
  private:
-  class Socket;
   nlohmann::json request(nlohmann::json message, const char* what);
   nlohmann::json plugin_request(Peer peer, nlohmann::json body, const nlohmann::json* jsep, const char* what);
   void on_message(const std::string& text);
@@ -95,7 +90,7 @@ class JanusRoom {
   uint64_t attach(const char* what);
 
   JanusRoomOptions options_;
-  std::unique_ptr<Socket> socket_;
+  std::unique_ptr<JanusSocket> socket_;
   uint64_t session_ = 0, my_id_ = 0, subscribed_feed_ = 0;
   std::atomic<uint64_t> publisher_handle_{0}, subscriber_handle_{0};
 

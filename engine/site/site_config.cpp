@@ -57,7 +57,9 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
     value = static_cast<std::remove_reference_t<decltype(value)>>(json[name].get<double>());
   };
   for (const auto& [key, value] : json.items())
-    if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "transport" && key != "stun" && key != "turn" && key != "relay_only" && key != "time_scale" &&
+    if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "transport" && key != "stun" && key != "turn" && key != "relay_only" &&
+        key != "bitrate_floor_kbps" && key != "bitrate_ceiling_kbps" && key != "janus" && key != "room" && key != "room_secret" && key != "janus_ca" &&
+        key != "time_scale" &&
         key != "resolution_scale" && key != "width" && key != "height" && key != "frames" && key != "replay" && key != "site_file" &&
         key != "motor" &&  key != "tracker" && key != "display" && key != "monitor" &&
         key != "present_mode" && key != "ibr" && key != "hand" && key != "touch" && key != "audio_in" && key != "audio_out")
@@ -76,6 +78,17 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   if (json.contains("relay_only")) {
     if (!json["relay_only"].is_boolean()) throw std::runtime_error(config.string() + ": 'relay_only' must be true or false");
     options.call.relay_only = json["relay_only"].get<bool>();
+  }
+  number_field("bitrate_floor_kbps", options.call.bitrate_floor_kbps, 50, 100000);
+  number_field("bitrate_ceiling_kbps", options.call.bitrate_ceiling_kbps, 50, 100000);
+  string_field("janus", options.call.janus);
+  if (json.contains("room") && (!json["room"].is_number_unsigned() || json["room"].get<uint64_t>() == 0))
+    throw std::runtime_error(config.string() + ": 'room' must be a whole number above 0 (the Janus room's)");
+  if (json.contains("room")) options.call.room = json["room"].get<uint64_t>();
+  for (auto [name, file] : {std::pair{"room_secret", &options.call.room_secret_file}, {"janus_ca", &options.call.janus_ca_file}}) {
+    std::string path;
+    string_field(name, path);
+    if (!path.empty()) *file = std::filesystem::path(path).is_absolute() ? std::filesystem::path(path) : (base / path).lexically_normal();
   }
   if (options.transport != "direct" && options.transport != "webrtc")
     throw std::runtime_error(config.string() + ": 'transport' must be \"direct\" or \"webrtc\"");

@@ -22,13 +22,15 @@ struct CallNetworkOptions {
   std::string turn;  // turn://USER:PASS@HOST:PORT, a relay for networks that let nothing else through
   bool relay_only = false;  // ICE through the TURN relay only (ice-transport-policy relay)
   // Through a Janus VideoRoom instead of a session between the sites (media/janus_link.h): its
-  // WebSocket URL, the room's number and a file holding its pin.
+  // WebSocket URL, the room's number, a file holding its pin, and for wss:// a file of the
+  // authorities its certificate is checked against (empty: the system's).
   std::string janus;
   uint64_t room = 0;
-  std::filesystem::path room_secret_file;
+  std::filesystem::path room_secret_file, janus_ca_file;
   bool any_given() const {
     return simulated_loss >= 0 || !stun.empty() || !turn.empty() || relay_only || bitrate_floor_kbps != 300 ||
-           bitrate_ceiling_kbps != 2500 || !janus.empty() || room != 0 || !room_secret_file.empty();
+           bitrate_ceiling_kbps != 2500 || !janus.empty() || room != 0 || !room_secret_file.empty() ||
+           !janus_ca_file.empty();
   }
 };
 

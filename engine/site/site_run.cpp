@@ -106,6 +106,11 @@ std::unique_ptr<net::Transport> make_janus_link(const SiteRunOptions& options, n
   room.url = options.call.janus;
   room.room = options.call.room;
   room.display = session.name;
+  if (!options.call.janus_ca_file.empty()) {
+    if (!media::parse_janus_url(room.url).tls)
+      throw std::invalid_argument("--janus-ca names the authorities of a wss:// Janus; " + room.url + " is not one");
+    room.ca_file = options.call.janus_ca_file.string();
+  }
   if (!options.call.room_secret_file.empty()) {
     std::ifstream in(options.call.room_secret_file, std::ios::binary);
     if (!in) throw std::invalid_argument("--room-secret " + options.call.room_secret_file.string() + ": cannot be read");
@@ -276,8 +281,8 @@ SiteRun::SiteRun(const SiteRunOptions& options, uint64_t started_us)
       std::cerr << "site " << common_.name << ": transport webrtc through Janus at " << options.call.janus << ", room "
                 << options.call.room << " (portraits as H.264 video)\n";
     } else {
-      if (options.call.room != 0 || !options.call.room_secret_file.empty())
-        throw std::invalid_argument("--room and --room-secret name a Janus room: they need --janus");
+      if (options.call.room != 0 || !options.call.room_secret_file.empty() || !options.call.janus_ca_file.empty())
+        throw std::invalid_argument("--room, --room-secret and --janus-ca name a Janus room: they need --janus");
       net_ = std::make_unique<media::WebRtcLink>(net_options, call);
       std::cerr << "site " << common_.name << ": transport webrtc (the session sets up the call; portraits as H.264 video)\n";
     }

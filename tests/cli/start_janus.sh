@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Janus for a test, in the network namespace tests/cli/in_network_namespace.sh made: its
 # configuration and log in FOLDER, the VideoRoom plugin and the WebSocket API on 127.0.0.1:8188
-# only, ICE on ADDRESS (the namespace's own: Janus will not use loopback for media). With
+# only (and over TLS on 127.0.0.1:8989, its certificate made here for 127.0.0.1 alone, self-signed:
+# FOLDER/janus-cert.pem is the authority a client must be told to trust), ICE on ADDRESS (the namespace's own: Janus will not use loopback for media). With
 # ADMIN_KEY, rooms are made by the administrator only, as on many real servers.
 #   start_janus.sh FOLDER ADDRESS [ADMIN_KEY]      (execs janus: the caller keeps its pid)
 set -euo pipefail
@@ -26,9 +27,12 @@ plugins: { disable = "$plugins" }
 transports: { disable = "$transports" }
 events: { broadcast = false }
 CFG
+openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj "/CN=127.0.0.1" -addext "subjectAltName=IP:127.0.0.1" \
+  -keyout "$folder/janus-key.pem" -out "$folder/janus-cert.pem" 2>/dev/null
 cat > "$folder/janus.transport.websockets.jcfg" <<CFG
-general: { json = "plain" ws = true ws_port = 8188 ws_ip = "127.0.0.1" wss = false }
+general: { json = "plain" ws = true ws_port = 8188 ws_ip = "127.0.0.1" wss = true wss_port = 8989 wss_ip = "127.0.0.1" }
 admin: { admin_ws = false }
+certificates: { cert_pem = "$folder/janus-cert.pem" cert_key = "$folder/janus-key.pem" }
 CFG
 if [ -n "$admin_key" ]; then
   echo "general: { admin_key = \"$admin_key\" }" > "$folder/janus.plugin.videoroom.jcfg"
