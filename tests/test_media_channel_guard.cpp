@@ -3,6 +3,7 @@
 // other channel, a handshake frame on the fast channel and clear bytes are refused.
 #include <catch2/catch.hpp>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -155,4 +156,62 @@ TEST_CASE("the guards' handshake refuses frames out of place") {
     frame.push_back(9);
     CHECK(listener.receive(GuardedChannel::Reliable, frame).reason.find("unknown step") != std::string::npos);
   }
+}
+
+TEST_CASE("a guard reset after the other site left runs a new handshake with the site that comes back, and nothing of the last call opens") {
+  const net::SessionKey key = net::random_session_key();
+  ChannelGuard staying(key, net::Role::Connector, kGuardTestLimit);
+  auto departed = std::make_unique<ChannelGuard>(key, net::Role::Listener, kGuardTestLimit);
+  run_guard_handshake(staying, *departed);
+  REQUIRE(staying.ready());
+  const auto old_record = departed->seal(GuardedChannel::Reliable, guard_bytes("touch of the last call"));
+  REQUIRE(old_record);
+  departed.reset();  // the other site's process ends; a new one starts with the same key
+
+  ChannelGuard returning(key, net::Role::Listener, kGuardTestLimit);
+  // Without a reset the staying side would refuse the new call's handshake and have nothing to send.
+  staying.reset();
+  CHECK(staying.resets() == 1);
+  CHECK_FALSE(staying.ready());
+  CHECK_FALSE(staying.seal(GuardedChannel::Reliable, guard_bytes("before the new keys")));
+  run_guard_handshake(staying, returning);
+  REQUIRE(staying.ready());
+  REQUIRE(returning.ready());
+  // The new call's records number from the start and open; the last call's do not.
+  const auto fresh = returning.seal(GuardedChannel::Reliable, guard_bytes("touch"));
+  REQUIRE(fresh);
+  const auto opened = staying.receive(GuardedChannel::Reliable, *fresh);
+  REQUIRE(opened.kind == ChannelGuard::Received::Kind::Message);
+  CHECK(opened.message == guard_bytes("touch"));
+  CHECK(staying.receive(GuardedChannel::Reliable, *old_record).kind == ChannelGuard::Received::Kind::Refused);
+  const auto there = staying.seal(GuardedChannel::Fast, guard_bytes("skeleton"));
+  CHECK(returning.receive(GuardedChannel::Fast, *there).message == guard_bytes("skeleton"));
+}
+
+TEST_CASE("a listener reset after the connector left takes the restarted connector's hello and refuses the old one replayed") {
+  const net::SessionKey key = net::random_session_key();
+  ChannelGuard staying(key, net::Role::Listener, kGuardTestLimit);
+  ChannelGuard departed(key, net::Role::Connector, kGuardTestLimit);
+  const std::vector<uint8_t> old_hello = departed.start();
+  REQUIRE_FALSE(old_hello.empty());
+  const auto answer = staying.receive(GuardedChannel::Reliable, old_hello);
+  const auto proof = departed.receive(GuardedChannel::Reliable, answer.reply);
+  const auto last = staying.receive(GuardedChannel::Reliable, proof.reply);
+  departed.receive(GuardedChannel::Reliable, last.reply);
+  REQUIRE(staying.ready());
+  REQUIRE(departed.ready());
+  staying.reset();
+  // A relay that kept the departed connector's hello cannot start a call with it...
+  ChannelGuard::Received replayed = staying.receive(GuardedChannel::Reliable, old_hello);
+  CHECK(replayed.kind == ChannelGuard::Received::Kind::Refused);
+  CHECK(replayed.reason.find("replayed") != std::string::npos);
+  // ...which fails this handshake; the next reset (the relay's site gone) lets the real one in.
+  staying.reset();
+  CHECK(staying.failure().empty());
+  ChannelGuard returning(key, net::Role::Connector, kGuardTestLimit);
+  run_guard_handshake(returning, staying);
+  REQUIRE(staying.ready());
+  REQUIRE(returning.ready());
+  const auto touch = returning.seal(GuardedChannel::Reliable, guard_bytes("touch"));
+  CHECK(staying.receive(GuardedChannel::Reliable, *touch).message == guard_bytes("touch"));
 }

@@ -26,7 +26,7 @@ const char* guard_channel_name(GuardedChannel channel) { return channel == Guard
 }  // namespace
 
 ChannelGuard::ChannelGuard(const net::SessionKey& key, net::Role role, size_t max_message)
-    : role_(role), max_message_(max_message), gate_(key), handshake_(std::make_unique<net::Handshake>(key, role)) {
+    : key_(key), role_(role), max_message_(max_message), gate_(key), handshake_(std::make_unique<net::Handshake>(key, role)) {
   if (net::is_weak_session_key(key)) throw std::invalid_argument("the site key is too regular to be a secret: make one with `remotetouch keygen`");
 }
 
@@ -42,6 +42,36 @@ std::vector<uint8_t> ChannelGuard::start() {
   started_ = true;
   last_start_ = now;
   return guard_frame(kGuardStepHello, handshake_->hello());
+}
+
+void ChannelGuard::reset() {
+  std::lock_guard lock(mutex_);
+  // What must not carry over, and why:
+  // - the traffic keys and the sealers' sequence numbers: the returning site holds neither (its
+  //   process is new), and records sealed under the old keys again would let a relay replay the
+  //   last call's touches into this one;
+  // - the openers' replay windows and strict order: the new keys number their records from the
+  //   start, which the old windows would refuse as replays;
+  // - the handshake's nonce and ephemeral secret: fresh ones give the new keys no tie to the old
+  //   (each call has forward secrecy of its own), and a handshake object answers one peer only;
+  // - a failure: the site that failed (another key) may not be the one that comes next.
+  // The hello gate's last accepted time stays: a relay replaying the departed connector's hello
+  // to this listener is refused, while a new connector's hello is later and passes.
+  handshake_ = std::make_unique<net::Handshake>(key_, role_);
+  started_ = hello_seen_ = false;
+  last_start_ = {};
+  peer_hello_.fill(0);
+  failure_.clear();
+  seal_fast_.reset();
+  seal_reliable_.reset();
+  open_fast_.reset();
+  open_reliable_.reset();
+  ++resets_;
+}
+
+uint64_t ChannelGuard::resets() const {
+  std::lock_guard lock(mutex_);
+  return resets_;
 }
 
 bool ChannelGuard::ready() const {

@@ -53,6 +53,12 @@ class ChannelGuard {
   // None until the handshake completed: nothing goes out unsealed.
   std::optional<std::vector<uint8_t>> seal(GuardedChannel channel, std::span<const uint8_t> message);
 
+  // The other site left the call and the next one to say hello (the same site restarted, or
+  // its replacement) starts a handshake from the beginning: this side forgets the last call's
+  // handshake, keys, sequence numbers and replay windows, and a failure of the last one.
+  void reset();
+  uint64_t resets() const;
+
   bool ready() const;
   // Why the handshake failed (the other site holds another key, ...); empty if it has not.
   std::string failure() const;
@@ -61,8 +67,10 @@ class ChannelGuard {
   Received handshake_frame(uint8_t step, std::span<const uint8_t> payload);
   void take_keys();
 
+  net::SessionKey key_;  // for the handshake after a reset
   net::Role role_;
   size_t max_message_;
+  uint64_t resets_ = 0;
   mutable std::mutex mutex_;
   net::HelloGate gate_;
   std::unique_ptr<net::Handshake> handshake_;

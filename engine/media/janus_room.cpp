@@ -54,12 +54,8 @@ JanusRoom::JanusRoom(JanusRoomOptions options) : options_(std::move(options)) {
   const std::optional<uint64_t> session = data ? id_in(*data, "id") : std::nullopt;
   if (!session) throw std::runtime_error("Janus answered 'create' without a session id");
   session_ = *session;
-  for (uint64_t* handle : {&publisher_handle_, &subscriber_handle_}) {
-    const json attached = request({{"janus", "attach"}, {"session_id", session_}, {"plugin", kPlugin}}, "attaching to the VideoRoom plugin");
-    const std::optional<uint64_t> id = attached.contains("data") ? id_in(attached["data"], "id") : std::nullopt;
-    if (!id) throw std::runtime_error("Janus answered 'attach' without a handle id");
-    *handle = *id;
-  }
+  publisher_handle_ = attach("attaching to the VideoRoom plugin");
+  subscriber_handle_ = attach("attaching to the VideoRoom plugin");
   // The room, made if it is missing: two publishers, the codecs the call uses. Janus says 427
   // when it exists already, which is the second site's case. A Janus that makes rooms only for its
   // administrator refuses; the room may exist all the same, which join() finds out.
@@ -121,6 +117,25 @@ json JanusRoom::plugin_request(Peer peer, json body, const json* jsep, const cha
   json answer = request(std::move(message), what ? what : "a VideoRoom request");
   if (what && !error_of(answer).empty()) throw std::runtime_error(std::string("Janus, ") + what + ": " + error_of(answer));
   return answer;
+}
+
+uint64_t JanusRoom::attach(const char* what) {
+  const json attached = request({{"janus", "attach"}, {"session_id", session_}, {"plugin", kPlugin}}, what);
+  const std::optional<uint64_t> id = attached.contains("data") ? id_in(attached["data"], "id") : std::nullopt;
+  if (!id) throw std::runtime_error("Janus answered 'attach' without a handle id");
+  return *id;
+}
+
+void JanusRoom::renew_subscriber_handle() {
+  // Janus keeps a subscriber handle to a publisher that left, its peer connection idle; a join
+  // on it would be refused as a second subscription. A new handle starts clean.
+  const uint64_t old = subscriber_handle_;
+  try {
+    request({{"janus", "detach"}, {"session_id", session_}, {"handle_id", old}}, "detaching the last subscription");
+  } catch (const std::runtime_error&) {
+    // Janus may have dropped the handle with the publisher already; the new one is what matters.
+  }
+  subscriber_handle_ = attach("attaching a new subscription to the VideoRoom plugin");
 }
 
 uint64_t JanusRoom::join() {
@@ -253,6 +268,16 @@ void JanusRoom::refuse(const std::string& why) {
 bool JanusRoom::other_left() const {
   std::lock_guard lock(mutex_);
   return other_left_;
+}
+
+bool JanusRoom::closed() const {
+  std::lock_guard lock(mutex_);
+  return closed_;
+}
+
+std::string JanusRoom::closed_reason() const {
+  std::lock_guard lock(mutex_);
+  return closed_reason_;
 }
 
 std::string JanusRoom::last_error() const {

@@ -15,6 +15,7 @@
 //
 // Every message from Janus is checked before use: one that is not JSON, too large, or lacks what
 // its kind must carry is refused with a reason (last_error) and counted, never trusted.
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -60,12 +61,20 @@ class JanusRoom {
   std::optional<uint64_t> wait_for_other(std::chrono::milliseconds timeout);
   std::string subscribe(uint64_t feed);
   void start(const std::string& answer_sdp);
+  // After the other site left: a new subscriber handle for the next subscription (the old one is
+  // detached, which ends its peer connection at Janus). Call it while no subscriber peer exists:
+  // trickle() reads the handle.
+  void renew_subscriber_handle();
   // From GStreamer's threads: sent in order by the socket's thread. An empty candidate says the
   // gathering is complete.
   void trickle(Peer peer, unsigned mline, const std::string& candidate);
 
   // The other site's publisher left the room or stopped publishing since it was subscribed to.
   bool other_left() const;
+  // The WebSocket to Janus closed, or Janus ended the session: nothing more can be asked of this
+  // room object, and why.
+  bool closed() const;
+  std::string closed_reason() const;
   // A Janus event that ended a peer connection ("hangup: ...") or a refused message; empty if none.
   std::string last_error() const;
   uint64_t messages_refused() const;
@@ -77,11 +86,13 @@ class JanusRoom {
   void on_event(const nlohmann::json& message);  // with mutex_ held
   void on_closed(const std::string& why);
   void refuse(const std::string& why);
-  uint64_t handle_of(Peer peer) const { return peer == Peer::Publisher ? publisher_handle_ : subscriber_handle_; }
+  uint64_t handle_of(Peer peer) const { return peer == Peer::Publisher ? publisher_handle_.load() : subscriber_handle_.load(); }
+  uint64_t attach(const char* what);
 
   JanusRoomOptions options_;
   std::unique_ptr<JanusSocket> socket_;
-  uint64_t session_ = 0, publisher_handle_ = 0, subscriber_handle_ = 0, my_id_ = 0, subscribed_feed_ = 0;
+  uint64_t session_ = 0, my_id_ = 0, subscribed_feed_ = 0;
+  std::atomic<uint64_t> publisher_handle_{0}, subscriber_handle_{0};
 
   mutable std::mutex mutex_;
   std::condition_variable changed_;

@@ -22,6 +22,14 @@ size_t PendingTouches::flush(const std::function<bool(const net::TouchEventMessa
   return sent;
 }
 
+size_t PendingTouches::drop_all() {
+  std::lock_guard lock(mutex_);
+  const size_t dropped = waiting_.size();
+  waiting_.clear();
+  dropped_ += dropped;
+  return dropped;
+}
+
 uint64_t PendingTouches::dropped() const {
   std::lock_guard lock(mutex_);
   return dropped_;

@@ -19,6 +19,10 @@ class PendingTouches {
   void add(net::TouchEventMessage touch);
   // Sends the waiting touches in order while `send` takes them; returns how many went.
   size_t flush(const std::function<bool(const net::TouchEventMessage&)>& send);
+  // The other site left: the waiting touches are dropped and counted (returned). A touch is a
+  // contact of this moment; one delivered to the site that comes back seconds later would pulse
+  // its motor for a contact that is over.
+  size_t drop_all();
   uint64_t dropped() const;
 
  private:
