@@ -13,15 +13,34 @@
 #include <optional>
 
 typedef struct _GstBuffer GstBuffer;
+typedef struct _GstH264NalParser GstH264NalParser;
 
 namespace rt::media {
 
-// A new access unit with the time in front of its first slice (at its end if it has none);
-// nullptr if GStreamer could not make or insert the message. `au` is left as it was.
-GstBuffer* with_frame_time(GstBuffer* au, uint32_t rtp_time);
+// One stream's writer or reader of the time. It keeps its NAL parser, which is a quarter of a
+// megabyte, zeroed when made: a stream's pictures reuse one rather than make one each. Use it
+// from one thread at a time (a pad probe's streaming thread).
+class FrameTimeSei {
+ public:
+  FrameTimeSei();
+  ~FrameTimeSei();
+  FrameTimeSei(const FrameTimeSei&) = delete;
+  FrameTimeSei& operator=(const FrameTimeSei&) = delete;
 
-// The time an access unit carries, if it carries one of ours; malformed NAL units and other SEI
-// messages are passed over. `nal_length_size`: 0 for a byte stream, else AVC's length size (1..4).
+  // A new access unit with the time in front of its first slice (at its end if it has none);
+  // nullptr if GStreamer could not make or insert the message. `au` is left as it was.
+  GstBuffer* with_frame_time(GstBuffer* au, uint32_t rtp_time);
+
+  // The time an access unit carries, if it carries one of ours; malformed NAL units and other SEI
+  // messages are passed over. `nal_length_size`: 0 for a byte stream, else AVC's length size (1..4).
+  std::optional<uint32_t> frame_time_of(GstBuffer* au, unsigned nal_length_size);
+
+ private:
+  GstH264NalParser* parser_;
+};
+
+// The same, with a parser of their own, for a picture now and then.
+GstBuffer* with_frame_time(GstBuffer* au, uint32_t rtp_time);
 std::optional<uint32_t> frame_time_of(GstBuffer* au, unsigned nal_length_size);
 
 }  // namespace rt::media

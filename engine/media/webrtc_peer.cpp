@@ -312,7 +312,7 @@ void WebRtcPeer::Impl::link_incoming(GstPad* pad) {
                       // The header's time, moved to the sender's: an SFU shifts a stream's times
                       // by one amount from the packet it relayed first. Not every buffer carries
                       // the time (the depayloader may hand a picture on in parts).
-                      if (const std::optional<uint32_t> carried = frame_time_of(buffer, nal_length_size_of(pad)))
+                      if (const std::optional<uint32_t> carried = c->frame_time.frame_time_of(buffer, nal_length_size_of(pad)))
                         c->sender_minus_header = *carried - rtp;
                       rtp += c->sender_minus_header;
                       buffer = gst_buffer_make_writable(buffer);
@@ -514,7 +514,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
       m.asked_of_us.attach(src);
       // Each picture carries its RTP time, as the payloader makes it: from its running time (the
       // encoder shifts presentation times by a segment of its own to keep decoding times positive).
-      gst_pad_add_probe(src, GST_PAD_PROBE_TYPE_BUFFER, +[](GstPad* pad, GstPadProbeInfo* info, gpointer) {
+      gst_pad_add_probe(src, GST_PAD_PROBE_TYPE_BUFFER, +[](GstPad* pad, GstPadProbeInfo* info, gpointer d) {
                           GstBuffer* picture = GST_PAD_PROBE_INFO_BUFFER(info);
                           GstEvent* event = gst_pad_get_sticky_event(pad, GST_EVENT_SEGMENT, 0);
                           const GstSegment* segment = nullptr;
@@ -523,13 +523,13 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
                               segment ? gst_segment_to_running_time(segment, GST_FORMAT_TIME, GST_BUFFER_PTS(picture)) : GST_CLOCK_TIME_NONE;
                           if (event) gst_event_unref(event);
                           if (!GST_CLOCK_TIME_IS_VALID(running)) return GST_PAD_PROBE_OK;
-                          if (GstBuffer* stamped = with_frame_time(picture, rtp_time_of(running))) {
+                          if (GstBuffer* stamped = static_cast<FrameTimeSei*>(d)->with_frame_time(picture, rtp_time_of(running))) {
                             gst_buffer_unref(picture);
                             GST_PAD_PROBE_INFO_DATA(info) = stamped;
                           }
                           return GST_PAD_PROBE_OK;
                         },
-                        nullptr, nullptr);
+                        encoder == m.color_enc ? &m.color_frame_time : &m.depth_frame_time, nullptr);
       gst_object_unref(src);
     }
   }

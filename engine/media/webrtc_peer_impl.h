@@ -21,6 +21,7 @@
 #include "media/bitrate_follower.h"
 #include "media/call_feedback.h"
 #include "media/codec_probes.h"
+#include "media/frame_time_sei.h"
 #include "media/portrait_frame.h"
 #include "media/webrtc_peer.h"
 
@@ -33,6 +34,7 @@ struct IncomingChain {
   size_t next = 0;
   uint32_t last_rtp = 0;
   uint32_t sender_minus_header = 0;  // the sender's RTP time less the header's (media/frame_time_sei.h)
+  FrameTimeSei frame_time;
   // Colour or depth and alpha: by payload type (96, 97) until the first picture, then by what it
   // decodes to (an SFU may offer both under one payload type of its own).
   std::atomic<bool> color{false};
@@ -72,6 +74,7 @@ struct WebRtcPeer::Impl {
   GstWebRTCDataChannel* relayed_in = nullptr;  // relayed: the other site's channel, as the SFU named it
   uint32_t sent_width = 0, sent_height = 0;  // the pictures' size now (media/portrait_size_rule.h)
   CodecClock color_encode, depth_encode;
+  FrameTimeSei color_frame_time, depth_frame_time;  // each encoder's pictures stamped with their time
   KeyframeRequests asked_of_us;
   std::vector<std::unique_ptr<IncomingChain>> chains;
   std::deque<ByteCount> byte_counts;  // a deque: the probes hold pointers into it
