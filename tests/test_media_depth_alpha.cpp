@@ -17,7 +17,7 @@ using namespace rt;
 using namespace rt::media;
 
 namespace {
-// Half a step of the alpha plane's codes (0..0.5 over 1023 codes), and float rounding.
+// Half a step of the alpha plane's codes (0..0.5 over kAlphaCodeMax codes), and float rounding.
 constexpr float kAlphaHalfStep = 0.25f / kAlphaCodeMax + 1e-6f;
 }  // namespace
 
@@ -105,21 +105,22 @@ TEST_CASE("the alpha plane codes the distance from the luma's decision, and deco
   CHECK(encode_alpha(2.0f) == 0);
   CHECK(encode_alpha(-1.0f) == 0);
   CHECK(encode_alpha(std::nanf("")) == 0);
-  CHECK(encode_alpha(0.25f) == 512);   // 0.25 off empty
-  CHECK(encode_alpha(0.75f) == 512);   // 0.25 off the user
-  CHECK(encode_alpha(0.49f) == 1003);
+  const uint16_t quarter = uint16_t(std::lround(0.5 * kAlphaCodeMax));
+  CHECK(encode_alpha(0.25f) == quarter);  // 0.25 off empty
+  CHECK(encode_alpha(0.75f) == quarter);  // 0.25 off the user
+  CHECK(encode_alpha(0.49f) == uint16_t(std::lround(0.98 * kAlphaCodeMax)));
   CHECK(encode_alpha(0.5f) == kAlphaCodeMax);
   const uint16_t user = kDepthCodeMin + 100;
   // The user: within [0.5, 1]; the codec's noise near 0 is the whole user.
   CHECK(decode_alpha(user, 0) == 1.0f);
   CHECK(decode_alpha(user, kAlphaSnapCodes) == 1.0f);
-  CHECK(decode_alpha(user, 512) == Approx(0.75f).margin(0.001));
+  CHECK(decode_alpha(user, quarter) == Approx(0.75f).margin(0.001));
   CHECK(decode_alpha(user, kAlphaCodeMax) == 0.5f);
   CHECK(decode_alpha(user, 4000) == 0.5f);  // beyond 10 bits
   // Empty: within [0, 0.5); the codec's noise near 0 is empty.
   CHECK(decode_alpha(kEmptyCode, 0) == 0.0f);
   CHECK(decode_alpha(kEmptyCode, kAlphaSnapCodes) == 0.0f);
-  CHECK(decode_alpha(kEmptyCode, 512) == Approx(0.25f).margin(0.001));
+  CHECK(decode_alpha(kEmptyCode, quarter) == Approx(0.25f).margin(0.001));
   CHECK(decode_alpha(kEmptyCode, kAlphaCodeMax) < 0.5f);
   CHECK(decode_alpha(kAlphaThreshold - 1, kAlphaCodeMax) < 0.5f);
   CHECK(decode_alpha(kAlphaThreshold, kAlphaCodeMax) == 0.5f);

@@ -71,6 +71,7 @@ GstBuffer* make_depth_alpha_picture(const HostImage& color, const HostImage& dep
   const size_t pixels = size_t(color.width) * color.height;
   std::vector<uint16_t> luma_codes(pixels), alpha_codes(pixels);
   encode_depth_alpha_plane(color, depth, range, luma_codes, alpha_codes, color.width);
+  if (pixels > kSoftEdgeMaxPixels) std::fill(alpha_codes.begin(), alpha_codes.end(), uint16_t(0));
   if (width != color.width || height != color.height) {
     luma_codes = resample_codes_nearest(luma_codes, color.width, color.height, width, height);
     alpha_codes = resample_codes_nearest(alpha_codes, color.width, color.height, width, height);

@@ -23,7 +23,7 @@ namespace rt::media {
 // from the portrait's straight-alpha RGBA32F colour.
 GstBuffer* make_color_picture(const HostImage& color, uint32_t width, uint32_t height);
 // The depth/alpha picture, Y444_10LE: the depth codes in luma, the alpha codes in the first chroma
-// plane, the second at its neutral middle.
+// plane (0, the edge hard, for a portrait over kSoftEdgeMaxPixels), the second at its neutral middle.
 GstBuffer* make_depth_alpha_picture(const HostImage& color, const HostImage& depth, const DepthRange& range,
                                     uint32_t width, uint32_t height);
 // An appsrc's caps at another size: x264enc, given them, starts its stream again (a new SPS and a
