@@ -44,12 +44,12 @@ inline constexpr uint16_t kDepthCodeMax = 1023;
 inline constexpr uint16_t kAlphaCodeMax = 511;
 inline constexpr uint16_t kAlphaSnapCodes = 8;
 // The largest portrait (in pixels) whose soft edge the alpha plane carries. The edge is a line of a
-// pixel or two along the whole silhouette, moving with the user: at 640x360 it adds about 0.6
-// Mbit/s to the depth track's 0.35 (bench webrtc), at 1280x720 it would take the track past its
-// ceiling and the call past its 4 Mbit/s. Beyond this size the plane is 0 (the edge hard, as the
-// luma has it), which costs almost nothing, and the hard edge weighs less there (a 1280x720 user has
-// a quarter of the edge pixels per user pixel that a 320x180 one has).
-inline constexpr size_t kSoftEdgeMaxPixels = 640 * 360;
+// pixel or two along the whole silhouette, moving with the user, so its bits grow with the
+// portrait's side while its weight (edge pixels per user pixel) falls: at 640x360 it more than
+// doubled the depth track's rate and, on a loaded two-core machine, lost portraits of the call's
+// test; at 1280x720 it would take the track past its ceiling and the call past its 4 Mbit/s.
+// Beyond this size the plane is 0 (the edge hard, as the luma has it), which costs almost nothing.
+inline constexpr size_t kSoftEdgeMaxPixels = 320 * 180;
 // The second chroma plane's constant, the middle of 10 bits.
 inline constexpr uint16_t kNeutralChromaCode = 512;
 
