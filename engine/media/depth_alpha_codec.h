@@ -10,16 +10,17 @@
 // pixel "user" when its code is at least kAlphaThreshold (64): the gap of 128 codes between "empty"
 // and the nearest depth is far wider than the ringing a lossy codec puts on that step, so the
 // silhouette survives where a depth value would be smeared into its neighbours.
-// Why the alpha plane as well: the luma's silhouette is hard, and on a tiny portrait (the demo's
-// 96x54, a hand four or five pixels wide) its soft one-to-two-pixel edge is much of the hand: made
+// Why the alpha plane as well: the luma's silhouette is hard, and on a tiny portrait (the demo's,
+// a hand a few pixels wide) its soft one-to-two-pixel edge is much of the hand: made
 // hard, that edge cost more than everything else on the link together (tests/
 // test_media_portrait_stages.cpp). The alpha plane codes how far alpha is from the luma's hard
 // decision (1 - alpha on the user, alpha off it; 0..0.5 over the codes 0..511): zero but on the
-// soft edge itself, a thin line the codec carries for a fraction of what the whole silhouette's step
-// would cost again. The decoder keeps the luma's decision (user or not) and takes the soft value
-// within it, so codec noise on the matte can neither move the silhouette nor put alpha far from
-// it: a soft pixel outside the luma's silhouette counts only next to it, and takes its depth from
-// its nearest user neighbour.
+// soft edge itself, so the codes spend their range on the half of alpha the luma leaves open (the
+// plain matte, alpha over the codes, costs about as many bits for as much precision: the edge's
+// motion is what costs, in either form). The decoder keeps the luma's decision (user or not) and
+// takes the soft value within it, so codec noise on the matte can neither move the silhouette nor
+// put alpha far from it: a soft pixel outside the luma's silhouette counts only next to it, and
+// takes its depth from its nearest user neighbour.
 //
 // Depth is quantized linearly over the portrait's working range [near, far] (metres of camera
 // z) to the 896 codes 128..1023: 0.4..2.0 m gives 1.79 mm a code. Depth outside the range is
@@ -45,9 +46,10 @@ inline constexpr uint16_t kAlphaCodeMax = 511;
 inline constexpr uint16_t kAlphaSnapCodes = 8;
 // The largest portrait (in pixels) whose soft edge the alpha plane carries. The edge is a line of a
 // pixel or two along the whole silhouette, moving with the user, so its bits grow with the
-// portrait's side while its weight (edge pixels per user pixel) falls: at 640x360 it more than
-// doubled the depth track's rate and, on a loaded two-core machine, lost portraits of the call's
-// test; at 1280x720 it would take the track past its ceiling and the call past its 4 Mbit/s.
+// portrait's side while its weight (edge pixels per user pixel) falls: one size up it more than
+// doubled the depth track's rate and lost portraits of the call's test on a loaded machine, and at
+// the largest it would take the track past its ceiling and the call past its budget
+// (docs/webrtc.md has the figures).
 // Beyond this size the plane is 0 (the edge hard, as the luma has it), which costs almost nothing.
 inline constexpr size_t kSoftEdgeMaxPixels = 320 * 180;
 // The second chroma plane's constant, the middle of 10 bits.

@@ -469,9 +469,9 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   // erred by 2.7 mm (median over the user), at quality 14 no frame errs by more than 1.4 mm
   // (640x360, tests/test_media_webrtc.cpp). The depth track is 4:4:4 so that its first chroma plane
   // carries the alpha matte's soft edge at full resolution (media/depth_alpha_codec.h; at half
-  // resolution the edge of a tiny portrait's hand came back 10 dB worse); its chroma is quantized 12
-  // steps coarser than the depth (chroma-qp-offset): the matte needs a few hundred levels, not the
-  // depth's precision, and at the luma's quantizer it cost 1.1 instead of 0.9 Mbit/s at 640x360.
+  // resolution a tiny portrait's hand came back far worse than over the direct session); its chroma
+  // is quantized coarser than the depth (chroma-qp-offset, at its limit): the matte needs a few
+  // hundred levels, not the depth's precision, and at the luma's quantizer it cost a fifth more.
   // Both payloaders start their RTP time at 0
   // (timestamp-offset), so a portrait's two frames carry one RTP timestamp.
   const auto track = [&](const char* name, const char* format, const char* profile, const char* preset, int kbps, int pt,

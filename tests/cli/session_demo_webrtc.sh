@@ -27,9 +27,8 @@ for site in "AB":
         assert t["starts"] == touches and t["motor_pulses"] == touches, (m["transport"], site, t)
 if touches:
     # Per site it moves by a few tenths of a dB from run to run on either transport (which frames the
-    # two loaded processes get to display): the two sites' mean is held to 0.5 dB. With the hand's
-    # soft edge made hard the call was 0.08-0.54 dB below; with it carried, within 0.22 dB in seven
-    # runs; a call that misplaced or blurred the hand would be further off.
+    # two loaded processes get to display): the two sites' mean is held to 0.5 dB, which every
+    # finished run on the project's machine kept by more than half (docs/webrtc.md).
     at_glass = {}
     for name, m in (("webrtc", webrtc), ("direct", direct)):
         per_site = [m["psnr_db"][site]["hand_arm"]["touching"]["psnr_hand_arm_db"] for site in "AB"]
