@@ -114,7 +114,7 @@ int run_bench_webrtc(const RunOptions& options) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   std::printf("webrtc: %ux%u at 30 fps over loopback, %u portraits measured after %u to warm up; colour H.264 %d kbit/s "
-              "target, depth+alpha H.264 High10 quality %d (ceiling %d kbit/s)\n",
+              "target, depth+alpha H.264 High 4:4:4 quality %d (ceiling %d kbit/s)\n",
               width, height, options.frames, warmup, a.color_kbps, a.depth_quality, a.depth_kbps);
 
   std::map<uint64_t, uint64_t> sent_at;  // frame -> when it was handed over

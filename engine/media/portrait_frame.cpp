@@ -71,7 +71,7 @@ std::optional<PortraitFrame> decode_portrait_frame(std::span<const uint8_t> byte
 }
 
 net::PortraitMessage portrait_of_planes(const PortraitFrame& f, std::span<const uint8_t> rgb,
-                                        std::span<const uint16_t> codes) {
+                                        const DepthAlphaCodes& codes) {
   net::PortraitMessage p;
   p.frame_index = f.frame_index;
   p.capture_timestamp_us = f.capture_timestamp_us;
@@ -86,7 +86,7 @@ net::PortraitMessage portrait_of_planes(const PortraitFrame& f, std::span<const 
   p.depth = HostImage(f.width, f.height, PixelFormat::R32F);
   for (size_t i = 0, n = size_t(f.width) * f.height; i < n; ++i)
     for (size_t c = 0; c < 3; ++c) p.color.texels[i * 4 + c] = float(rgb[i * 3 + c]) * (1.0f / 255.0f);
-  decode_depth_alpha_plane(codes, f.width, f.depth_range, p.color, p.depth);
+  decode_depth_alpha_plane(codes.luma, codes.alpha, f.width, f.depth_range, p.color, p.depth);
   return p;
 }
 

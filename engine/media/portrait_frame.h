@@ -40,8 +40,8 @@ std::optional<PortraitFrame> decode_portrait_frame(std::span<const uint8_t> byte
 bool is_portrait_frame(std::span<const uint8_t> bytes);
 
 // The portrait a record describes, from its two decoded pictures: `rgb` 8-bit colour, `codes` the
-// depth/alpha luma (media/depth_alpha_codec.h), each width*height of the record's size.
+// depth/alpha codes (media/depth_alpha_codec.h), each width*height of the record's size.
 net::PortraitMessage portrait_of_planes(const PortraitFrame& frame, std::span<const uint8_t> rgb,
-                                        std::span<const uint16_t> codes);
+                                        const DepthAlphaCodes& codes);
 
 }  // namespace rt::media

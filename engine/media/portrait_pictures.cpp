@@ -59,22 +59,27 @@ GstBuffer* make_depth_alpha_picture(const HostImage& color, const HostImage& dep
                                     uint32_t width, uint32_t height) {
   GstVideoInfo info;
   GstVideoFrame frame;
-  GstBuffer* buffer = new_picture(GST_VIDEO_FORMAT_I420_10LE, width, height, info, frame);
-  const size_t luma_stride = size_t(GST_VIDEO_FRAME_PLANE_STRIDE(&frame, 0)) / 2;
-  const std::span luma(static_cast<uint16_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, 0)), luma_stride * height);
-  if (width == color.width && height == color.height) {
-    encode_depth_alpha_plane(color, depth, range, luma, luma_stride);
-  } else {
-    // Coded at the portrait's size first, so that each code sampled is one pixel's own.
-    std::vector<uint16_t> codes(size_t(color.width) * color.height);
-    encode_depth_alpha_plane(color, depth, range, codes, color.width);
-    const std::vector<uint16_t> smaller = resample_codes_nearest(codes, color.width, color.height, width, height);
-    for (uint32_t y = 0; y < height; ++y) std::copy_n(smaller.data() + size_t(y) * width, width, luma.data() + y * luma_stride);
+  GstBuffer* buffer = new_picture(GST_VIDEO_FORMAT_Y444_10LE, width, height, info, frame);
+  const auto plane = [&](int index) {
+    const size_t stride = size_t(GST_VIDEO_FRAME_PLANE_STRIDE(&frame, index)) / 2;
+    return std::pair(std::span(static_cast<uint16_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, index)), stride * height), stride);
+  };
+  const auto [luma, luma_stride] = plane(0);
+  const auto [alpha, alpha_stride] = plane(1);
+  const auto [neutral, neutral_stride] = plane(2);
+  // Coded at the portrait's size first, so that each code sampled is one pixel's own.
+  const size_t pixels = size_t(color.width) * color.height;
+  std::vector<uint16_t> luma_codes(pixels), alpha_codes(pixels);
+  encode_depth_alpha_plane(color, depth, range, luma_codes, alpha_codes, color.width);
+  if (pixels > kSoftEdgeMaxPixels) std::fill(alpha_codes.begin(), alpha_codes.end(), uint16_t(0));
+  if (width != color.width || height != color.height) {
+    luma_codes = resample_codes_nearest(luma_codes, color.width, color.height, width, height);
+    alpha_codes = resample_codes_nearest(alpha_codes, color.width, color.height, width, height);
   }
-  for (int plane = 1; plane < 3; ++plane) {
-    auto* out = static_cast<uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, plane));
-    const size_t stride = size_t(GST_VIDEO_FRAME_PLANE_STRIDE(&frame, plane));
-    for (uint32_t y = 0; y < height / 2; ++y) std::fill_n(reinterpret_cast<uint16_t*>(out + y * stride), width / 2, uint16_t(512));
+  for (uint32_t y = 0; y < height; ++y) {
+    std::copy_n(luma_codes.data() + size_t(y) * width, width, luma.data() + y * luma_stride);
+    std::copy_n(alpha_codes.data() + size_t(y) * width, width, alpha.data() + y * alpha_stride);
+    std::fill_n(neutral.data() + y * neutral_stride, width, kNeutralChromaCode);
   }
   gst_video_frame_unmap(&frame);
   return buffer;
@@ -113,15 +118,17 @@ std::vector<uint8_t> rgb_of_color_picture(const GstVideoFrame& frame, uint32_t c
   return rgb;
 }
 
-std::vector<uint16_t> codes_of_depth_alpha_picture(const GstVideoFrame& frame, uint32_t call_width, uint32_t call_height) {
+DepthAlphaCodes codes_of_depth_alpha_picture(const GstVideoFrame& frame, uint32_t call_width, uint32_t call_height) {
   const uint32_t w = GST_VIDEO_FRAME_WIDTH(&frame), h = GST_VIDEO_FRAME_HEIGHT(&frame);
-  std::vector<uint16_t> codes(size_t(w) * h);
-  const auto* in = static_cast<const uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, 0));
-  const int stride = GST_VIDEO_FRAME_PLANE_STRIDE(&frame, 0);
-  for (uint32_t y = 0; y < h; ++y) std::memcpy(codes.data() + size_t(y) * w, in + size_t(y) * size_t(stride), w * 2);
-  if (w == call_width && h == call_height) return codes;
-  return resample_codes_nearest(codes, w, h, call_width, call_height);
+  const auto plane = [&](int index) {
+    std::vector<uint16_t> codes(size_t(w) * h);
+    const auto* in = static_cast<const uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, index));
+    const int stride = GST_VIDEO_FRAME_PLANE_STRIDE(&frame, index);
+    for (uint32_t y = 0; y < h; ++y) std::memcpy(codes.data() + size_t(y) * w, in + size_t(y) * size_t(stride), w * 2);
+    if (w == call_width && h == call_height) return codes;
+    return resample_codes_nearest(codes, w, h, call_width, call_height);
+  };
+  return {plane(0), plane(1)};
 }
-
 
 }  // namespace rt::media

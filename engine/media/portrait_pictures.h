@@ -22,7 +22,8 @@ namespace rt::media {
 // Sending. The colour picture, I420 (BT.601, as the receiver converts back) at width x height,
 // from the portrait's straight-alpha RGBA32F colour.
 GstBuffer* make_color_picture(const HostImage& color, uint32_t width, uint32_t height);
-// The depth/alpha picture, I420_10LE: the codes in luma, chroma at its neutral middle.
+// The depth/alpha picture, Y444_10LE: the depth codes in luma, the alpha codes in the first chroma
+// plane (0, the edge hard, for a portrait over kSoftEdgeMaxPixels), the second at its neutral middle.
 GstBuffer* make_depth_alpha_picture(const HostImage& color, const HostImage& depth, const DepthRange& range,
                                     uint32_t width, uint32_t height);
 // An appsrc's caps at another size: x264enc, given them, starts its stream again (a new SPS and a
@@ -32,7 +33,7 @@ void set_picture_size(GstElement* appsrc, uint32_t width, uint32_t height);
 // Receiving (check_received_picture_size first). A decoded I420 picture as RGB (3 bytes a pixel)
 // at the call's size.
 std::vector<uint8_t> rgb_of_color_picture(const GstVideoFrame& frame, uint32_t call_width, uint32_t call_height);
-// A decoded I420_10LE picture's luma codes at the call's size.
-std::vector<uint16_t> codes_of_depth_alpha_picture(const GstVideoFrame& frame, uint32_t call_width, uint32_t call_height);
+// A decoded Y444_10LE picture's depth and alpha codes at the call's size.
+DepthAlphaCodes codes_of_depth_alpha_picture(const GstVideoFrame& frame, uint32_t call_width, uint32_t call_height);
 
 }  // namespace rt::media

@@ -352,8 +352,8 @@ void WebRtcPeer::Impl::on_sample(GstAppSink* sink, IncomingChain& chain) {
   const GstVideoFormat format = GST_VIDEO_INFO_FORMAT(&info);
   // A picture smaller than the call's is the sender's size stepped down: scaled back here.
   std::string why = check_received_picture_size(GST_VIDEO_INFO_WIDTH(&info), GST_VIDEO_INFO_HEIGHT(&info), w, h);
-  if (why.empty() && format != GST_VIDEO_FORMAT_I420 && format != GST_VIDEO_FORMAT_I420_10LE)
-    why = std::string("a decoded frame in ") + gst_video_format_to_string(format) + ", the link carries I420 and I420_10LE";
+  if (why.empty() && format != GST_VIDEO_FORMAT_I420 && format != GST_VIDEO_FORMAT_Y444_10LE)
+    why = std::string("a decoded frame in ") + gst_video_format_to_string(format) + ", the link carries I420 and Y444_10LE";
   if (!why.empty()) {
     gst_sample_unref(sample);
     std::lock_guard lock(mutex);
@@ -375,14 +375,14 @@ void WebRtcPeer::Impl::on_sample(GstAppSink* sink, IncomingChain& chain) {
     gst_sample_unref(sample);
     store_part(rtp, &rgb, nullptr, std::nullopt, scaled);
   } else {
-    std::vector<uint16_t> codes = codes_of_depth_alpha_picture(frame, w, h);
+    DepthAlphaCodes codes = codes_of_depth_alpha_picture(frame, w, h);
     gst_video_frame_unmap(&frame);
     gst_sample_unref(sample);
     store_part(rtp, nullptr, &codes, std::nullopt, scaled);
   }
 }
 
-void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes,
+void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, DepthAlphaCodes* codes,
                                   std::optional<PortraitFrame> frame, bool scaled) {
   std::lock_guard lock(mutex);
   if (scaled) ++(rgb ? counters.color_pictures_scaled : counters.depth_pictures_scaled);
@@ -394,7 +394,7 @@ void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::
     it->second.frame = *frame;
     it->second.has_frame = true;
   }
-  if (!it->second.rgb.empty() && !it->second.codes.empty() && it->second.has_frame) {
+  if (!it->second.rgb.empty() && !it->second.codes.luma.empty() && it->second.has_frame) {
     // Paired. The conversion to float images (milliseconds at 720p) waits for take_portrait, on
     // the taker's thread: here it would hold up this track's decoding.
     it->second.order = monotonic_now_us();
@@ -410,12 +410,12 @@ void WebRtcPeer::Impl::store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::
   while (pending.size() > kMaxPendingFrames) {
     auto oldest = std::min_element(pending.begin(), pending.end(),
                                    [](const auto& a, const auto& b) { return a.second.order < b.second.order; });
-    counters.frames_unpaired += (oldest->second.rgb.empty() ? 0 : 1) + (oldest->second.codes.empty() ? 0 : 1) +
+    counters.frames_unpaired += (oldest->second.rgb.empty() ? 0 : 1) + (oldest->second.codes.luma.empty() ? 0 : 1) +
                                 (oldest->second.has_frame ? 1 : 0);
     if (oldest->second.has_frame) {
       ++counters.portraits_lost;
       counters.color_loss.frames_lost += oldest->second.rgb.empty() ? 1 : 0;
-      counters.depth_loss.frames_lost += oldest->second.codes.empty() ? 1 : 0;
+      counters.depth_loss.frames_lost += oldest->second.codes.luma.empty() ? 1 : 0;
     }
     pending.erase(oldest);
   }
@@ -467,7 +467,12 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   // depth each encode in 5-8 ms on one of CI's cores. Colour runs at its target bitrate; depth at a
   // constant quality (x264's CRF), its bitrate a ceiling: with a bitrate target a keyframe's depth
   // erred by 2.7 mm (median over the user), at quality 14 no frame errs by more than 1.4 mm
-  // (640x360, tests/test_media_webrtc.cpp). Both payloaders start their RTP time at 0
+  // (640x360, tests/test_media_webrtc.cpp). The depth track is 4:4:4 so that its first chroma plane
+  // carries the alpha matte's soft edge at full resolution (media/depth_alpha_codec.h; at half
+  // resolution a tiny portrait's hand came back far worse than over the direct session); its chroma
+  // is quantized coarser than the depth (chroma-qp-offset, at its limit): the matte needs a few
+  // hundred levels, not the depth's precision, and at the luma's quantizer it cost a fifth more.
+  // Both payloaders start their RTP time at 0
   // (timestamp-offset), so a portrait's two frames carry one RTP timestamp.
   const auto track = [&](const char* name, const char* format, const char* profile, const char* preset, int kbps, int pt,
                          const std::string& rate) {
@@ -481,8 +486,8 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   };
   const std::string description = "webrtcbin name=webrtc bundle-policy=max-bundle latency=" + std::to_string(kJitterBufferMs) + " " +
                                   track("color", "I420", "high", "ultrafast", o.color_kbps, 96, "") + " " +
-                                  track("depth", "I420_10LE", "high-10", "ultrafast", o.depth_kbps, 97,
-                                        " pass=qual quantizer=" + std::to_string(o.depth_quality)) + " " +
+                                  track("depth", "Y444_10LE", "high-4:4:4", "ultrafast", o.depth_kbps, 97,
+                                        " pass=qual quantizer=" + std::to_string(o.depth_quality) + " option-string=chroma-qp-offset=12") + " " +
                                   voice_track_description();
   GError* error = nullptr;
   m.pipeline = gst_parse_launch(description.c_str(), &error);

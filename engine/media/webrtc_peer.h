@@ -4,7 +4,7 @@
 // Vulkan objects; portraits go in and come out as host images.
 //
 //   colour       appsrc I420 -> x264enc (zerolatency, no B-frames) -> rtph264pay pt 96 -> webrtcbin
-//   depth+alpha  appsrc I420_10LE (luma: media/depth_alpha_codec.h) -> x264enc High10 -> pt 97
+//   depth+alpha  appsrc Y444_10LE (media/depth_alpha_codec.h) -> x264enc High 4:4:4 -> pt 97
 //   voice        appsrc audio/x-opus (the site's own encoder's packets) -> rtpopuspay pt 111
 //                (media/webrtc_voice_track.h)
 //   "rt-fast"    unordered, no retransmits: eye, skeletons, and each portrait's frame record

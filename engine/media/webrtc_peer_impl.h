@@ -52,7 +52,7 @@ struct ByteCount {
 struct PendingFrame {
   uint64_t order = 0;          // arrival order while pending
   std::vector<uint8_t> rgb;     // colour, width*height*3
-  std::vector<uint16_t> codes;  // depth/alpha luma, width*height
+  DepthAlphaCodes codes;         // depth/alpha, width*height each
   // Not an optional: GCC 12 sees a moved-from optional as maybe uninitialized.
   PortraitFrame frame;
   bool has_frame = false;
@@ -142,7 +142,7 @@ struct WebRtcPeer::Impl {
   bool channels_open() const;
   void link_incoming(GstPad* pad);
   void on_sample(GstAppSink* sink, IncomingChain& chain);
-  void store_part(uint32_t rtp, std::vector<uint8_t>* rgb, std::vector<uint16_t>* codes, std::optional<PortraitFrame> frame,
+  void store_part(uint32_t rtp, std::vector<uint8_t>* rgb, DepthAlphaCodes* codes, std::optional<PortraitFrame> frame,
                   bool scaled = false);
   static ReceivedPortrait assemble(PendingFrame part);
 };

@@ -3,7 +3,7 @@
 # pass session_demo.sh's checks with the same touches (one touch start and one pulse per site on
 # clap), the call's portraits must have crossed as video with its data channels sealed and nothing
 # refused, and the remote hand at the glass (the touching phase's hand+arm PSNR, the two sites'
-# mean) within 1 dB (the goal is 0.5 dB: docs/webrtc.md has the runs that miss it).
+# mean) within 0.5 dB of the direct one (docs/webrtc.md has the runs).
 #   session_demo_webrtc.sh BINARY OUT SCENE FRAMES TOUCHES
 set -euo pipefail
 binary=$1 out=$2 scene=$3 frames=$4 touches=$5
@@ -27,13 +27,13 @@ for site in "AB":
         assert t["starts"] == touches and t["motor_pulses"] == touches, (m["transport"], site, t)
 if touches:
     # Per site it moves by a few tenths of a dB from run to run on either transport (which frames the
-    # two loaded processes get to display), and the call loses some at this size (docs/webrtc.md):
-    # the two sites' mean is held to 1 dB, which a call that misplaced or blurred the hand fails.
+    # two loaded processes get to display): the two sites' mean is held to 0.5 dB, which every
+    # finished run on the project's machine kept by more than half (docs/webrtc.md).
     at_glass = {}
     for name, m in (("webrtc", webrtc), ("direct", direct)):
         per_site = [m["psnr_db"][site]["hand_arm"]["touching"]["psnr_hand_arm_db"] for site in "AB"]
         at_glass[name] = sum(per_site) / 2
         print(f"{name}: hand+arm at the glass (touching) A {per_site[0]:.2f} dB, B {per_site[1]:.2f} dB, mean {at_glass[name]:.2f} dB")
-    assert abs(at_glass["webrtc"] - at_glass["direct"]) <= 1.0, at_glass
+    assert abs(at_glass["webrtc"] - at_glass["direct"]) <= 0.5, at_glass
 PY
 echo "webrtc demo ($scene) matches the direct one"
