@@ -471,7 +471,7 @@ WebRtcPeer::WebRtcPeer(WebRtcPeerOptions options, Signalling signalling) : impl_
   // carries the alpha matte's soft edge at full resolution (media/depth_alpha_codec.h; at half
   // resolution a tiny portrait's hand came back far worse than over the direct session); its chroma
   // is quantized coarser than the depth (chroma-qp-offset, at its limit): the matte needs a few
-  // hundred levels, not the depth's precision, and at the luma's quantizer it cost a fifth more.
+  // hundred levels, not the depth's precision, and at the luma's quantizer it cost bits for nothing.
   // Both payloaders start their RTP time at 0
   // (timestamp-offset), so a portrait's two frames carry one RTP timestamp.
   const auto track = [&](const char* name, const char* format, const char* profile, const char* preset, int kbps, int pt,
