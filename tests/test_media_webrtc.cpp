@@ -251,9 +251,8 @@ TEST_CASE("with the site key on the data channels, sealed messages and portraits
   REQUIRE(call.offerer->send_raw(WebRtcPeer::Channel::Reliable, clear));  // sealed by the guard: accepted
   std::vector<net::Message> at_b, at_a;
   size_t portraits = 0;
-  // Portraits keep coming, as in a call: a loaded machine may lose the first pictures before the
-  // receiving decoders are linked, and a sender that had stopped would never send the keyframe
-  // they ask for.
+  // Portraits keep coming, as in a call: where a loaded machine loses the first pictures, a sender
+  // that had stopped would never send the keyframe the receiver asks for.
   uint32_t sent = 0;
   auto next_portrait = std::chrono::steady_clock::now();
   const auto deadline = next_portrait + std::chrono::seconds(10);
