@@ -56,6 +56,12 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
                                std::to_string(max) + "]");
     value = static_cast<std::remove_reference_t<decltype(value)>>(json[name].get<double>());
   };
+  // A file the config names, relative to the config's folder unless absolute; left as it was when absent.
+  auto path_field = [&](const char* name, std::filesystem::path& value) {
+    std::string path;
+    string_field(name, path);
+    if (!path.empty()) value = std::filesystem::path(path).is_absolute() ? std::filesystem::path(path) : (base / path).lexically_normal();
+  };
   for (const auto& [key, value] : json.items())
     if (key != "scene" && key != "site" && key != "listen" && key != "peer" && key != "key_file" && key != "transport" && key != "stun" && key != "turn" && key != "relay_only" &&
         key != "bitrate_floor_kbps" && key != "bitrate_ceiling_kbps" && key != "janus" && key != "room" && key != "room_secret" && key != "janus_ca" &&
@@ -64,14 +70,14 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
         key != "motor" &&  key != "tracker" && key != "display" && key != "monitor" &&
         key != "present_mode" && key != "ibr" && key != "hand" && key != "touch" && key != "audio_in" && key != "audio_out")
       throw std::runtime_error(config.string() + ": unknown field '" + key + "'");
-  std::string site = site_name(options.site), key_file;
+  std::string site = site_name(options.site);
   string_field("scene", options.scene);
   string_field("site", site);
   if (site != "A" && site != "B") throw std::runtime_error(config.string() + ": 'site' must be \"A\" or \"B\"");
   options.site = site == "A" ? Site::A : Site::B;
   string_field("listen", options.listen);
   string_field("peer", options.peer);
-  string_field("key_file", key_file);
+  path_field("key_file", options.key_file);
   string_field("transport", options.transport);
   string_field("stun", options.call.stun);
   string_field("turn", options.call.turn);
@@ -85,23 +91,12 @@ void apply_site_config(const std::filesystem::path& config, SiteRunOptions& opti
   if (json.contains("room") && (!json["room"].is_number_unsigned() || json["room"].get<uint64_t>() == 0))
     throw std::runtime_error(config.string() + ": 'room' must be a whole number above 0 (the Janus room's)");
   if (json.contains("room")) options.call.room = json["room"].get<uint64_t>();
-  for (auto [name, file] : {std::pair{"room_secret", &options.call.room_secret_file}, {"janus_ca", &options.call.janus_ca_file}}) {
-    std::string path;
-    string_field(name, path);
-    if (!path.empty()) *file = std::filesystem::path(path).is_absolute() ? std::filesystem::path(path) : (base / path).lexically_normal();
-  }
+  path_field("room_secret", options.call.room_secret_file);
+  path_field("janus_ca", options.call.janus_ca_file);
   if (options.transport != "direct" && options.transport != "webrtc")
     throw std::runtime_error(config.string() + ": 'transport' must be \"direct\" or \"webrtc\"");
-  if (!key_file.empty()) options.key_file = std::filesystem::path(key_file).is_absolute() ? std::filesystem::path(key_file) : base / key_file;
-  std::string replay;
-  string_field("replay", replay);
-  if (!replay.empty())
-    options.replay = std::filesystem::path(replay).is_absolute() ? std::filesystem::path(replay) : (base / replay).lexically_normal();
-  std::string site_file;
-  string_field("site_file", site_file);
-  if (!site_file.empty())
-    options.site_file = std::filesystem::path(site_file).is_absolute() ? std::filesystem::path(site_file)
-                                                                       : (base / site_file).lexically_normal();
+  path_field("replay", options.replay);
+  path_field("site_file", options.site_file);
   string_field("motor", options.motor);
   string_field("tracker", options.tracker);
   try {

@@ -78,7 +78,7 @@ struct SiteRunOptions {
 // Fills the fields a --config JSON names (scene, site, listen, peer, key_file, transport, time_scale,
 // resolution_scale, width, height, frames, replay, site_file, motor, tracker, and the objects "ibr", "hand" and
 // "touch" of the knobs in pipeline/ibr_settings.h, hand_settings.h and touch/touch_settings.h,
-// e.g. "ibr": {"refine": 9, "best_views": 4}); a file path (key_file, replay, site_file) is relative to the config's folder.
+// e.g. "ibr": {"refine": 9, "best_views": 4}); a file path (key_file, replay, site_file, room_secret, janus_ca) is relative to the config's folder.
 // Throws naming the file and field.
 // The Leap service's URL that a --tracker value names, or none for "scene". Throws
 // std::invalid_argument saying what is wrong with any other value.
